@@ -1,0 +1,47 @@
+// A scenario: everything a run needs, as plain data. engine/io reads it from TOML.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "species.h"
+#include "world.h"
+
+namespace aeroflock {
+
+// A group of birds of one species on one route, spawned in a box.
+struct Flock {
+  std::string name;
+  uint32_t species = 0;  // index into Scenario::species
+  uint32_t route = 0;    // index into World::routes
+  uint32_t count = 1;
+  glm::dvec3 spawn_centre{0.0};  // cm
+  glm::dvec3 spawn_extent{0.0};  // half-size of the spawn box, cm
+  double heading = 0.0;          // rad, from +x towards +z (the right of a bird facing +x)
+  double speed = 1000.0;         // initial speed along the heading, cm/s
+  double frequency = 0.0;        // initial wingbeat frequency, Hz (0: middle of the range)
+  double amplitude = 0.0;        // initial amplitude (0: middle of the range)
+  bool standing = false;         // start standing on the ground, take off at takeoff_time
+  double takeoff_time = 0.0;     // s
+  bool random_phase = true;      // spread the wingbeat phase over the flock
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  double dt = 0.0003;            // s
+  uint32_t steps_per_frame = 100;
+  double duration = 10.0;        // s
+  uint64_t seed = 1;
+  std::vector<Species> species;
+  World world;
+  std::vector<Flock> flocks;
+};
+
+// Throws std::invalid_argument naming what is wrong (indices out of range, dt <= 0, ...).
+void validate(const Scenario& s);
+
+}  // namespace aeroflock

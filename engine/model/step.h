@@ -1,0 +1,27 @@
+// One fixed step of one bird: controller, wingbeat, forces, torque, Euler integration.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include "bird.h"
+#include "species.h"
+#include "world.h"
+
+namespace aeroflock {
+
+// The forces of one step, for tests, cross-checks and export. World frame unless noted.
+struct StepForces {
+  glm::dvec3 wing[4]{};     // right arm, right hand, left arm, left hand
+  glm::dvec3 tail{0.0};
+  glm::dvec3 ground{0.0};   // eq. 15
+  glm::dvec3 legs{0.0};     // take-off push
+  glm::dvec3 gravity{0.0};
+  glm::dvec3 total{0.0};
+  glm::dvec3 tail_torque{0.0};  // body frame, eq. 11
+};
+
+// Advances `bird` by dt. `time` is the simulation time at the start of the step.
+void step_bird(BirdState& bird, const Species& species, const World& world, double time,
+               double dt, StepForces* forces = nullptr);
+
+}  // namespace aeroflock
