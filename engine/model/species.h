@@ -33,7 +33,7 @@ struct Species {
   double B_arm = 0, B_hand = 0;  // feathering amplitudes
   double C_leadlag = 0;          // lead-lag amplitude
   double flap_bias = 0;          // mean flapping angle of the arm
-  double twist_bias = 0;         // mean feathering angle of the arm (leading edge down > 0)
+  double twist_bias = 0;         // the arm's mean incidence (leading edge UP > 0)
   double arm_fraction = 0.45;       // arm length / l
   double arm_area_fraction = 0.5;   // arm area / area of one wing
 
@@ -43,15 +43,18 @@ struct Species {
 
   // Tail geometry: hinge at x = -a/2; the closed tail plane sits at tail_incidence (trailing edge
   // up > 0) from the body x axis; the tail force acts at 2/3 lr behind the hinge.
-  double tail_incidence = 0;
+  double tail_incidence = 0;  // sets the body's trimmed pitch relative to the air
   double tail_rate = 0;  // how fast the tail moves towards its commanded bend and twist, rad/s
 
   // Steering (paper 3.4 and MODEL.md defaults).
   double turn_rate = 0;        // R, standard rotation velocity (fixed-rate turning), rad/s
-  double dead_band = 0;        // heading and elevation dead band, rad
+  double dead_band = 0;        // heading dead band, rad
+  double height_lead = 0;      // height control looks this far ahead: y + height_lead vy, s
+  double height_band = 0;      // the tail bends only while the height error exceeds it, cm
   double bank_max = 0;         // largest bank, rad
-  double bank_full_error = 0;  // heading error at which the tail-model bird banks fully, rad
-  double roll_rate = 0;        // largest bank rate, rad/s
+  double steer_full_error = 0;  // heading error at which the bird steers fully (tail twist, bank), rad
+  double roll_rate = 0;        // largest bank (and braking pitch) rate, rad/s
+  double bank_time = 0;        // time constant of the bank (and braking pitch) control, s
 
   // Take-off (paper 4.3) and landing (4.4).
   double stand_height = 0;   // height of the body centre above the ground when standing, cm
@@ -60,7 +63,7 @@ struct Species {
   double leg_force = 0;      // dyn (0: no leg push)
   double leg_time = 0;       // s
   double push_angle = 0;     // leg push direction above the head direction, rad
-  double approach_distance = 0;  // distance to the branch where landing path control starts, cm
+  double approach_distance = 0;  // within it of the branch, the bird stops re-placing P, cm
   double brake_distance = 0;     // distance to the branch where the bird brakes, cm
   double brake_pitch = 0;        // body pitch the bird brakes at, rad
   double perch_radius = 0;       // distance to the branch point at which the bird grips it, cm

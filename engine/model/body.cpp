@@ -1,0 +1,43 @@
+#include "body.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "constants.h"
+
+namespace aeroflock {
+
+using glm::dquat;
+using glm::dvec3;
+
+dquat integrate_attitude(const dquat& q, const dvec3& omega_body, double dt) {
+  const dquat w(0.0, omega_body.x, omega_body.y, omega_body.z);
+  const dquat dq = q * w;
+  const double h = 0.5 * dt;
+  return glm::normalize(dquat(q.w + h * dq.w, q.x + h * dq.x, q.y + h * dq.y, q.z + h * dq.z));
+}
+
+dvec3 angular_acceleration(const Inertia& inertia, const dvec3& torque) {
+  return {torque.x / inertia.x, torque.y / inertia.y, torque.z / inertia.z};
+}
+
+double ground_effect_force(const Species& s, double height) {
+  if (height > 0.0 && height < s.wing_length) return s.ground_k * kGravity * s.mass / height;
+  return 0.0;
+}
+
+double bank_angle(const dquat& attitude) {
+  const dvec3 right = attitude * dvec3{0.0, 0.0, 1.0};
+  return std::asin(std::clamp(-right.y, -1.0, 1.0));
+}
+
+double pitch_angle(const dquat& attitude) {
+  const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
+  return std::asin(std::clamp(head.y, -1.0, 1.0));
+}
+
+dquat heading_attitude(double heading) {
+  return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0});
+}
+
+}  // namespace aeroflock

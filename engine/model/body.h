@@ -1,0 +1,28 @@
+// The body: rotation (eqs. 11-14 with the attitude as a quaternion) and ground effect (eq. 15).
+#pragma once
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "species.h"
+
+namespace aeroflock {
+
+// eq. 14 for a quaternion: q(t + dt) = normalize(q + dt/2 q (0, omega)), omega in the body frame.
+glm::dquat integrate_attitude(const glm::dquat& q, const glm::dvec3& omega_body, double dt);
+
+// eqs. 11, 12: angular acceleration of the box from a body-frame torque.
+glm::dvec3 angular_acceleration(const Inertia& inertia, const glm::dvec3& torque);
+
+// eq. 15: the upward ground-effect force k G m / h while 0 < h / l < 1, else 0. dyn.
+double ground_effect_force(const Species& s, double height);
+
+// Bank: the angle of the body's right axis below the horizon (right wing down > 0). Pitch: the
+// angle of the head direction above the horizon.
+double bank_angle(const glm::dquat& attitude);
+double pitch_angle(const glm::dquat& attitude);
+
+// The attitude of a bird facing `heading` (from +x towards +z), level.
+glm::dquat heading_attitude(double heading);
+
+}  // namespace aeroflock

@@ -1,0 +1,81 @@
+#include "control.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "constants.h"
+
+namespace aeroflock {
+
+using glm::dvec3;
+
+double sign_outside(double x, double band) {
+  if (x > band) return 1.0;
+  if (x < -band) return -1.0;
+  return 0.0;
+}
+
+double steer_share(const Species& s, double heading_error) {
+  if (std::fabs(heading_error) <= s.dead_band) return 0.0;
+  return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
+}
+
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position,
+                       const dvec3& velocity, const dvec3& goal) {
+  const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
+  const dvec3 to_goal = goal - position;
+  // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
+  const double ahead = head.x * to_goal.x + head.z * to_goal.z;
+  const double right = -head.z * to_goal.x + head.x * to_goal.z;
+  return {std::atan2(right, ahead), to_goal.y - s.height_lead * velocity.y};
+}
+
+namespace {
+double rate_step(double value, double lo, double hi, double rate, double dy, double dt) {
+  const double sign = dy > 0.0 ? 1.0 : (dy < 0.0 ? -1.0 : 0.0);
+  return std::clamp(value + sign * rate * dt, lo, hi);
+}
+}  // namespace
+
+double frequency_step(const Species& s, double frequency, double dy, double dt) {
+  return rate_step(frequency, s.f_min, s.f_max, s.K_f, dy, dt);
+}
+
+double amplitude_step(const Species& s, double amplitude, double dy, double dt) {
+  return rate_step(amplitude, s.amp_min, s.amp_max, s.K_a, dy, dt);
+}
+
+TailCommand tail_command(const Species& s, const Steering& st) {
+  return {sign_outside(st.height_error, s.height_band) * s.bend_max,
+          steer_share(s, st.heading_error) * s.rot_max};
+}
+
+double approach(double angle, double command, double rate, double dt) {
+  const double step = rate * dt;
+  return angle + std::clamp(command - angle, -step, step);
+}
+
+double bank_command(const Species& s, TurningModel turning, double heading_error, double speed) {
+  const double side = sign_outside(heading_error, s.dead_band);
+  if (side == 0.0) return 0.0;
+  if (turning == TurningModel::fixed_rate)
+    return side * std::min(std::atan(speed * s.turn_rate / kGravity), s.bank_max);
+  return steer_share(s, heading_error) * s.bank_max;
+}
+
+dvec3 landing_point(const dvec3& bird, const dvec3& heading, const dvec3& branch_point,
+                    const dvec3& branch_direction) {
+  // Work in the horizontal plane: Q1 + s h = Q2 + t n, with n perpendicular to the branch.
+  const double hx = heading.x, hz = heading.z;
+  const double hn = std::hypot(hx, hz);
+  const double nx = -branch_direction.z, nz = branch_direction.x;
+  const double det = (hx / hn) * (-nz) - (hz / hn) * (-nx);  // | h  -n |
+  if (hn == 0.0 || std::fabs(det) < 1e-6) return branch_point;
+  const double dx = branch_point.x - bird.x, dz = branch_point.z - bird.z;
+  const double s = (dx * (-nz) - dz * (-nx)) / det;  // Cramer's rule for s
+  if (s <= 0.0) return branch_point;
+  const dvec3 q3{bird.x + s * hx / hn, branch_point.y, bird.z + s * hz / hn};
+  return 0.25 * bird + 0.5 * q3 + 0.25 * branch_point;
+}
+
+}  // namespace aeroflock

@@ -1,0 +1,57 @@
+// Flight control through target spheres (paper 3.4, 4.1, 4.4): heading and elevation to a goal,
+// height control (eqs. 4, 5), tail commands, bank, and the landing point P.
+#pragma once
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "species.h"
+#include "world.h"
+
+namespace aeroflock {
+
+// sgn with a dead band: 0 while |x| <= band.
+double sign_outside(double x, double band);
+
+// phi (Fig. 11): the horizontal angle from the head direction to the goal, target on the right
+// > 0. height_error: y_p - y_i of eqs. 4, 5, with the bird's height predicted height_lead
+// seconds ahead so that the bang-bang height control settles instead of oscillating.
+struct Steering {
+  double heading_error;
+  double height_error;
+};
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position,
+                       const glm::dvec3& velocity, const glm::dvec3& goal);
+
+// How hard the bird steers, in [-1, 1]: 0 inside the dead band, then in proportion to the
+// heading error, fully from steer_full_error on. Scales the tail twist and the bank.
+double steer_share(const Species& s, double heading_error);
+
+// eq. 4 and eq. 5: frequency and amplitude move at K_f, K_a towards more lift when the goal is
+// above (dy > 0), less when below, and stay within [min, max].
+double frequency_step(const Species& s, double frequency, double dy, double dt);
+double amplitude_step(const Species& s, double amplitude, double dy, double dt);
+
+// The tail's commanded bend and twist (4.1): the goal above (by more than height_band) bends the
+// tail up; the goal on the right rolls it right side down, towards the turn. The air, meeting the
+// body from below, then presses on the tail's upper surface and pushes it left: the nose turns
+// right (MODEL.md: pushing the tail left turns the nose right).
+struct TailCommand {
+  double bend, twist;
+};
+TailCommand tail_command(const Species& s, const Steering& steering);
+
+// Moves `angle` towards `command` by at most rate dt.
+double approach(double angle, double command, double rate, double dt);
+
+// The bank the bird wants (right wing down > 0). Tail model: bank_max times steer_share. Fixed-rate model: the coordinated bank for the yaw rate R at `speed`.
+double bank_command(const Species& s, TurningModel turning, double heading_error, double speed);
+
+// Landing path control (paper 4.4, Fig. 14): Q1 the bird, Q2 the branch point, Q3 where the line
+// from Q1 along the bird's horizontal heading meets the horizontal line from Q2 perpendicular to
+// the branch (at the branch's height). P = 0.25 Q1 + 0.5 Q3 + 0.25 Q2, the middle of the
+// quadratic Bezier curve Q1 Q3 Q2. Without an intersection ahead of the bird, P = Q2.
+glm::dvec3 landing_point(const glm::dvec3& bird, const glm::dvec3& heading,
+                         const glm::dvec3& branch_point, const glm::dvec3& branch_direction);
+
+}  // namespace aeroflock

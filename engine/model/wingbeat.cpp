@@ -1,0 +1,94 @@
+#include "wingbeat.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "constants.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+// Rotation about body y (right-handed).
+dvec3 rotate_y(const dvec3& v, double c, double s) {
+  return {c * v.x + s * v.z, v.y, -s * v.x + c * v.z};
+}
+
+// A frame as its three axes in body coordinates.
+struct Frame {
+  dvec3 x, y, z;
+};
+
+// Frame rotated by -angle about its own x axis (flapping up for the right wing).
+Frame flap(const Frame& f, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {f.x, c * f.y - s * f.z, s * f.y + c * f.z};
+}
+
+// Chord and normal of a segment feathered by `angle` (leading edge down > 0) about its span.
+void feather(const Frame& f, double angle, dvec3& chord, dvec3& normal) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  chord = c * f.x - s * f.y;
+  normal = s * f.x + c * f.y;
+}
+
+}  // namespace
+
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp) {
+  const double hand_phase = phase - s.lag_hand;
+  return {
+      amp * s.A_arm * std::cos(phase) + s.flap_bias,
+      amp * s.A_hand * std::cos(hand_phase),
+      s.B_arm * std::sin(phase) - s.twist_bias,
+      s.B_hand * std::sin(hand_phase),
+      s.C_leadlag * std::sin(phase),
+  };
+}
+
+void right_wing_points(const Species& s, double phase, double amp, double frequency,
+                       WingPoint out[2]) {
+  const WingbeatAngles a = wingbeat_angles(s, phase, amp);
+  const double phase_rate = 2.0 * kPi * frequency;
+  const double hand_phase = phase - s.lag_hand;
+  // Angle rates: d(angle)/dpsi * dpsi/dt.
+  const double leadlag_rate = s.C_leadlag * std::cos(phase) * phase_rate;
+  const double flap_arm_rate = -amp * s.A_arm * std::sin(phase) * phase_rate;
+  const double flap_hand_rate = -amp * s.A_hand * std::sin(hand_phase) * phase_rate;
+
+  // Shoulder frame: lead-lag about body y. Arm: flapped about the shoulder frame's x axis.
+  // Hand: flapped again about the arm's x axis at the wrist.
+  const double cl = std::cos(a.leadlag), sl = std::sin(a.leadlag);
+  const Frame shoulder{rotate_y({1, 0, 0}, cl, sl), {0, 1, 0}, rotate_y({0, 0, 1}, cl, sl)};
+  const Frame arm = flap(shoulder, a.flap_arm);
+  const Frame hand = flap(arm, a.flap_hand);
+
+  const double arm_length = s.arm_fraction * s.wing_length;
+  const double hand_length = s.wing_length - arm_length;
+  const double wing_area = 0.5 * s.wing_area;
+  const dvec3 shoulder_pos{0.0, 0.0, 0.5 * s.box_c - s.wing_length};
+  const dvec3 wrist = shoulder_pos + arm.z * arm_length;
+
+  WingPoint& pa = out[0];
+  WingPoint& ph = out[1];
+  pa.position = shoulder_pos + arm.z * (0.5 * arm_length);
+  ph.position = wrist + hand.z * (0.5 * hand_length);
+  // Joint angular velocities: lead-lag about body y, flapping about -x of the parent frame.
+  const dvec3 omega_shoulder = dvec3{0, leadlag_rate, 0} - shoulder.x * flap_arm_rate;
+  const dvec3 omega_wrist = -arm.x * flap_hand_rate;
+  pa.velocity = glm::cross(omega_shoulder, pa.position - shoulder_pos);
+  ph.velocity = glm::cross(omega_shoulder, ph.position - shoulder_pos) +
+                glm::cross(omega_wrist, ph.position - wrist);
+  feather(arm, a.feather_arm, pa.chord, pa.normal);
+  feather(hand, a.feather_arm + a.feather_hand, ph.chord, ph.normal);
+  pa.area = s.arm_area_fraction * wing_area;
+  ph.area = wing_area - pa.area;
+}
+
+WingPoint mirror_to_left(const WingPoint& p) {
+  auto m = [](const dvec3& v) { return dvec3{v.x, v.y, -v.z}; };
+  return {m(p.position), m(p.velocity), m(p.chord), m(p.normal), p.area};
+}
+
+}  // namespace aeroflock

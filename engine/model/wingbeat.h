@@ -1,0 +1,33 @@
+// Wingbeat kinematics (paper 3.2; MODEL.md replaces the lost Fig. 6) and the wing force points.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include "species.h"
+
+namespace aeroflock {
+
+// Joint angles at wingbeat phase psi, radians. Arm angles relative to the body, hand angles
+// relative to the arm. Flapping up > 0, feathering leading edge down > 0, lead-lag forward > 0.
+// The arm feathers as B_arm sin(psi) - twist_bias: twist_bias is its mean incidence.
+struct WingbeatAngles {
+  double flap_arm, flap_hand, feather_arm, feather_hand, leadlag;
+};
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp);
+
+// One force point of a wing segment (paper Fig. 9), body frame, relative to the centre of mass.
+struct WingPoint {
+  glm::dvec3 position;  // cm
+  glm::dvec3 velocity;  // cm/s, the point's own motion from the wingbeat
+  glm::dvec3 chord;     // unit, towards the leading edge
+  glm::dvec3 normal;    // unit, upper surface
+  double area;          // cm^2
+};
+
+// The right wing's points: [0] the middle of the arm, [1] the middle of the hand.
+void right_wing_points(const Species& s, double phase, double amp, double frequency,
+                       WingPoint out[2]);
+// The left wing is the right wing mirrored through the body's x-y plane.
+WingPoint mirror_to_left(const WingPoint& p);
+
+}  // namespace aeroflock
