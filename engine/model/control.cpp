@@ -20,14 +20,17 @@ double steer_share(const Species& s, double heading_error) {
   return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
 
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position,
-                       const dvec3& velocity, const dvec3& goal) {
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& omega,
+                       const dvec3& position, const dvec3& velocity, const dvec3& goal) {
   const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double ahead = head.x * to_goal.x + head.z * to_goal.z;
   const double right = -head.z * to_goal.x + head.x * to_goal.z;
-  return {std::atan2(right, ahead), to_goal.y - s.height_lead * velocity.y};
+  // A yaw to the left (about world +y) makes the error grow: the error predicted ahead.
+  const double yaw_left_rate = (attitude * omega).y;
+  return {std::atan2(right, ahead) + s.heading_lead * yaw_left_rate,
+          to_goal.y - s.height_lead * velocity.y};
 }
 
 namespace {
@@ -55,12 +58,8 @@ double approach(double angle, double command, double rate, double dt) {
   return angle + std::clamp(command - angle, -step, step);
 }
 
-double bank_command(const Species& s, TurningModel turning, double heading_error, double speed) {
-  const double side = sign_outside(heading_error, s.dead_band);
-  if (side == 0.0) return 0.0;
-  if (turning == TurningModel::fixed_rate)
-    return side * std::min(std::atan(speed * s.turn_rate / kGravity), s.bank_max);
-  return steer_share(s, heading_error) * s.bank_max;
+double coordinated_bank(const Species& s, double turn_rate, double speed) {
+  return std::clamp(std::atan(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
 dvec3 landing_point(const dvec3& bird, const dvec3& heading, const dvec3& branch_point,

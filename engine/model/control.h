@@ -13,15 +13,17 @@ namespace aeroflock {
 // sgn with a dead band: 0 while |x| <= band.
 double sign_outside(double x, double band);
 
-// phi (Fig. 11): the horizontal angle from the head direction to the goal, target on the right
-// > 0. height_error: y_p - y_i of eqs. 4, 5, with the bird's height predicted height_lead
-// seconds ahead so that the bang-bang height control settles instead of oscillating.
+// heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
+// target on the right > 0. height_error: y_p - y_i of eqs. 4, 5. Both are predicted a lead time
+// ahead (heading_lead from the yaw rate, height_lead from the climb rate) so that the bang-bang
+// control settles instead of oscillating.
 struct Steering {
   double heading_error;
   double height_error;
 };
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position,
-                       const glm::dvec3& velocity, const glm::dvec3& goal);
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& omega,
+                       const glm::dvec3& position, const glm::dvec3& velocity,
+                       const glm::dvec3& goal);
 
 // How hard the bird steers, in [-1, 1]: 0 inside the dead band, then in proportion to the
 // heading error, fully from steer_full_error on. Scales the tail twist and the bank.
@@ -44,8 +46,9 @@ TailCommand tail_command(const Species& s, const Steering& steering);
 // Moves `angle` towards `command` by at most rate dt.
 double approach(double angle, double command, double rate, double dt);
 
-// The bank the bird wants (right wing down > 0). Tail model: bank_max times steer_share. Fixed-rate model: the coordinated bank for the yaw rate R at `speed`.
-double bank_command(const Species& s, TurningModel turning, double heading_error, double speed);
+// The bank that makes lift supply the centripetal force of a turn at `turn_rate` (rad/s, to the
+// right > 0) and `speed`, at most bank_max: the bird banks into the turn to avoid skidding (3.4).
+double coordinated_bank(const Species& s, double turn_rate, double speed);
 
 // Landing path control (paper 4.4, Fig. 14): Q1 the bird, Q2 the branch point, Q3 where the line
 // from Q1 along the bird's horizontal heading meets the horizontal line from Q2 perpendicular to

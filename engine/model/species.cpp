@@ -23,6 +23,7 @@ void set_common_defaults(Species& s) {
   s.tail_rate = radians(100);
   s.turn_rate = radians(45);
   s.dead_band = radians(3);
+  s.heading_lead = 0.5;
   s.height_lead = 1.0;
   s.height_band = 100;
   s.bank_max = radians(45);
@@ -57,6 +58,7 @@ Species eagle() {
   s.ground_k = 10;
   s.wing_length = 90;
   set_common_defaults(s);
+  s.shoulder_x = -6;  // wings' mean pitching moment ~0 at 8 deg body pitch, 10 m/s
   s.stand_height = 25;
   s.crouch_depth = 8;
   s.leg_force = 8.4e6;  // the starling's push scaled by mass
@@ -90,6 +92,7 @@ Species starling() {
   s.ground_k = 10;
   s.wing_length = 40;
   set_common_defaults(s);
+  s.shoulder_x = -3;
   s.stand_height = 12;
   s.crouch_depth = 4;
   s.leg_force = 2.1e6;  // paper section 5
@@ -142,6 +145,7 @@ void validate(const Species& s) {
   positive(s.tail_rate, "tail_rate");
   non_negative(s.turn_rate, "turn_rate");
   non_negative(s.dead_band, "dead_band");
+  non_negative(s.heading_lead, "heading_lead");
   non_negative(s.height_lead, "height_lead");
   non_negative(s.height_band, "height_band");
   if (!(s.bank_max >= 0 && s.bank_max < kPi / 2)) fail("bank_max must be in [0, 90) degrees");

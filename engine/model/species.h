@@ -34,6 +34,7 @@ struct Species {
   double C_leadlag = 0;          // lead-lag amplitude
   double flap_bias = 0;          // mean flapping angle of the arm
   double twist_bias = 0;         // the arm's mean incidence (leading edge UP > 0)
+  double shoulder_x = 0;            // shoulders ahead of the centre of mass (< 0: behind), cm
   double arm_fraction = 0.45;       // arm length / l
   double arm_area_fraction = 0.5;   // arm area / area of one wing
 
@@ -49,6 +50,7 @@ struct Species {
   // Steering (paper 3.4 and MODEL.md defaults).
   double turn_rate = 0;        // R, standard rotation velocity (fixed-rate turning), rad/s
   double dead_band = 0;        // heading dead band, rad
+  double heading_lead = 0;     // heading control looks this far ahead along the yaw rate, s
   double height_lead = 0;      // height control looks this far ahead: y + height_lead vy, s
   double height_band = 0;      // the tail bends only while the height error exceeds it, cm
   double bank_max = 0;         // largest bank, rad

@@ -104,7 +104,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
 
   // --- Control (paper 3.4, 4.1, 4.4) from the state at time t.
   const dvec3 goal = route_goal(b, sp, w);
-  const Steering steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal);
+  const Steering steering = steer_towards(sp, b.attitude, b.omega, b.position, b.velocity, goal);
   if (lands_on_branch(b, w)) {
     const double to_branch = glm::distance(b.position, perch_point(sp, w.branches[static_cast<uint32_t>(w.routes[b.route].branch)]));
     if (to_branch <= sp.perch_radius) {
@@ -131,11 +131,16 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   if (on_legs) {
     omega = dvec3{0.0};
   } else {
-    const double bank = bank_angle(b.attitude);
-    const double bank_cmd = braking ? 0.0 : bank_command(sp, w.turning, steering.heading_error, speed);
-    omega.x = std::clamp((bank_cmd - bank) / sp.bank_time, -sp.roll_rate, sp.roll_rate);
-    if (w.turning == TurningModel::fixed_rate && !braking)
-      omega.y = -sign_outside(steering.heading_error, sp.dead_band) * sp.turn_rate;
+    // Bank into the turn: in proportion to the heading error (tail model), or coordinated with
+    // eq. 3's yaw rate -sgn(phi) R (fixed-rate model).
+    const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
+    const double turn_rate = sign_outside(steering.heading_error, sp.dead_band) * sp.turn_rate;
+    double bank_cmd = steer_share(sp, steering.heading_error) * sp.bank_max;
+    if (fixed_rate) bank_cmd = coordinated_bank(sp, turn_rate, speed);
+    if (braking) bank_cmd = 0.0;
+    omega.x = std::clamp((bank_cmd - bank_angle(b.attitude)) / sp.bank_time, -sp.roll_rate,
+                         sp.roll_rate);
+    if (fixed_rate) omega.y = -turn_rate;
     if (braking)
       omega.z = std::clamp((sp.brake_pitch - pitch_angle(b.attitude)) / sp.bank_time,
                            -sp.roll_rate, sp.roll_rate);
@@ -150,6 +155,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     return body_wind - (body_velocity + glm::cross(omega, r) + own);
   };
 
+  dvec3 torque{0.0};  // eq. 11 summed over the five force points, body frame
   WingPoint right[2];
   right_wing_points(sp, b.phase, b.amplitude, b.frequency, right);
   for (int i = 0; i < 2; ++i) {
@@ -159,12 +165,14 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
       const WingPoint& p = *points[side];
       const dvec3 force = aerodynamic_force(sp, air_at(p.position, p.velocity), p.chord, p.normal, p.area);
       f.wing[2 * side + i] = to_world * force;
+      torque += glm::cross(p.position, force);
     }
   }
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
   const dvec3 tail_body = aerodynamic_force(sp, air_at(tg.position, dvec3{0.0}), tg.chord, tg.normal, tail_area(sp, opening));
   f.tail = to_world * tail_body;
   f.tail_torque = glm::cross(tg.position, tail_body);  // eq. 11
+  f.torque = torque + f.tail_torque;
   f.gravity = dvec3{0.0, -sp.mass * kGravity, 0.0};
   const double height = b.position.y - w.ground_height;
   if (w.ground_effect) f.ground = kUp * ground_effect_force(sp, height);  // eq. 15
@@ -179,7 +187,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   b.position += b.velocity * dt;
   b.velocity += acceleration * dt;
   b.attitude = integrate_attitude(b.attitude, omega, dt);
-  b.omega = omega + angular_acceleration(box_inertia(sp), f.tail_torque) * dt;
+  b.omega = omega + angular_acceleration(box_inertia(sp), f.torque) * dt;
   if (on_legs) {
     // The legs hold the bird on the ground: it sinks while crouching and cannot go below it.
     const double crouch = std::min(b.mode_time / std::max(sp.crouch_time, dt), 1.0);

@@ -17,7 +17,8 @@ struct StepForces {
   glm::dvec3 legs{0.0};     // take-off push
   glm::dvec3 gravity{0.0};
   glm::dvec3 total{0.0};
-  glm::dvec3 tail_torque{0.0};  // body frame, eq. 11
+  glm::dvec3 tail_torque{0.0};  // the tail's r x F_t, body frame, eq. 11
+  glm::dvec3 torque{0.0};       // all five points' r x F, body frame: what turns the body
 };
 
 // Advances `bird` by dt. `time` is the simulation time at the start of the step.

@@ -67,7 +67,7 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
   const double arm_length = s.arm_fraction * s.wing_length;
   const double hand_length = s.wing_length - arm_length;
   const double wing_area = 0.5 * s.wing_area;
-  const dvec3 shoulder_pos{0.0, 0.0, 0.5 * s.box_c - s.wing_length};
+  const dvec3 shoulder_pos{s.shoulder_x, 0.0, 0.5 * s.box_c - s.wing_length};
   const dvec3 wrist = shoulder_pos + arm.z * arm_length;
 
   WingPoint& pa = out[0];
