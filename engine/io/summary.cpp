@@ -1,0 +1,98 @@
+#include "io/summary.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+namespace aeroflock {
+namespace {
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+bool finite(const BirdState& b) {
+  const glm::dquat& q = b.attitude;
+  return finite(b.position) && finite(b.velocity) && std::isfinite(q.w) && std::isfinite(q.x) &&
+         std::isfinite(q.y) && std::isfinite(q.z);
+}
+
+bool in_the_air(FlightMode mode) {
+  return mode == FlightMode::flying || mode == FlightMode::landing ||
+         mode == FlightMode::taking_off;
+}
+
+}  // namespace
+
+FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
+  FlockStatistics s;
+  s.birds = birds.size();
+  double speed_sum = 0.0;
+  for (const BirdState& b : birds) {
+    s.targets_reached += b.targets_reached;
+    s.perched += b.mode == FlightMode::perched;
+    s.flying += in_the_air(b.mode);
+    if (!finite(b)) {
+      ++s.nan_birds;
+      continue;
+    }
+    s.centroid += b.position;
+    speed_sum += glm::length(b.velocity);
+  }
+  const uint64_t finite_birds = s.birds - s.nan_birds;
+  if (finite_birds > 0) {
+    s.centroid /= static_cast<double>(finite_birds);
+    s.mean_speed = speed_sum / static_cast<double>(finite_birds);
+  }
+  return s;
+}
+
+nlohmann::ordered_json summary_json(const RunSummary& r) {
+  const FlockStatistics& s = r.stats;
+  const double bird_steps = static_cast<double>(s.birds) * static_cast<double>(r.steps);
+  return {
+      {"backend", r.backend},
+      {"device", r.device},
+      {"scenario", r.scenario},
+      {"birds", s.birds},
+      {"steps", r.steps},
+      {"dt", r.dt},
+      {"steps_per_frame", r.steps_per_frame},
+      {"sim_seconds", r.sim_seconds},
+      {"wall_seconds", r.wall_seconds},
+      {"bird_steps_per_second", r.wall_seconds > 0 ? bird_steps / r.wall_seconds : 0.0},
+      {"nan_birds", s.nan_birds},
+      {"centroid", {s.centroid.x, s.centroid.y, s.centroid.z}},
+      {"mean_speed", s.mean_speed},
+      {"targets_reached", s.targets_reached},
+      {"perched", s.perched},
+      {"flying", s.flying},
+  };
+}
+
+void write_summary(const std::filesystem::path& path, const RunSummary& summary) {
+  const std::string text = summary_json(summary).dump(2) + "\n";
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  auto fail = [&](const std::string& why) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error("cannot write " + path.string() + ": " + why);
+  };
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) fail(std::strerror(errno));
+    out << text;
+    out.close();
+    if (!out) fail("write error");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) fail(ec.message());
+}
+
+}  // namespace aeroflock

@@ -1,0 +1,49 @@
+// The run summary: flock statistics and the JSON file a run writes.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <glm/vec3.hpp>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "model/bird.h"
+
+namespace aeroflock {
+
+struct FlockStatistics {
+  uint64_t birds = 0;
+  uint64_t nan_birds = 0;        // any non-finite position, velocity or attitude component
+  glm::dvec3 centroid{0.0};      // mean position of the finite birds, cm
+  double mean_speed = 0.0;       // mean |velocity| of the finite birds, cm/s
+  uint64_t targets_reached = 0;  // summed over all birds
+  uint64_t perched = 0;          // mode perched
+  uint64_t flying = 0;           // in the air: modes flying, landing and taking_off
+};
+
+// Pure: statistics of a set of bird states (zeros for none).
+FlockStatistics flock_statistics(const std::vector<BirdState>& birds);
+
+struct RunSummary {
+  std::string backend;  // "cpu"
+  std::string device;   // e.g. "cpu reference (8 threads, AMD EPYC ...)"
+  std::string scenario;
+  uint64_t steps = 0;  // steps per bird
+  double dt = 0.0;
+  uint32_t steps_per_frame = 0;
+  double sim_seconds = 0.0;
+  double wall_seconds = 0.0;
+  FlockStatistics stats;
+};
+
+// The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
+// wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
+// flying.
+nlohmann::ordered_json summary_json(const RunSummary& summary);
+
+// Writes summary_json atomically (PATH.tmp, then rename). Throws std::runtime_error naming the
+// path on failure, leaving neither PATH.tmp nor a partial PATH behind.
+void write_summary(const std::filesystem::path& path, const RunSummary& summary);
+
+}  // namespace aeroflock
