@@ -1,0 +1,190 @@
+// aeroflock: list the built-in scenarios, or run one and summarise it.
+#include <omp.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "backend.h"
+#include "io/scenario_file.h"
+#include "io/summary.h"
+
+namespace aeroflock {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunOptions {
+  std::string scenario = "default";
+  std::string backend = "cpu";
+  uint32_t birds = 0;
+  std::optional<double> seconds;
+  std::string summary;
+  int threads = 0;
+};
+
+int list_scenarios() {
+  for (const BuiltinScenario& s : builtin_scenarios())
+    std::cout << s.name << "\n    " << s.description << "\n";
+  return 0;
+}
+
+// Makes sure `path` can be written before spending time on the run: creates its directory and
+// a scratch file beside it.
+void check_output_path(const fs::path& path) {
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error("--summary " + path.string() + ": " + why);
+  };
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) fail("is a directory");
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  fs::create_directories(dir, ec);
+  if (ec) fail("cannot create directory " + dir.string() + ": " + ec.message());
+  fs::path probe = path;
+  probe += ".tmp";
+  if (!std::ofstream(probe)) fail(std::string("cannot write there: ") + std::strerror(errno));
+  fs::remove(probe, ec);
+}
+
+// CLI11's own PositiveNumber names the whole double range in its message.
+const CLI::Validator kPositive(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
+        return "expected a positive number, got " + text;
+      return "";
+    },
+    "> 0");
+
+// One "\r" line on a terminal, at most five times a second.
+class Progress {
+ public:
+  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
+  void update(double sim_time, double duration, size_t birds, double bird_steps_per_second,
+              bool force = false) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    std::fprintf(stderr, "\r  t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s   ", sim_time,
+                 duration, birds, bird_steps_per_second);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (enabled_) std::fputs("\n", stderr);
+  }
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+void print_summary(const RunSummary& r, const std::string& summary_path) {
+  const FlockStatistics& s = r.stats;
+  const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
+  std::printf("scenario         %s\n", r.scenario.c_str());
+  std::printf("backend          %s\n", r.device.c_str());
+  std::printf("birds            %llu (%llu flying, %llu perched, %llu with NaN)\n",
+              (unsigned long long)s.birds, (unsigned long long)s.flying,
+              (unsigned long long)s.perched, (unsigned long long)s.nan_birds);
+  std::printf("simulated        %.3f s (%llu steps of %g s)\n", r.sim_seconds,
+              (unsigned long long)r.steps, r.dt);
+  std::printf("wall time        %.3f s (%.3g bird-steps/s)\n", r.wall_seconds, rate);
+  std::printf("centroid         (%.2f, %.2f, %.2f) m\n", s.centroid.x / 100, s.centroid.y / 100,
+              s.centroid.z / 100);
+  std::printf("mean speed       %.2f m/s\n", s.mean_speed / 100);
+  std::printf("targets reached  %llu\n", (unsigned long long)s.targets_reached);
+  if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
+}
+
+int run(const RunOptions& opt) {
+  if (!opt.summary.empty()) check_output_path(opt.summary);
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+
+  Scenario scenario = load_scenario(opt.scenario);
+  const double seconds = opt.seconds.value_or(scenario.duration);
+  const double frame_seconds = scenario.dt * scenario.steps_per_frame;
+  // The small allowance keeps an exact multiple from gaining a frame to rounding.
+  const auto frames = static_cast<uint64_t>(std::ceil(seconds / frame_seconds - 1e-9));
+
+  RunSummary summary;
+  summary.scenario = scenario.name;
+  summary.dt = scenario.dt;
+  summary.steps_per_frame = scenario.steps_per_frame;
+  std::unique_ptr<Backend> backend = make_backend({opt.backend, opt.birds}, std::move(scenario));
+  summary.backend = backend->name();
+  summary.device = backend->device();
+
+  Progress progress;
+  const size_t birds = backend->birds().size();
+  const auto start = std::chrono::steady_clock::now();
+  auto wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (uint64_t frame = 0; frame < frames; ++frame) {
+    backend->step_frame();
+    const double w = wall();
+    progress.update(backend->time(), seconds, birds,
+                    w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
+  }
+  progress.finish();
+
+  summary.wall_seconds = wall();
+  summary.steps = backend->steps();
+  summary.sim_seconds = backend->time();
+  summary.stats = flock_statistics(backend->birds());
+  if (!opt.summary.empty()) write_summary(opt.summary, summary);
+  print_summary(summary, opt.summary);
+  return 0;
+}
+
+}  // namespace
+}  // namespace aeroflock
+
+int main(int argc, char** argv) {
+  using namespace aeroflock;
+  CLI::App app{"aeroflock: real-time bird flight simulation based on aerodynamics"};
+  app.require_subcommand(1);
+  CLI::App* scenarios = app.add_subcommand("scenarios", "List the built-in scenarios");
+
+  RunOptions opt;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario and summarise it");
+  run_cmd->add_option("scenario", opt.scenario, "A built-in scenario name or a FILE.toml")
+      ->capture_default_str();
+  run_cmd->add_option("--backend", opt.backend, "Backend: cpu (vulkan: not built yet)")
+      ->capture_default_str();
+  run_cmd->add_option("--birds", opt.birds, "Birds in all, shared over the flocks in proportion")
+      ->check(kPositive);
+  run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
+      ->check(kPositive);
+  run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file");
+  run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
+      ->check(kPositive);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  try {
+    if (scenarios->parsed()) return list_scenarios();
+    return run(opt);
+  } catch (const ScenarioError& e) {
+    std::cerr << e.what() << "\n";  // already "FILE:LINE:COLUMN: error: ..."
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "aeroflock: error: " << e.what() << "\n";
+    return 2;
+  }
+}

@@ -1,0 +1,34 @@
+// The seam between the command line and the ways of stepping a flock. Only the CPU reference
+// exists now; a Vulkan compute backend is to come.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/bird.h"
+#include "model/scenario.h"
+
+namespace aeroflock {
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;    // as given to --backend
+  virtual std::string device() const = 0;  // what runs it, in words
+  virtual void step_frame() = 0;           // scenario.steps_per_frame steps of dt
+  virtual double time() const = 0;         // simulated seconds so far
+  virtual uint64_t steps() const = 0;      // steps per bird so far
+  virtual const std::vector<BirdState>& birds() = 0;
+};
+
+struct BackendOptions {
+  std::string name = "cpu";
+  uint32_t birds = 0;  // > 0: override the scenario's flock sizes
+};
+
+// Throws std::runtime_error for a backend that does not exist (or is not built).
+std::unique_ptr<Backend> make_backend(const BackendOptions& options, Scenario scenario);
+
+}  // namespace aeroflock
