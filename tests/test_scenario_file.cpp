@@ -1,0 +1,278 @@
+// Scenario files: the built-ins load, fields convert, and every bad input says where it is.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/scenario_file.h"
+#include "io/species_fields.h"
+#include "model/constants.h"
+
+namespace aeroflock {
+namespace {
+
+// A small valid scenario; the error cases below edit it.
+const std::string kValid = R"([simulation]
+dt = 0.0003
+
+[[targets]]
+name = "t1"
+centre = [0.0, 3000.0, 10000.0]
+
+[[routes]]
+name = "r"
+targets = ["t1"]
+
+[[flocks]]
+species = "starling"
+route = "r"
+count = 3
+)";
+
+// The ScenarioError message `text` gives, or a test failure.
+std::string error_of(const std::string& text, const std::string& name = "bad.toml") {
+  try {
+    parse_scenario(text, name);
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no ScenarioError for:\n" << text;
+  return "";
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+const Species& species_named(const Scenario& s, const std::string& name) {
+  for (const Species& sp : s.species)
+    if (sp.name == name) return sp;
+  throw std::runtime_error("no species " + name);
+}
+
+// Species is a name and then doubles only: the field table must name every one of them, once.
+TEST(SpeciesFields, CoverEveryMemberOfSpecies) {
+  const Species s;
+  const auto* base = reinterpret_cast<const char*>(&s);
+  std::vector<size_t> offsets;
+  for (const io::SpeciesField& f : io::species_fields())
+    offsets.push_back(static_cast<size_t>(reinterpret_cast<const char*>(&(s.*f.member)) - base));
+  std::sort(offsets.begin(), offsets.end());
+  for (size_t i = 0; i < offsets.size(); ++i)
+    EXPECT_EQ(offsets[i], sizeof(std::string) + i * sizeof(double)) << "field " << i;
+  EXPECT_EQ(sizeof(Species), sizeof(std::string) + offsets.size() * sizeof(double))
+      << "a Species member is missing from engine/io/species_fields.cpp";
+}
+
+TEST(BuiltinScenarios, AllLoadAndValidate) {
+  const std::vector<BuiltinScenario> builtins = builtin_scenarios();
+  ASSERT_GE(builtins.size(), 10u);
+  for (const BuiltinScenario& b : builtins) {
+    SCOPED_TRACE(b.name);
+    EXPECT_FALSE(b.description.empty());
+    Scenario s;
+    ASSERT_NO_THROW(s = load_scenario(b.name));
+    EXPECT_EQ(s.name, b.name);
+    EXPECT_NO_THROW(validate(s));
+    EXPECT_FALSE(s.flocks.empty());
+    EXPECT_EQ(s.world.target_now.size(), s.world.targets.size());
+  }
+}
+
+TEST(BuiltinScenarios, TheFiguresAreThere) {
+  for (const char* name :
+       {"default", "fig16-circling-eagle", "fig16-fixed-rate", "fig17-ground-effect",
+        "fig17-no-ground-effect", "fig18-branch-path-control", "fig18-branch-direct",
+        "fig19-takeoff-no-legs", "fig20-takeoff-legs", "fig21-moving-target"})
+    EXPECT_NO_THROW(load_scenario(name)) << name;
+  EXPECT_EQ(load_scenario("fig16-fixed-rate").world.turning, TurningModel::fixed_rate);
+  EXPECT_EQ(load_scenario("fig16-circling-eagle").world.turning, TurningModel::tail);
+  EXPECT_FALSE(load_scenario("fig17-no-ground-effect").world.ground_effect);
+  const Scenario fig19 = load_scenario("fig19-takeoff-no-legs");
+  EXPECT_EQ(fig19.species[fig19.flocks[0].species].leg_force, 0.0);
+  EXPECT_TRUE(fig19.flocks[0].standing);
+}
+
+TEST(BuiltinScenarios, UnknownNameIsAnError) {
+  EXPECT_THROW(load_scenario("no-such-scenario"), ScenarioError);
+}
+
+TEST(ScenarioFile, ReadsValuesInFileUnits) {
+  const Scenario s = parse_scenario(R"(
+[simulation]
+description = "d"
+dt = 0.0005
+steps_per_frame = 50
+duration = 3
+seed = 7
+turning = "fixed-rate"
+wind = [1.0, 2.0, 3.0]
+[ground]
+height = 10.0
+effect = false
+[[targets]]
+name = "t"
+centre = [1.0, 2.0, 3.0]
+velocity = [0.0, 0.0, 500.0]
+[[branches]]
+name = "oak"
+point = [0.0, 500.0, 0.0]
+direction = [3.0, 0.0, 4.0]
+[[routes]]
+name = "r"
+targets = ["t"]
+branch = "oak"
+loop = true
+path_control = false
+[[flocks]]
+name = "f"
+species = "eagle"
+route = "r"
+heading = 90.0
+standing = true
+)",
+                                    "dir/my-run.toml");
+  EXPECT_EQ(s.name, "my-run");
+  EXPECT_EQ(s.description, "d");
+  EXPECT_DOUBLE_EQ(s.dt, 0.0005);
+  EXPECT_EQ(s.steps_per_frame, 50u);
+  EXPECT_DOUBLE_EQ(s.duration, 3.0);
+  EXPECT_EQ(s.seed, 7u);
+  EXPECT_EQ(s.world.turning, TurningModel::fixed_rate);
+  EXPECT_EQ(s.world.wind, glm::dvec3(1, 2, 3));
+  EXPECT_DOUBLE_EQ(s.world.ground_height, 10.0);
+  EXPECT_FALSE(s.world.ground_effect);
+  ASSERT_EQ(s.world.target_now.size(), 1u);
+  EXPECT_EQ(s.world.target_now[0], glm::dvec3(1, 2, 3));
+  EXPECT_EQ(s.world.targets[0].velocity, glm::dvec3(0, 0, 500));
+  EXPECT_DOUBLE_EQ(s.world.branches[0].direction.x, 0.6);
+  EXPECT_DOUBLE_EQ(s.world.branches[0].direction.z, 0.8);
+  const Route& r = s.world.routes[0];
+  EXPECT_EQ(r.targets, std::vector<uint32_t>{0});
+  EXPECT_EQ(r.branch, 0);
+  EXPECT_TRUE(r.loop);
+  EXPECT_FALSE(r.path_control);
+  const Flock& f = s.flocks[0];
+  EXPECT_EQ(s.species[f.species].name, "eagle");
+  EXPECT_DOUBLE_EQ(f.heading, kPi / 2);
+  EXPECT_TRUE(f.standing);
+  EXPECT_EQ(f.count, 1u);
+}
+
+TEST(ScenarioFile, SpeciesInheritsFromBaseAndConvertsDegrees) {
+  const Scenario s = parse_scenario(kValid + R"(
+[[species]]
+name = "big-starling"
+base = "starling"
+mass = 600.0
+bend_max = 20.0
+turn_rate = 90
+[[species]]
+name = "bigger"
+base = "big-starling"
+wing_area = 2000
+)",
+                                    "species.toml");
+  const Species starling_preset = starling();
+  const Species& big = species_named(s, "big-starling");
+  EXPECT_DOUBLE_EQ(big.mass, 600.0);
+  EXPECT_DOUBLE_EQ(big.bend_max, radians(20.0));
+  EXPECT_DOUBLE_EQ(big.turn_rate, radians(90.0));
+  EXPECT_DOUBLE_EQ(big.wing_area, starling_preset.wing_area);
+  EXPECT_DOUBLE_EQ(big.rot_max, starling_preset.rot_max);
+  EXPECT_DOUBLE_EQ(big.leg_force, starling_preset.leg_force);
+  const Species& bigger = species_named(s, "bigger");
+  EXPECT_DOUBLE_EQ(bigger.mass, 600.0);
+  EXPECT_DOUBLE_EQ(bigger.wing_area, 2000.0);
+  EXPECT_NO_THROW(species_named(s, "eagle"));  // the presets are always there
+}
+
+// Each bad input: the edit to kValid and the start of the message it must give.
+struct BadCase {
+  const char* what;
+  std::string text;
+  std::string message;
+};
+
+TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
+  const std::string species = "\n[[species]]\nname = \"x\"\nbase = \"starling\"\n";
+  const BadCase cases[] = {
+      {"syntax error", replace(kValid, "dt = 0.0003", "dt = 0.0003 0.1"),
+       "bad.toml:2:13: error: syntax error while parsing key-value pair"},
+      {"unknown key", replace(kValid, "count = 3", "cuont = 3"),
+       "bad.toml:15:1: error: flocks[0].cuont: unknown key; valid keys: name, species, route"},
+      {"unknown table", replace(kValid, "[simulation]", "[simulaton]"),
+       "bad.toml:1:2: error: simulaton: unknown key; valid keys: simulation, ground"},
+      {"wrong type", replace(kValid, "count = 3", "count = \"many\""),
+       "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got \"many\""},
+      {"wrong type vec3", replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = 1"),
+       "bad.toml:6:10: error: targets[0].centre: expected an array of 3 numbers, got 1"},
+      {"dt <= 0", replace(kValid, "dt = 0.0003", "dt = 0.0"),
+       "bad.toml:2:6: error: simulation.dt: expected a positive number, got 0"},
+      {"count 0", replace(kValid, "count = 3", "count = 0"),
+       "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got 0"},
+      {"count negative", replace(kValid, "count = 3", "count = -3"),
+       "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got -3"},
+      {"f_min > f_max", kValid + species + "f_min = 12.0\n",
+       "bad.toml:20:9: error: species[0].f_min: species 'x': f_min must be <= f_max, got 12"},
+      {"negative mass", kValid + species + "mass = -5.0\n",
+       "bad.toml:20:8: error: species[0].mass: species 'x': mass must be > 0, got -5"},
+      {"unknown route", replace(kValid, "route = \"r\"", "route = \"q\""),
+       "bad.toml:14:9: error: flocks[0].route: unknown route \"q\" (known: r)"},
+      {"unknown species", replace(kValid, "species = \"starling\"", "species = \"crow\""),
+       "bad.toml:13:11: error: flocks[0].species: unknown species \"crow\""},
+      {"unknown target", replace(kValid, "targets = [\"t1\"]", "targets = [\"t1\", \"t2\"]"),
+       "bad.toml:10:18: error: routes[0].targets[1]: unknown target \"t2\" (known: t1)"},
+      {"route without targets", replace(kValid, "targets = [\"t1\"]", "targets = []"),
+       "bad.toml:10:11: error: routes[0].targets: expected at least one target name"},
+      {"duplicate name", kValid + "[[targets]]\nname = \"t1\"\ncentre = [0, 0, 0]\n",
+       "bad.toml:17:8: error: targets[1].name: duplicate target name \"t1\""},
+      {"missing key", replace(kValid, "route = \"r\"", ""),
+       "bad.toml:12:1: error: flocks[0].route: missing required key"},
+      {"radius <= 0", replace(kValid, "name = \"t1\"", "name = \"t1\"\nradius = -1"),
+       "bad.toml:6:10: error: targets[0].radius: expected a positive number, got -1"},
+      {"steps_per_frame", replace(kValid, "dt = 0.0003", "steps_per_frame = 0"),
+       "bad.toml:2:19: error: simulation.steps_per_frame: expected a positive integer, got 0"},
+      {"turning", replace(kValid, "dt = 0.0003", "turning = \"left\""),
+       "bad.toml:2:11: error: simulation.turning: expected \"tail\" or \"fixed-rate\""},
+  };
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.what);
+    const std::string message = error_of(c.text);
+    EXPECT_EQ(message.substr(0, c.message.size()), c.message) << message;
+  }
+}
+
+TEST(ScenarioFile, ErrorsNameTheFileTheyCameFrom) {
+  const auto dir = std::filesystem::temp_directory_path() / "aeroflock-test-scenario-file";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "bad-count.toml";
+  std::ofstream(path) << replace(kValid, "count = 3", "count = -3");
+  try {
+    read_scenario_file(path);
+    ADD_FAILURE() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path.string() + ":15:9: error: flocks[0].count: expected a positive integer, got -3");
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ScenarioFile, MissingFileIsAScenarioError) {
+  try {
+    read_scenario_file("/no/such/dir/missing.toml");
+    ADD_FAILURE() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "/no/such/dir/missing.toml: error: cannot read the scenario file: "
+              "No such file or directory");
+  }
+  EXPECT_THROW(load_scenario("/no/such/dir/missing.toml"), ScenarioError);
+}
+
+}  // namespace
+}  // namespace aeroflock

@@ -1,0 +1,120 @@
+// Run summaries: statistics of hand-made bird states and the JSON file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "io/summary.h"
+
+namespace aeroflock {
+namespace {
+
+BirdState bird(glm::dvec3 position, glm::dvec3 velocity, FlightMode mode = FlightMode::flying) {
+  BirdState b;
+  b.position = position;
+  b.velocity = velocity;
+  b.mode = mode;
+  return b;
+}
+
+TEST(FlockStatistics, NoBirdsGivesZeros) {
+  const FlockStatistics s = flock_statistics({});
+  EXPECT_EQ(s.birds, 0u);
+  EXPECT_EQ(s.nan_birds, 0u);
+  EXPECT_EQ(s.centroid, glm::dvec3(0.0));
+  EXPECT_EQ(s.mean_speed, 0.0);
+}
+
+TEST(FlockStatistics, CentroidSpeedAndCounts) {
+  std::vector<BirdState> birds = {
+      bird({0, 0, 0}, {300, 0, 0}),
+      bird({200, 100, 0}, {0, 400, 0}, FlightMode::landing),
+      bird({100, 200, 600}, {0, 0, 0}, FlightMode::perched),
+      bird({0, 0, 0}, {0, 0, 0}, FlightMode::standing),
+  };
+  birds[0].targets_reached = 2;
+  birds[2].targets_reached = 3;
+  const FlockStatistics s = flock_statistics(birds);
+  EXPECT_EQ(s.birds, 4u);
+  EXPECT_EQ(s.nan_birds, 0u);
+  EXPECT_DOUBLE_EQ(s.centroid.x, 75.0);
+  EXPECT_DOUBLE_EQ(s.centroid.y, 75.0);
+  EXPECT_DOUBLE_EQ(s.centroid.z, 150.0);
+  EXPECT_DOUBLE_EQ(s.mean_speed, 175.0);
+  EXPECT_EQ(s.targets_reached, 5u);
+  EXPECT_EQ(s.perched, 1u);
+  EXPECT_EQ(s.flying, 2u);  // flying and landing; not perched or standing
+}
+
+TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<BirdState> birds = {
+      bird({100, 0, 0}, {100, 0, 0}),
+      bird({nan, 0, 0}, {100, 0, 0}),
+      bird({0, 0, 0}, {0, inf, 0}),
+      bird({300, 0, 0}, {300, 0, 0}),
+  };
+  birds.push_back(birds[0]);
+  birds.back().attitude.w = nan;
+  const FlockStatistics s = flock_statistics(birds);
+  EXPECT_EQ(s.birds, 5u);
+  EXPECT_EQ(s.nan_birds, 3u);
+  EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
+  EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
+}
+
+RunSummary sample_summary() {
+  RunSummary r;
+  r.backend = "cpu";
+  r.device = "cpu reference (1 threads, test)";
+  r.scenario = "test";
+  r.steps = 1000;
+  r.dt = 0.0003;
+  r.steps_per_frame = 100;
+  r.sim_seconds = 0.3;
+  r.wall_seconds = 2.0;
+  r.stats = flock_statistics({bird({0, 100, 0}, {1000, 0, 0}), bird({0, 300, 0}, {0, 0, 0})});
+  return r;
+}
+
+TEST(Summary, JsonHasEveryKey) {
+  const nlohmann::ordered_json j = summary_json(sample_summary());
+  for (const char* key :
+       {"backend", "device", "scenario", "birds", "steps", "dt", "steps_per_frame", "sim_seconds",
+        "wall_seconds", "bird_steps_per_second", "nan_birds", "centroid", "mean_speed",
+        "targets_reached", "perched", "flying"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["birds"], 2);
+  EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
+  EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
+  EXPECT_DOUBLE_EQ(j["mean_speed"].get<double>(), 500.0);
+}
+
+TEST(Summary, WritesAtomically) {
+  const auto dir = std::filesystem::temp_directory_path() / "aeroflock-test-summary";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "summary.json";
+  write_summary(path, sample_summary());
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["scenario"], "test");
+  EXPECT_FALSE(std::filesystem::exists(dir / "summary.json.tmp"));
+
+  const auto bad = dir / "no-such-dir" / "summary.json";
+  try {
+    write_summary(bad, sample_summary());
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(bad.parent_path()));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace aeroflock
