@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the default scenario. Extra arguments go to
+# `aeroflock run`, e.g. ./run.sh --seconds 5 --birds 200
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")"
+
+tools/install-deps.sh
+cmake --preset release
+cmake --build --preset release
+build/release/aeroflock run default --summary out/default/summary.json "$@"
+
+echo
+echo "outputs:"
+echo "  program:  build/release/aeroflock (try: build/release/aeroflock scenarios)"
+echo "  summary:  out/default/summary.json"
