@@ -20,16 +20,20 @@ double steer_share(const Species& s, double heading_error) {
   return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
 
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& omega,
-                       const dvec3& position, const dvec3& velocity, const dvec3& goal) {
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity, const dvec3& goal) {
   const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
-  const double ahead = head.x * to_goal.x + head.z * to_goal.z;
-  const double right = -head.z * to_goal.x + head.x * to_goal.z;
-  // A yaw to the left (about world +y) makes the error grow: the error predicted ahead.
-  const double yaw_left_rate = (attitude * omega).y;
-  return {std::atan2(right, ahead) + s.heading_lead * yaw_left_rate,
+  auto angle_to_goal = [&](const dvec3& d) {
+    return std::atan2(-d.z * to_goal.x + d.x * to_goal.z, d.x * to_goal.x + d.z * to_goal.z);
+  };
+  const double heading_error = angle_to_goal(head);
+  const double speed = std::hypot(velocity.x, velocity.z);
+  // The turn the bank is making, g tan(bank) / v.
+  const dvec3 right_axis = attitude * dvec3{0.0, 0.0, 1.0};
+  const double bank = std::asin(std::clamp(-right_axis.y, -1.0, 1.0));
+  const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank) / speed : 0.0;
+  return {heading_error, heading_error - s.heading_lead * turn_rate,
           to_goal.y - s.height_lead * velocity.y};
 }
 
@@ -50,7 +54,7 @@ double amplitude_step(const Species& s, double amplitude, double dy, double dt) 
 
 TailCommand tail_command(const Species& s, const Steering& st) {
   return {sign_outside(st.height_error, s.height_band) * s.bend_max,
-          steer_share(s, st.heading_error) * s.rot_max};
+          steer_share(s, st.heading_error_ahead) * s.rot_max};
 }
 
 double approach(double angle, double command, double rate, double dt) {

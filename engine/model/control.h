@@ -14,15 +14,16 @@ namespace aeroflock {
 double sign_outside(double x, double band);
 
 // heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
-// target on the right > 0. height_error: y_p - y_i of eqs. 4, 5. Both are predicted a lead time
-// ahead (heading_lead from the yaw rate, height_lead from the climb rate) so that the bang-bang
-// control settles instead of oscillating.
+// target on the right > 0; the bank steers by it. heading_error_ahead: the same, less the turn the
+// bank is making (g tan(bank) / v) over heading_lead seconds; the tail twist steers by it, which
+// damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the bird's height predicted
+// height_lead seconds ahead so that the bang-bang height control settles instead of oscillating.
 struct Steering {
   double heading_error;
+  double heading_error_ahead;
   double height_error;
 };
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& omega,
-                       const glm::dvec3& position, const glm::dvec3& velocity,
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
                        const glm::dvec3& goal);
 
 // How hard the bird steers, in [-1, 1]: 0 inside the dead band, then in proportion to the

@@ -27,7 +27,7 @@ void set_common_defaults(Species& s) {
   s.height_lead = 1.0;
   s.height_band = 100;
   s.bank_max = radians(45);
-  s.steer_full_error = radians(30);
+  s.steer_full_error = radians(45);
   s.roll_rate = radians(120);
   s.bank_time = 0.1;
   s.crouch_time = 0.1;

@@ -50,7 +50,7 @@ struct Species {
   // Steering (paper 3.4 and MODEL.md defaults).
   double turn_rate = 0;        // R, standard rotation velocity (fixed-rate turning), rad/s
   double dead_band = 0;        // heading dead band, rad
-  double heading_lead = 0;     // heading control looks this far ahead along the yaw rate, s
+  double heading_lead = 0;     // heading control looks this far ahead along the banked turn, s
   double height_lead = 0;      // height control looks this far ahead: y + height_lead vy, s
   double height_band = 0;      // the tail bends only while the height error exceeds it, cm
   double bank_max = 0;         // largest bank, rad

@@ -104,7 +104,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
 
   // --- Control (paper 3.4, 4.1, 4.4) from the state at time t.
   const dvec3 goal = route_goal(b, sp, w);
-  const Steering steering = steer_towards(sp, b.attitude, b.omega, b.position, b.velocity, goal);
+  const Steering steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal);
   if (lands_on_branch(b, w)) {
     const double to_branch = glm::distance(b.position, perch_point(sp, w.branches[static_cast<uint32_t>(w.routes[b.route].branch)]));
     if (to_branch <= sp.perch_radius) {
