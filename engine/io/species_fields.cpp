@@ -44,6 +44,7 @@ constexpr SpeciesField kFields[] = {
     {"tail_rate", &Species::tail_rate, degrees_per_second},
     {"turn_rate", &Species::turn_rate, degrees_per_second},
     {"dead_band", &Species::dead_band, degrees},
+    {"heading_lead", &Species::heading_lead, plain},
     {"height_lead", &Species::height_lead, plain},
     {"height_band", &Species::height_band, plain},
     {"bank_max", &Species::bank_max, degrees},
