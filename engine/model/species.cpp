@@ -24,7 +24,7 @@ void set_common_defaults(Species& s) {
   s.turn_rate = radians(45);
   s.dead_band = radians(3);
   s.heading_lead = 0.5;
-  s.height_lead = 1.0;
+  s.height_lead = 1.5;
   s.height_band = 100;
   s.bank_max = radians(45);
   s.steer_full_error = radians(45);
@@ -58,7 +58,10 @@ Species eagle() {
   s.ground_k = 10;
   s.wing_length = 90;
   set_common_defaults(s);
-  s.shoulder_x = -6;  // wings' mean pitching moment ~0 at 8 deg body pitch, 10 m/s
+  // Calibrated: the wings' mean pitching moment is ~0 at 8 deg body pitch at 10 m/s and does not
+  // run away nose-up at full amplitude (lead-lag 7.5 deg).
+  s.C_leadlag = radians(7.5);
+  s.shoulder_x = -4;
   s.stand_height = 25;
   s.crouch_depth = 8;
   s.leg_force = 8.4e6;  // the starling's push scaled by mass
@@ -92,7 +95,7 @@ Species starling() {
   s.ground_k = 10;
   s.wing_length = 40;
   set_common_defaults(s);
-  s.shoulder_x = -3;
+  s.shoulder_x = -3;  // the wings' mean pitching moment is ~0 at 8 deg body pitch at 10 m/s
   s.stand_height = 12;
   s.crouch_depth = 4;
   s.leg_force = 2.1e6;  // paper section 5
