@@ -52,9 +52,9 @@ double amplitude_step(const Species& s, double amplitude, double dy, double dt) 
   return rate_step(amplitude, s.amp_min, s.amp_max, s.K_a, dy, dt);
 }
 
-TailCommand tail_command(const Species& s, const Steering& st) {
+TailCommand tail_command(const Species& s, const Steering& st, bool fixed_rate) {
   return {sign_outside(st.height_error, s.height_band) * s.bend_max,
-          steer_share(s, st.heading_error_ahead) * s.rot_max};
+          steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max};
 }
 
 double approach(double angle, double command, double rate, double dt) {

@@ -42,7 +42,8 @@ double amplitude_step(const Species& s, double amplitude, double dy, double dt);
 struct TailCommand {
   double bend, twist;
 };
-TailCommand tail_command(const Species& s, const Steering& steering);
+// With fixed-rate turning (eq. 3 turns the body) the twist follows heading_error instead.
+TailCommand tail_command(const Species& s, const Steering& steering, bool fixed_rate);
 
 // Moves `angle` towards `command` by at most rate dt.
 double approach(double angle, double command, double rate, double dt);

@@ -121,7 +121,9 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     }
   }
   const bool braking = b.mode == FlightMode::landing;
-  TailCommand tail_cmd = tail_command(sp, steering);
+  // The tail twist steers the tail model; with fixed-rate turning it only shows the turn.
+  const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
+  TailCommand tail_cmd = tail_command(sp, steering, fixed_rate);
   double opening = tail_opening(sp, b.tail_bend, b.tail_twist);
   if (braking) opening = sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min;
 
@@ -133,7 +135,6 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   } else {
     // Bank into the turn: in proportion to the heading error (tail model), or coordinated with
     // eq. 3's yaw rate -sgn(phi) R (fixed-rate model).
-    const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
     const double turn_rate = sign_outside(steering.heading_error, sp.dead_band) * sp.turn_rate;
     double bank_cmd = steer_share(sp, steering.heading_error) * sp.bank_max;
     if (fixed_rate) bank_cmd = coordinated_bank(sp, turn_rate, speed);

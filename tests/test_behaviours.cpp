@@ -1,0 +1,307 @@
+// MODEL.md's behaviours 1-8 on the CPU reference, each with its quantitative criterion. The
+// paper's figures are the built-in scenarios (scenarios/fig*.toml), so what users run is what is
+// tested; cruise, climb and descent are small scenarios written here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "io/scenario_file.h"
+#include "model/body.h"
+#include "model/constants.h"
+#include "model/control.h"
+#include "model/simulation.h"
+#include "model/tail.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+// Runs `sim` for `seconds`, calling `each_frame` after every frame.
+void run(Simulation& sim, double seconds, const std::function<void(const Simulation&)>& each_frame) {
+  while (sim.time() < seconds - 1e-9) {
+    sim.step_frame();
+    each_frame(sim);
+  }
+}
+
+bool finite(const BirdState& b) {
+  auto ok = [](const dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  return ok(b.position) && ok(b.velocity) && ok(b.omega) && std::isfinite(b.attitude.w) &&
+         std::isfinite(b.attitude.x) && std::isfinite(b.attitude.y) && std::isfinite(b.attitude.z);
+}
+
+// One bird of `species` at (0, 30 m, 0) flying along +x at 10 m/s towards a target `ahead` cm
+// ahead and `above` cm higher.
+Scenario straight_flight(const std::string& species, double ahead, double above) {
+  const std::string toml = R"(
+[simulation]
+duration = 30.0
+[[targets]]
+name = "goal"
+centre = [)" + std::to_string(ahead) + ", " + std::to_string(3000.0 + above) + R"(, 0.0]
+radius = 200.0
+[[routes]]
+name = "r"
+targets = ["goal"]
+[[flocks]]
+name = "f"
+species = ")" + species + R"("
+route = "r"
+centre = [0.0, 3000.0, 0.0]
+speed = 1000.0
+random_phase = false
+)";
+  return parse_scenario(toml, "straight.toml");
+}
+
+const Species& species_of(const Simulation& sim, const BirdState& b) {
+  return sim.scenario().species[b.species];
+}
+
+// --- 1. Cruise: height within +-1 m after 2 s, f and amp settled strictly inside their ranges,
+// and the tail untwisted and mostly closed on a straight course.
+class Cruise : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Cruise, HoldsHeightWithFrequencyAndAmplitudeInside) {
+  Simulation sim(straight_flight(GetParam(), 1e6, 0.0));
+  const Species& sp = sim.scenario().species[sim.birds()[0].species];
+  double y_lo = 1e9, y_hi = -1e9, f_lo = 1e9, f_hi = -1e9, a_lo = 1e9, a_hi = -1e9;
+  int frames = 0, closed = 0, twisted = 0;
+  run(sim, 30.0, [&](const Simulation& s) {
+    const BirdState& b = s.birds()[0];
+    if (s.time() < 2.0) return;
+    y_lo = std::min(y_lo, b.position.y), y_hi = std::max(y_hi, b.position.y);
+    f_lo = std::min(f_lo, b.frequency), f_hi = std::max(f_hi, b.frequency);
+    a_lo = std::min(a_lo, b.amplitude), a_hi = std::max(a_hi, b.amplitude);
+    ++frames;
+    if (b.tail_twist != 0.0) ++twisted;
+    if (tail_opening(sp, b.tail_bend, b.tail_twist) == sp.tail_min) ++closed;
+  });
+  RecordProperty("height_range_cm", std::to_string(y_lo - 3000) + ".." + std::to_string(y_hi - 3000));
+  RecordProperty("frequency_range", std::to_string(f_lo) + ".." + std::to_string(f_hi));
+  RecordProperty("amplitude_range", std::to_string(a_lo) + ".." + std::to_string(a_hi));
+  RecordProperty("tail_closed_fraction", std::to_string(double(closed) / frames));
+  EXPECT_GE(y_lo, 3000.0 - 100.0);
+  EXPECT_LE(y_hi, 3000.0 + 100.0);
+  EXPECT_GT(f_lo, sp.f_min);
+  EXPECT_LT(f_hi, sp.f_max);
+  EXPECT_GT(a_lo, sp.amp_min);
+  EXPECT_LT(a_hi, sp.amp_max);
+  EXPECT_EQ(twisted, 0) << "the tail twists only to turn";
+  EXPECT_GT(double(closed) / frames, 0.3) << "the tail is closed for much of a straight cruise";
+}
+
+// --- 2. Climb and descent: a target 10 m above (below) and 100 m ahead is reached; f and amp
+// rise (fall) at K_f and K_a (eqs. 4, 5) at first.
+struct VerticalCase {
+  std::string species;
+  double above;
+};
+class ClimbDescent : public ::testing::TestWithParam<VerticalCase> {};
+
+TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5) {
+  const VerticalCase c = GetParam();
+  Simulation sim(straight_flight(c.species, 10000.0, c.above));
+  const BirdState start = sim.birds()[0];
+  const Species& sp = species_of(sim, start);
+  double reached_at = -1.0;
+  BirdState at_half_second;
+  run(sim, 20.0, [&](const Simulation& s) {
+    const BirdState& b = s.birds()[0];
+    if (s.time() <= 0.5) at_half_second = b;
+    if (reached_at < 0 && b.targets_reached > 0) reached_at = s.time();
+  });
+  RecordProperty("reached_at_s", std::to_string(reached_at));
+  EXPECT_GT(reached_at, 0.0) << "target " << c.above << " cm above not reached";
+  const double sign = c.above > 0 ? 1.0 : -1.0;
+  const double t = at_half_second.mode_time;  // flying since t = 0
+  EXPECT_NEAR(at_half_second.frequency, std::clamp(start.frequency + sign * sp.K_f * t, sp.f_min, sp.f_max), 0.05 * sp.K_f);
+  EXPECT_NEAR(at_half_second.amplitude, std::clamp(start.amplitude + sign * sp.K_a * t, sp.amp_min, sp.amp_max), 0.05 * sp.K_a);
+}
+
+// --- 3. Circular flight (Fig. 16): keeps circling the 30 m circle, banked into the turn, the
+// tail twisted towards the turn and open while turning.
+class Circling : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
+  Simulation sim(load_scenario(GetParam()));
+  const Species& sp = species_of(sim, sim.birds()[0]);
+  double r_lo = 1e9, r_hi = 0, y_lo = 1e9, y_hi = -1e9;
+  int frames = 0, banked_in = 0, turning = 0, twisted_in = 0, open_in_turn = 0;
+  uint32_t reached_at_10s = 0;
+  run(sim, 60.0, [&](const Simulation& s) {
+    const BirdState& b = s.birds()[0];
+    if (s.time() < 10.0) {
+      reached_at_10s = b.targets_reached;
+      return;
+    }
+    const double r = std::hypot(b.position.x, b.position.z);
+    r_lo = std::min(r_lo, r), r_hi = std::max(r_hi, r);
+    y_lo = std::min(y_lo, b.position.y), y_hi = std::max(y_hi, b.position.y);
+    // The centre's side of the flight direction: right (+1) or left (-1).
+    const double centre_side = (b.velocity.z * b.position.x - b.velocity.x * b.position.z) > 0 ? 1.0 : -1.0;
+    ++frames;
+    if (bank_angle(b.attitude) * centre_side > 0) ++banked_in;
+    const Route& route = s.world().routes[b.route];
+    const dvec3 goal = s.world().target_now[route.targets[b.target % route.targets.size()]];
+    const Steering st = steer_towards(sp, b.attitude, b.position, b.velocity, goal);
+    if (std::fabs(st.heading_error) > sp.dead_band) {
+      ++turning;
+      if (b.tail_twist * centre_side > 0) ++twisted_in;
+      if (tail_opening(sp, b.tail_bend, b.tail_twist) > sp.tail_min) ++open_in_turn;
+    }
+  });
+  const uint32_t laps_targets = sim.birds()[0].targets_reached - reached_at_10s;
+  RecordProperty("targets_in_50s", std::to_string(laps_targets));
+  RecordProperty("radius_cm", std::to_string(r_lo) + ".." + std::to_string(r_hi));
+  RecordProperty("height_cm", std::to_string(y_lo) + ".." + std::to_string(y_hi));
+  EXPECT_GE(laps_targets, 24u) << "two laps of 12 targets in 50 s";
+  EXPECT_GT(r_lo, 2500.0);
+  EXPECT_LT(r_hi, 3500.0);
+  EXPECT_GT(y_lo, 3000.0 - 300.0);
+  EXPECT_LT(y_hi, 3000.0 + 300.0);
+  EXPECT_GT(double(banked_in) / frames, 0.9) << "banked into the turn";
+  ASSERT_GT(turning, 0);
+  EXPECT_GT(double(twisted_in) / turning, 0.8) << "tail twisted towards the turn";
+  EXPECT_GT(double(open_in_turn) / turning, 0.8) << "tail open while turning";
+}
+
+// --- 4. Ground effect (Fig. 17): descending to a target on the ground, the starling never goes
+// below y = 0 with k = 10, and does without ground effect.
+double lowest_height(const std::string& scenario) {
+  Simulation sim(load_scenario(scenario));
+  double lowest = 1e9;
+  run(sim, sim.scenario().duration, [&](const Simulation& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
+  return lowest;
+}
+
+TEST(GroundEffect, KeepsTheStarlingAboveTheGroundOnlyWhenOn) {
+  const double with = lowest_height("fig17-ground-effect");
+  const double without = lowest_height("fig17-no-ground-effect");
+  RecordProperty("lowest_with_cm", std::to_string(with));
+  RecordProperty("lowest_without_cm", std::to_string(without));
+  EXPECT_GE(with, 0.0);
+  EXPECT_LT(without, 0.0);
+}
+
+// --- 5. Take-off (Figs. 19, 20): higher at 0.3 s and 0.7 s with the leg force than without.
+struct Heights {
+  double at_03 = 0, at_07 = 0;
+};
+Heights takeoff_heights(const std::string& scenario) {
+  Simulation sim(load_scenario(scenario));
+  Heights h;
+  run(sim, 0.7, [&](const Simulation& s) {
+    if (s.time() <= 0.3 + 1e-9) h.at_03 = s.birds()[0].position.y;
+    h.at_07 = s.birds()[0].position.y;
+  });
+  return h;
+}
+
+TEST(TakeOff, LegForceGivesAQuickerAscent) {
+  const Heights legs = takeoff_heights("fig20-takeoff-legs");
+  const Heights none = takeoff_heights("fig19-takeoff-no-legs");
+  RecordProperty("with_legs_cm", std::to_string(legs.at_03) + ", " + std::to_string(legs.at_07));
+  RecordProperty("without_cm", std::to_string(none.at_03) + ", " + std::to_string(none.at_07));
+  EXPECT_GT(legs.at_03, none.at_03);
+  EXPECT_GT(legs.at_07, none.at_07);
+}
+
+// --- 6. Branch landing (Fig. 18): with path control the approach over the last metre is within
+// 20 degrees of perpendicular to the branch and the bird ends perched; the direct method comes in
+// at the angle it happened to come from.
+struct Landing {
+  bool perched = false;
+  double approach_off_perpendicular = 0;  // degrees
+};
+Landing land(const std::string& scenario) {
+  Simulation sim(load_scenario(scenario));
+  const Branch& branch = sim.world().branches[0];
+  std::vector<dvec3> track;
+  Landing result;
+  run(sim, sim.scenario().duration, [&](const Simulation& s) {
+    const BirdState& b = s.birds()[0];
+    if (b.mode != FlightMode::perched) track.push_back(b.position);
+    result.perched = b.mode == FlightMode::perched;
+  });
+  // The horizontal direction over the last metre (path length) before perching.
+  const dvec3 end = sim.birds()[0].position;
+  dvec3 from = track.empty() ? end : track.back();
+  for (auto it = track.rbegin(); it != track.rend(); ++it) {
+    from = *it;
+    if (std::hypot(end.x - it->x, end.z - it->z) >= 100.0) break;
+  }
+  const dvec3 d = glm::normalize(dvec3{end.x - from.x, 0.0, end.z - from.z});
+  const double along = std::fabs(glm::dot(d, branch.direction));
+  result.approach_off_perpendicular = degrees(std::asin(std::min(1.0, along)));
+  return result;
+}
+
+TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
+  const Landing controlled = land("fig18-branch-path-control");
+  const Landing direct = land("fig18-branch-direct");
+  RecordProperty("path_control_off_perpendicular_deg", std::to_string(controlled.approach_off_perpendicular));
+  RecordProperty("direct_off_perpendicular_deg", std::to_string(direct.approach_off_perpendicular));
+  EXPECT_TRUE(controlled.perched);
+  EXPECT_LT(controlled.approach_off_perpendicular, 20.0);
+  EXPECT_GT(direct.approach_off_perpendicular, 20.0) << "the direct method keeps its angle";
+}
+
+// --- 7. Moving targets (Fig. 21): a target moving at 5 m/s is caught and the route goes on.
+TEST(MovingTarget, IsCaughtAndTheRouteGoesOn) {
+  Simulation sim(load_scenario("fig21-moving-target"));
+  double caught_at = -1, runner_moved = 0;
+  const dvec3 runner_start = sim.world().targets[0].centre;
+  run(sim, sim.scenario().duration, [&](const Simulation& s) {
+    const BirdState& b = s.birds()[0];
+    if (caught_at < 0 && b.targets_reached >= 1) {
+      caught_at = s.time();
+      runner_moved = glm::distance(s.world().target_now[0], runner_start);
+    }
+  });
+  RecordProperty("caught_at_s", std::to_string(caught_at));
+  EXPECT_GT(caught_at, 0.0);
+  EXPECT_GT(runner_moved, 500.0) << "the target had moved when it was caught";
+  EXPECT_EQ(sim.birds()[0].targets_reached, 2u) << "the next target of the route is reached too";
+}
+
+// --- 8. Nothing in a healthy flight is NaN or infinite: every built-in scenario, in full.
+class BuiltinScenario : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BuiltinScenario, FliesWithoutNaN) {
+  Scenario scenario = load_scenario(GetParam());
+  Simulation sim(scenario, std::min<uint32_t>(200, static_cast<uint32_t>(spawn_birds(scenario).size())));
+  run(sim, scenario.duration, [](const Simulation&) {});
+  for (const BirdState& b : sim.birds()) ASSERT_TRUE(finite(b));
+}
+
+std::vector<std::string> builtin_names() {
+  std::vector<std::string> names;
+  for (const auto& s : builtin_scenarios()) names.push_back(s.name);
+  return names;
+}
+
+std::string name_of(const ::testing::TestParamInfo<std::string>& info) {
+  std::string n = info.param;
+  std::replace(n.begin(), n.end(), '-', '_');
+  return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Species, Cruise, ::testing::Values("starling", "eagle"), name_of);
+INSTANTIATE_TEST_SUITE_P(Species, ClimbDescent,
+                         ::testing::Values(VerticalCase{"starling", 1000}, VerticalCase{"starling", -1000},
+                                           VerticalCase{"eagle", 1000}, VerticalCase{"eagle", -1000}),
+                         [](const auto& info) {
+                           return info.param.species + (info.param.above > 0 ? "_climb" : "_descent");
+                         });
+INSTANTIATE_TEST_SUITE_P(Fig16, Circling, ::testing::Values("fig16-circling-eagle", "fig16-fixed-rate"), name_of);
+INSTANTIATE_TEST_SUITE_P(All, BuiltinScenario, ::testing::ValuesIn(builtin_names()), name_of);
+
+}  // namespace
+}  // namespace aeroflock
