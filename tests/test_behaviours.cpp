@@ -230,12 +230,13 @@ Landing land(const std::string& scenario) {
     if (b.mode != FlightMode::perched) track.push_back(b.position);
     result.perched = b.mode == FlightMode::perched;
   });
-  // The horizontal direction over the last metre (path length) before perching.
-  const dvec3 end = sim.birds()[0].position;
-  dvec3 from = track.empty() ? end : track.back();
-  for (auto it = track.rbegin(); it != track.rend(); ++it) {
-    from = *it;
-    if (std::hypot(end.x - it->x, end.z - it->z) >= 100.0) break;
+  // The horizontal direction of flight over the last metre of the track before perching.
+  const dvec3 end = track.empty() ? sim.birds()[0].position : track.back();
+  dvec3 from = end;
+  double length = 0.0;
+  for (size_t i = track.size(); i-- > 1 && length < 100.0;) {
+    length += std::hypot(track[i].x - track[i - 1].x, track[i].z - track[i - 1].z);
+    from = track[i - 1];
   }
   const dvec3 d = glm::normalize(dvec3{end.x - from.x, 0.0, end.z - from.z});
   const double along = std::fabs(glm::dot(d, branch.direction));

@@ -28,13 +28,15 @@ struct BirdState {
   double tail_twist = 0.0;   // phi_rot now, rad (right side down > 0)
   double mode_time = 0.0;    // seconds spent in the current mode
   double takeoff_time = 0.0; // when a standing bird takes off, s
-  glm::dvec3 via_point{0.0}; // temporary landing target P (paper 4.4)
+  glm::dvec3 landing_start{0.0};  // Q1 of the landing curve (paper 4.4)
+  glm::dvec3 via_point{0.0};      // P, the middle of the landing curve
+  double landing_progress = 0.0;  // how far along the landing curve the bird steers, [0, 1]
   FlightMode mode = FlightMode::flying;
   uint32_t species = 0;
   uint32_t route = 0;
   uint32_t target = 0;        // index into the route's targets; == size: the branch (if any)
   uint32_t targets_reached = 0;
-  uint32_t landing_stage = 0; // 0: not yet, 1: flying to P, 2: flying to the branch
+  uint32_t landing_stage = 0; // 0: not landing yet, 1: flying to the gate, 2: on the curve
 };
 
 }  // namespace aeroflock

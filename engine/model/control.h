@@ -21,6 +21,7 @@ double sign_outside(double x, double band);
 struct Steering {
   double heading_error;
   double heading_error_ahead;
+  double course_error;  // the same angle from the direction of flight
   double height_error;
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
@@ -48,6 +49,10 @@ TailCommand tail_command(const Species& s, const Steering& steering, bool fixed_
 // Moves `angle` towards `command` by at most rate dt.
 double approach(double angle, double command, double rate, double dt);
 
+// Tail model: the bank that flies the circle through the goal tangent to the flight direction
+// (pure pursuit: curvature 2 sin(phi) / distance), at most bank_max; 0 inside the dead band.
+double pursuit_bank(const Species& s, double heading_error, double distance, double speed);
+
 // The bank that makes lift supply the centripetal force of a turn at `turn_rate` (rad/s, to the
 // right > 0) and `speed`, at most bank_max: the bird banks into the turn to avoid skidding (3.4).
 double coordinated_bank(const Species& s, double turn_rate, double speed);
@@ -58,5 +63,13 @@ double coordinated_bank(const Species& s, double turn_rate, double speed);
 // quadratic Bezier curve Q1 Q3 Q2. Without an intersection ahead of the bird, P = Q2.
 glm::dvec3 landing_point(const glm::dvec3& bird, const glm::dvec3& heading,
                          const glm::dvec3& branch_point, const glm::dvec3& branch_direction);
+
+// The landing curve: the quadratic Bezier Q1 Q3 Q2 whose middle is P, at u in [0, 1].
+glm::dvec3 landing_curve(const glm::dvec3& q1, const glm::dvec3& p, const glm::dvec3& q2, double u);
+
+// Pure pursuit along the landing curve: from `u`, the parameter of the first curve point ahead of
+// the bird (not behind it along the curve) at least `lookahead` away; 1 at the branch.
+double landing_progress(const glm::dvec3& q1, const glm::dvec3& p, const glm::dvec3& q2, double u,
+                        const glm::dvec3& position, double lookahead);
 
 }  // namespace aeroflock

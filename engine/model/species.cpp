@@ -23,7 +23,7 @@ void set_common_defaults(Species& s) {
   s.tail_rate = radians(100);
   s.turn_rate = radians(45);
   s.dead_band = radians(3);
-  s.heading_lead = 0.5;
+  s.heading_lead = 0.25;
   s.height_lead = 1.5;
   s.height_band = 100;
   s.bank_max = radians(45);
@@ -66,10 +66,10 @@ Species eagle() {
   s.crouch_depth = 8;
   s.leg_force = 8.4e6;  // the starling's push scaled by mass
   s.leg_time = 0.1;
-  s.approach_distance = 800;
+  s.approach_distance = 1200;
   s.brake_distance = 500;
   s.brake_pitch = radians(50);
-  s.perch_radius = 60;
+  s.perch_radius = 200;
   return s;
 }
 
@@ -100,10 +100,10 @@ Species starling() {
   s.crouch_depth = 4;
   s.leg_force = 2.1e6;  // paper section 5
   s.leg_time = 0.1;
-  s.approach_distance = 400;
+  s.approach_distance = 600;
   s.brake_distance = 250;
   s.brake_pitch = radians(50);
-  s.perch_radius = 40;
+  s.perch_radius = 100;
   return s;
 }
 

@@ -65,7 +65,7 @@ struct Species {
   double leg_force = 0;      // dyn (0: no leg push)
   double leg_time = 0;       // s
   double push_angle = 0;     // leg push direction above the head direction, rad
-  double approach_distance = 0;  // within it of the branch, the bird stops re-placing P, cm
+  double approach_distance = 0;  // how far ahead along the landing curve the bird steers, cm
   double brake_distance = 0;     // distance to the branch where the bird brakes, cm
   double brake_pitch = 0;        // body pitch the bird brakes at, rad
   double perch_radius = 0;       // distance to the branch point at which the bird grips it, cm

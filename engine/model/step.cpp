@@ -26,6 +26,14 @@ dvec3 horizontal(const dvec3& v) { return {v.x, 0.0, v.z}; }
 // Where the bird sits when perched on a branch.
 dvec3 perch_point(const Species& sp, const Branch& br) { return br.point + kUp * sp.stand_height; }
 
+// A point on the branch's horizontal perpendicular, on the bird's side, three approach distances
+// out: where a bird that cannot turn onto the landing curve goes first.
+dvec3 landing_gate(const Species& sp, const Branch& br, const dvec3& q2, const dvec3& position) {
+  const dvec3 across{-br.direction.z, 0.0, br.direction.x};
+  const double side = glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+  return q2 + across * (side * 3.0 * sp.approach_distance);
+}
+
 // The bird's goal this step: the current target of its route, or the landing path to its branch.
 // Entering a target's sphere passes it (paper 3.4). After the last target of a route that neither
 // loops nor lands, the bird keeps steering for that target.
@@ -43,22 +51,33 @@ dvec3 route_goal(BirdState& b, const Species& sp, const World& w) {
   if (b.target < n) return w.target_now[r.targets[b.target]];
   if (r.branch < 0) return w.target_now[r.targets[n - 1]];
 
-  // Landing (paper 4.4): through the temporary target P, re-placed each time it is reached
-  // until the bird is within approach_distance of the branch, then straight to the branch.
+  // Landing (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch becomes the goal,
+  // and the bird steers approach_distance ahead along the curve, which ends perpendicular to the
+  // branch. Where the bird's heading line does not cross the branch's perpendicular ahead (after a
+  // missed landing, say), it first flies to a gate on that perpendicular, then lands from there.
+  // The direct method flies straight at the branch.
   const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
   const dvec3 q2 = perch_point(sp, br);
-  if (!r.path_control || b.landing_stage == 2) return q2;
-  const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
-  const double via_radius = 0.5 * sp.approach_distance;
-  if (b.landing_stage == 0 || glm::distance(b.position, b.via_point) <= via_radius) {
-    if (glm::length(horizontal(q2 - b.position)) <= sp.approach_distance) {
-      b.landing_stage = 2;
-      return q2;
-    }
-    b.via_point = landing_point(b.position, head, q2, br.direction);
-    b.landing_stage = 1;
+  if (!r.path_control) return q2;
+  auto place_curve = [&] {
+    b.landing_start = b.position;
+    b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
+    b.landing_progress = 0.0;
+  };
+  if (b.landing_stage == 0) {
+    place_curve();
+    b.landing_stage = b.via_point == q2 ? 1 : 2;
   }
-  return b.via_point;
+  if (b.landing_stage == 1) {
+    const dvec3 gate = landing_gate(sp, br, q2, b.position);
+    if (glm::length(horizontal(gate - b.position)) > sp.approach_distance) return gate;
+    place_curve();
+    b.landing_stage = 2;
+  }
+  if (b.via_point == q2) return q2;  // on the perpendicular already: straight in
+  b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
+                                        b.position, sp.approach_distance);
+  return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
 }
 
 bool lands_on_branch(const BirdState& b, const World& w) {
@@ -112,11 +131,13 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
       if (out) *out = f;
       return;
     }
-    if (b.landing_stage != 1 && to_branch <= sp.brake_distance) {
-      if (b.mode != FlightMode::landing) b.mode_time = 0.0;
+    const dvec3 to_perch = perch_point(sp, w.branches[static_cast<uint32_t>(w.routes[b.route].branch)]) - b.position;
+    if (b.mode == FlightMode::landing && glm::dot(to_perch, b.velocity) < 0.0) {
+      b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
+      b.mode_time = 0.0;
+      b.landing_stage = 0;
+    } else if (b.mode == FlightMode::flying && to_branch <= sp.brake_distance) {
       b.mode = FlightMode::landing;
-    } else if (b.mode == FlightMode::landing) {
-      b.mode = FlightMode::flying;  // overshot: go round and try again
       b.mode_time = 0.0;
     }
   }
@@ -136,7 +157,8 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     // Bank into the turn: in proportion to the heading error (tail model), or coordinated with
     // eq. 3's yaw rate -sgn(phi) R (fixed-rate model).
     const double turn_rate = sign_outside(steering.heading_error, sp.dead_band) * sp.turn_rate;
-    double bank_cmd = steer_share(sp, steering.heading_error) * sp.bank_max;
+    const double to_goal = glm::length(horizontal(goal - b.position));
+    double bank_cmd = pursuit_bank(sp, steering.heading_error, to_goal, speed);
     if (fixed_rate) bank_cmd = coordinated_bank(sp, turn_rate, speed);
     if (braking) bank_cmd = 0.0;
     omega.x = std::clamp((bank_cmd - bank_angle(b.attitude)) / sp.bank_time, -sp.roll_rate,
