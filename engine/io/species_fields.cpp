@@ -41,6 +41,7 @@ constexpr SpeciesField kFields[] = {
     {"Cd_0", &Species::Cd_0, plain},
     {"Cd_90", &Species::Cd_90, plain},
     {"tail_incidence", &Species::tail_incidence, degrees},
+    {"tail_roll_max", &Species::tail_roll_max, degrees},
     {"tail_rate", &Species::tail_rate, degrees_per_second},
     {"turn_rate", &Species::turn_rate, degrees_per_second},
     {"dead_band", &Species::dead_band, degrees},

@@ -21,6 +21,7 @@ void set_common_defaults(Species& s) {
   s.twist_bias = radians(3);
   s.tail_incidence = radians(8);
   s.tail_rate = radians(100);
+  s.tail_roll_max = radians(60);
   s.turn_rate = radians(45);
   s.dead_band = radians(3);
   s.heading_lead = 0.25;
@@ -146,6 +147,7 @@ void validate(const Species& s) {
   non_negative(s.Cd_0, "Cd_0");
   if (s.Cd_90 < s.Cd_0) fail("Cd_90 must be >= Cd_0");
   positive(s.tail_rate, "tail_rate");
+  non_negative(s.tail_roll_max, "tail_roll_max");
   non_negative(s.turn_rate, "turn_rate");
   non_negative(s.dead_band, "dead_band");
   non_negative(s.heading_lead, "heading_lead");

@@ -45,6 +45,7 @@ struct Species {
   // Tail geometry: hinge at x = -a/2; the closed tail plane sits at tail_incidence (trailing edge
   // up > 0) from the body x axis; the tail force acts at 2/3 lr behind the hinge.
   double tail_incidence = 0;  // sets the body's trimmed pitch relative to the air
+  double tail_roll_max = 0;  // largest roll of the tail plane from level, bank plus twist, rad
   double tail_rate = 0;  // how fast the tail moves towards its commanded bend and twist, rad/s
 
   // Steering (paper 3.4 and MODEL.md defaults).

@@ -20,6 +20,8 @@ using glm::dquat;
 using glm::dvec3;
 
 const dvec3 kUp{0.0, 1.0, 0.0};
+// A target flown past within this many radii counts as passed.
+constexpr double kMissedTargetRadii = 3.0;
 
 dvec3 horizontal(const dvec3& v) { return {v.x, 0.0, v.z}; }
 
@@ -42,7 +44,13 @@ dvec3 route_goal(BirdState& b, const Species& sp, const World& w) {
   const uint32_t n = static_cast<uint32_t>(r.targets.size());
   if (b.target < n) {
     const uint32_t ti = r.targets[b.target];
-    if (glm::distance(b.position, w.target_now[ti]) <= w.targets[ti].radius) {
+    const dvec3 to_target = w.target_now[ti] - b.position;
+    const double distance = glm::length(to_target), radius = w.targets[ti].radius;
+    // Entering the sphere passes the target; so does flying past it close by, so that a sphere
+    // missed by a little does not trap the bird in an orbit around it.
+    const bool passed = distance <= radius ||
+                        (distance <= kMissedTargetRadii * radius && glm::dot(to_target, b.velocity) < 0.0);
+    if (passed) {
       ++b.targets_reached;
       ++b.target;
       if (b.target == n && r.loop && r.branch < 0) b.target = 0;
@@ -145,6 +153,10 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn.
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
   TailCommand tail_cmd = tail_command(sp, steering, fixed_rate);
+  // The tail twists towards the turn but never stands on edge: bank plus twist stay within
+  // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
+  const double twist_room = std::max(0.0, sp.tail_roll_max - std::fabs(bank_angle(b.attitude)));
+  tail_cmd.twist = std::clamp(tail_cmd.twist, -twist_room, twist_room);
   double opening = tail_opening(sp, b.tail_bend, b.tail_twist);
   if (braking) opening = sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min;
 
