@@ -36,7 +36,6 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const double bank = std::asin(std::clamp(-right_axis.y, -1.0, 1.0));
   const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank) / speed : 0.0;
   return {heading_error, heading_error - s.heading_lead * turn_rate,
-          speed > 1.0 ? angle_to_goal(velocity) : heading_error,
           to_goal.y - s.height_lead * velocity.y};
 }
 

@@ -21,7 +21,6 @@ double sign_outside(double x, double band);
 struct Steering {
   double heading_error;
   double heading_error_ahead;
-  double course_error;  // the same angle from the direction of flight
   double height_error;
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,

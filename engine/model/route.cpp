@@ -1,0 +1,126 @@
+#include "route.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "body.h"
+#include "control.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+// A target flown past within this many radii counts as passed.
+constexpr double kMissedTargetRadii = 3.0;
+
+dvec3 horizontal(const dvec3& v) { return {v.x, 0.0, v.z}; }
+
+const Branch* route_branch(const BirdState& b, const World& w) {
+  const Route& r = w.routes[b.route];
+  if (r.branch < 0 || b.target < r.targets.size()) return nullptr;
+  return &w.branches[static_cast<uint32_t>(r.branch)];
+}
+
+// A point on the branch's horizontal perpendicular, on the bird's side, three approach distances
+// out: where a bird that cannot turn onto the landing curve goes first.
+dvec3 landing_gate(const Species& s, const Branch& br, const dvec3& q2, const dvec3& position) {
+  const dvec3 across{-br.direction.z, 0.0, br.direction.x};
+  const double side = glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+  return q2 + across * (side * 3.0 * s.approach_distance);
+}
+
+// Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
+// becomes the goal, and the bird steers approach_distance ahead along the curve, which ends
+// perpendicular to the branch. Where the bird's heading line does not cross the branch's
+// perpendicular ahead (after a missed landing, say), it first flies to a gate on that
+// perpendicular, then lands from there.
+dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
+  const dvec3 q2 = perch_point(s, br);
+  auto place_curve = [&] {
+    b.landing_start = b.position;
+    b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
+    b.landing_progress = 0.0;
+  };
+  if (b.landing_stage == 0) {
+    place_curve();
+    b.landing_stage = b.via_point == q2 ? 1 : 2;
+  }
+  if (b.landing_stage == 1) {
+    const dvec3 gate = landing_gate(s, br, q2, b.position);
+    if (glm::length(horizontal(gate - b.position)) > s.approach_distance) return gate;
+    place_curve();
+    b.landing_stage = 2;
+  }
+  if (b.via_point == q2) return q2;  // on the perpendicular already: straight in
+  b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
+                                        b.position, s.approach_distance);
+  return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+}
+
+void perch(BirdState& b, const Species& s, const Branch& br) {
+  const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
+  b.position = perch_point(s, br);
+  b.velocity = dvec3{0.0};
+  b.omega = dvec3{0.0};
+  b.attitude = heading_attitude(std::atan2(head.z, head.x));
+  b.amplitude = 0.0;
+  b.tail_bend = 0.0;
+  b.tail_twist = 0.0;
+  b.mode = FlightMode::perched;
+  b.mode_time = 0.0;
+  ++b.targets_reached;
+}
+
+}  // namespace
+
+dvec3 perch_point(const Species& s, const Branch& branch) {
+  return branch.point + dvec3{0.0, s.stand_height, 0.0};
+}
+
+// Entering a target's sphere passes it (paper 3.4); so does flying past it close by, so that a
+// sphere missed by a little does not trap the bird in an orbit around it. After the last target
+// of a route that neither loops nor lands, the bird keeps steering for that target.
+dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
+  const Route& r = w.routes[b.route];
+  const uint32_t n = static_cast<uint32_t>(r.targets.size());
+  if (b.target < n) {
+    const uint32_t ti = r.targets[b.target];
+    const dvec3 to_target = w.target_now[ti] - b.position;
+    const double distance = glm::length(to_target), radius = w.targets[ti].radius;
+    if (distance <= radius ||
+        (distance <= kMissedTargetRadii * radius && glm::dot(to_target, b.velocity) < 0.0)) {
+      ++b.targets_reached;
+      ++b.target;
+      if (b.target == n && r.loop && r.branch < 0) b.target = 0;
+    }
+  }
+  if (b.target < n) return w.target_now[r.targets[b.target]];
+  if (r.branch < 0) return w.target_now[r.targets[n - 1]];
+  const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
+  return r.path_control ? landing_goal(b, s, br) : perch_point(s, br);  // or straight in
+}
+
+bool approach_branch(BirdState& b, const Species& s, const World& w) {
+  const Branch* br = route_branch(b, w);
+  if (!br) return false;
+  const dvec3 to_perch = perch_point(s, *br) - b.position;
+  const double distance = glm::length(to_perch);
+  if (distance <= s.perch_radius) {
+    perch(b, s, *br);
+    return true;
+  }
+  if (b.mode == FlightMode::landing && glm::dot(to_perch, b.velocity) < 0.0) {
+    b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
+    b.mode_time = 0.0;
+    b.landing_stage = 0;
+  } else if (b.mode == FlightMode::flying && distance <= s.brake_distance) {
+    b.mode = FlightMode::landing;
+    b.mode_time = 0.0;
+  }
+  return false;
+}
+
+}  // namespace aeroflock

@@ -1,0 +1,23 @@
+// Where a bird is going: the targets of its route (paper 3.4) and the landing on a branch (4.4).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include "bird.h"
+#include "species.h"
+#include "world.h"
+
+namespace aeroflock {
+
+// Where the bird sits when perched on `branch`.
+glm::dvec3 perch_point(const Species& s, const Branch& branch);
+
+// The bird's goal this step: the current target of its route, or the point it steers for on its
+// way to the branch. Passes targets and places the landing curve as the bird goes.
+glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);
+
+// For a bird whose route has brought it to its branch: starts braking within brake_distance,
+// goes round when it overshoots, and perches within perch_radius. Returns true once perched.
+bool approach_branch(BirdState& b, const Species& s, const World& w);
+
+}  // namespace aeroflock
