@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <ostream>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -103,6 +104,7 @@ struct VerticalCase {
   std::string species;
   double above;
 };
+void PrintTo(const VerticalCase& c, std::ostream* os) { *os << c.species << " to " << c.above << " cm"; }
 class ClimbDescent : public ::testing::TestWithParam<VerticalCase> {};
 
 TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5) {
