@@ -126,7 +126,6 @@ direction = [3.0, 0.0, 4.0]
 name = "r"
 targets = ["t"]
 branch = "oak"
-loop = true
 path_control = false
 [[flocks]]
 name = "f"
@@ -154,7 +153,7 @@ standing = true
   const Route& r = s.world.routes[0];
   EXPECT_EQ(r.targets, std::vector<uint32_t>{0});
   EXPECT_EQ(r.branch, 0);
-  EXPECT_TRUE(r.loop);
+  EXPECT_FALSE(r.loop);
   EXPECT_FALSE(r.path_control);
   const Flock& f = s.flocks[0];
   EXPECT_EQ(s.species[f.species].name, "eagle");
@@ -237,6 +236,10 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:6:10: error: targets[0].radius: expected a positive number, got -1"},
       {"steps_per_frame", replace(kValid, "dt = 0.0003", "steps_per_frame = 0"),
        "bad.toml:2:19: error: simulation.steps_per_frame: expected a positive integer, got 0"},
+      {"loop over one target", replace(kValid, "targets = [\"t1\"]", "targets = [\"t1\"]\nloop = true"),
+       "bad.toml:11:8: error: routes[0].loop: a looping route needs at least two targets"},
+      {"perch beyond braking", kValid + species + "perch_radius = 500.0\n",
+       "bad.toml:20:16: error: species[0].perch_radius: species 'x': perch_radius must be <= brake_distance"},
       {"turning", replace(kValid, "dt = 0.0003", "turning = \"left\""),
        "bad.toml:2:11: error: simulation.turning: expected \"tail\" or \"fixed-rate\""},
   };

@@ -175,6 +175,10 @@ Route read_route(const TableReader& r, const World& world) {
   route.path_control = r.boolean("path_control", route.path_control);
   if (route.targets.empty() && route.branch < 0)
     r.fail("targets", "expected at least one target name (or a branch to land on)");
+  if (route.loop && route.targets.size() < 2)
+    r.fail("loop", "a looping route needs at least two targets");
+  if (route.loop && route.branch >= 0)
+    r.fail("loop", "a route that lands on a branch cannot loop");
   return route;
 }
 

@@ -8,6 +8,13 @@
 
 namespace aeroflock {
 
+// How far a bird landing with path control (paper 4.4) has got.
+enum class LandingStage : uint32_t {
+  none = 0,   // not landing yet
+  gate = 1,   // flying to the gate on the branch's perpendicular first
+  curve = 2,  // following the landing curve (or, lined up, straight in)
+};
+
 enum class FlightMode : uint32_t {
   flying = 0,
   standing = 1,    // on the ground, waiting to take off
@@ -36,7 +43,7 @@ struct BirdState {
   uint32_t route = 0;
   uint32_t target = 0;        // index into the route's targets; == size: the branch (if any)
   uint32_t targets_reached = 0;
-  uint32_t landing_stage = 0; // 0: not landing yet, 1: flying to the gate, 2: on the curve
+  LandingStage landing_stage = LandingStage::none;
 };
 
 }  // namespace aeroflock

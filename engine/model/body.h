@@ -22,6 +22,9 @@ double ground_effect_force(const Species& s, double height);
 double bank_angle(const glm::dquat& attitude);
 double pitch_angle(const glm::dquat& attitude);
 
+// The horizontal part of a world vector.
+inline glm::dvec3 horizontal(const glm::dvec3& v) { return {v.x, 0.0, v.z}; }
+
 // The attitude of a bird facing `heading` (from +x towards +z), level.
 glm::dquat heading_attitude(double heading);
 

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "body.h"
 #include "constants.h"
 
 namespace aeroflock {
@@ -32,9 +33,7 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const double heading_error = angle_to_goal(head);
   const double speed = std::hypot(velocity.x, velocity.z);
   // The turn the bank is making, g tan(bank) / v.
-  const dvec3 right_axis = attitude * dvec3{0.0, 0.0, 1.0};
-  const double bank = std::asin(std::clamp(-right_axis.y, -1.0, 1.0));
-  const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank) / speed : 0.0;
+  const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / speed : 0.0;
   return {heading_error, heading_error - s.heading_lead * turn_rate,
           to_goal.y - s.height_lead * velocity.y};
 }

@@ -16,8 +16,6 @@ using glm::dvec3;
 // A target flown past within this many radii counts as passed.
 constexpr double kMissedTargetRadii = 3.0;
 
-dvec3 horizontal(const dvec3& v) { return {v.x, 0.0, v.z}; }
-
 const Branch* route_branch(const BirdState& b, const World& w) {
   const Route& r = w.routes[b.route];
   if (r.branch < 0 || b.target < r.targets.size()) return nullptr;
@@ -44,17 +42,19 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
     b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
     b.landing_progress = 0.0;
   };
-  if (b.landing_stage == 0) {
+  if (b.landing_stage == LandingStage::none) {
     place_curve();
-    b.landing_stage = b.via_point == q2 ? 1 : 2;
+    // No crossing ahead: lined up with the branch and heading in, or go round through the gate.
+    const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    b.landing_stage = b.via_point != q2 || heading_in ? LandingStage::curve : LandingStage::gate;
   }
-  if (b.landing_stage == 1) {
+  if (b.landing_stage == LandingStage::gate) {
     const dvec3 gate = landing_gate(s, br, q2, b.position);
     if (glm::length(horizontal(gate - b.position)) > s.approach_distance) return gate;
     place_curve();
-    b.landing_stage = 2;
+    b.landing_stage = LandingStage::curve;
   }
-  if (b.via_point == q2) return q2;  // on the perpendicular already: straight in
+  if (b.via_point == q2) return q2;  // straight in
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
                                         b.position, s.approach_distance);
   return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
@@ -87,11 +87,11 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   const Route& r = w.routes[b.route];
   const uint32_t n = static_cast<uint32_t>(r.targets.size());
   if (b.target < n) {
-    const uint32_t ti = r.targets[b.target];
-    const dvec3 to_target = w.target_now[ti] - b.position;
-    const double distance = glm::length(to_target), radius = w.targets[ti].radius;
-    if (distance <= radius ||
-        (distance <= kMissedTargetRadii * radius && glm::dot(to_target, b.velocity) < 0.0)) {
+    const Target& t = w.targets[r.targets[b.target]];
+    const dvec3 to_target = w.target_now[r.targets[b.target]] - b.position;
+    const double distance = glm::length(to_target);
+    const bool flown_past = glm::dot(to_target, b.velocity - t.velocity) < 0.0;
+    if (distance <= t.radius || (distance <= kMissedTargetRadii * t.radius && flown_past)) {
       ++b.targets_reached;
       ++b.target;
       if (b.target == n && r.loop && r.branch < 0) b.target = 0;
@@ -112,11 +112,12 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  if (b.mode == FlightMode::landing && glm::dot(to_perch, b.velocity) < 0.0) {
+  const bool closing = glm::dot(to_perch, b.velocity) > 0.0;
+  if (b.mode == FlightMode::landing && !closing) {
     b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
     b.mode_time = 0.0;
-    b.landing_stage = 0;
-  } else if (b.mode == FlightMode::flying && distance <= s.brake_distance) {
+    b.landing_stage = LandingStage::none;
+  } else if (b.mode == FlightMode::flying && closing && distance <= s.brake_distance) {
     b.mode = FlightMode::landing;
     b.mode_time = 0.0;
   }

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <glm/geometric.hpp>
+
 namespace aeroflock {
 
 void validate(const Scenario& s) {
@@ -18,11 +20,16 @@ void validate(const Scenario& s) {
     if (!(t.radius > 0.0)) fail("target '" + t.name + "': radius must be > 0");
   for (const Route& r : w.routes) {
     if (r.targets.empty() && r.branch < 0) fail("route '" + r.name + "' has no targets");
+    if (r.loop && r.targets.size() < 2) fail("route '" + r.name + "' loops over fewer than 2 targets");
+    if (r.loop && r.branch >= 0) fail("route '" + r.name + "' both loops and lands on a branch");
     for (uint32_t t : r.targets)
       if (t >= w.targets.size()) fail("route '" + r.name + "': target index out of range");
     if (r.branch >= static_cast<int32_t>(w.branches.size()))
       fail("route '" + r.name + "': branch index out of range");
   }
+  for (const Branch& b : w.branches)
+    if (std::fabs(b.direction.y) > 1e-9 || std::fabs(glm::length(b.direction) - 1.0) > 1e-9)
+      fail("branch '" + b.name + "': direction must be a horizontal unit vector");
   for (const Flock& f : s.flocks) {
     if (f.species >= s.species.size()) fail("flock '" + f.name + "': species out of range");
     if (f.route >= w.routes.size()) fail("flock '" + f.name + "': route out of range");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -22,8 +23,10 @@ struct Flock {
   glm::dvec3 spawn_extent{0.0};  // half-size of the spawn box, cm
   double heading = 0.0;          // rad, from +x towards +z (the right of a bird facing +x)
   double speed = 1000.0;         // initial speed along the heading, cm/s
-  double frequency = 0.0;        // initial wingbeat frequency, Hz (0: middle of the range)
-  double amplitude = 0.0;        // initial amplitude (0: middle of the range)
+  // Initial wingbeat frequency (Hz) and amplitude, clamped to the species' ranges; NaN: the
+  // middle of the range.
+  double frequency = std::numeric_limits<double>::quiet_NaN();
+  double amplitude = std::numeric_limits<double>::quiet_NaN();
   bool standing = false;         // start standing on the ground, take off at takeoff_time
   double takeoff_time = 0.0;     // s
   bool random_phase = true;      // spread the wingbeat phase over the flock

@@ -49,8 +49,10 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
       b.route = f.route;
       b.position = f.spawn_centre + extent * dvec3{unit(rng), unit(rng), unit(rng)};
       b.attitude = heading_attitude(f.heading);
-      b.frequency = f.frequency > 0.0 ? f.frequency : 0.5 * (sp.f_min + sp.f_max);
-      b.amplitude = f.amplitude > 0.0 ? f.amplitude : 0.5 * (sp.amp_min + sp.amp_max);
+      b.frequency = std::clamp(std::isnan(f.frequency) ? 0.5 * (sp.f_min + sp.f_max) : f.frequency,
+                               sp.f_min, sp.f_max);
+      b.amplitude = std::clamp(std::isnan(f.amplitude) ? 0.5 * (sp.amp_min + sp.amp_max) : f.amplitude,
+                               sp.amp_min, sp.amp_max);
       b.phase = f.random_phase ? kPi * (unit(rng) + 1.0) : 0.0;
       if (f.standing) {
         b.mode = FlightMode::standing;
@@ -89,7 +91,8 @@ void Simulation::step_frame() {
 }
 
 void Simulation::step_once() {
-  scenario_.world.move_targets(time_);
+  // Targets move between frames, as in step_frame.
+  if (steps_ % scenario_.steps_per_frame == 0) scenario_.world.move_targets(time_);
   for (BirdState& b : birds_)
     step_bird(b, scenario_.species[b.species], scenario_.world, time_, scenario_.dt);
   ++steps_;

@@ -165,6 +165,13 @@ void validate(const Species& s) {
   non_negative(s.approach_distance, "approach_distance");
   non_negative(s.brake_distance, "brake_distance");
   positive(s.perch_radius, "perch_radius");
+  if (s.perch_radius > s.brake_distance) fail("perch_radius must be <= brake_distance");
+  auto angle_below_90 = [&](double v, const char* key) {
+    if (!(std::fabs(v) < kPi / 2)) fail(std::string(key) + " must be within (-90, 90) degrees");
+  };
+  angle_below_90(s.tail_incidence, "tail_incidence");
+  angle_below_90(s.brake_pitch, "brake_pitch");
+  angle_below_90(s.push_angle, "push_angle");
 }
 
 Inertia box_inertia(const Species& s) {

@@ -22,8 +22,6 @@ using glm::dvec3;
 
 const dvec3 kUp{0.0, 1.0, 0.0};
 
-dvec3 horizontal(const dvec3& v) { return {v.x, 0.0, v.z}; }
-
 // What the controller decides from the state at time t (paper 3.4, 4.1-4.4).
 struct Commands {
   Steering steering;
@@ -43,8 +41,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   c.tail = tail_command(sp, c.steering, fixed_rate);
   const double bank = bank_angle(b.attitude);
-  const double twist_room = std::max(0.0, sp.tail_roll_max - std::fabs(bank));
-  c.tail.twist = std::clamp(c.tail.twist, -twist_room, twist_room);
+  c.tail.twist = std::clamp(c.tail.twist, std::min(0.0, -sp.tail_roll_max - bank),
+                            std::max(0.0, sp.tail_roll_max - bank));
   c.opening = braking ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
                       : tail_opening(sp, b.tail_bend, b.tail_twist);
 
@@ -55,15 +53,20 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
     c.omega = dvec3{0.0};
     return c;
   }
-  const double speed = glm::length(b.velocity);
+  const double speed = glm::length(horizontal(b.velocity));
   const double turn_rate = sign_outside(c.steering.heading_error, sp.dead_band) * sp.turn_rate;
   double bank_cmd = 0.0;
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
     bank_cmd = pursuit_bank(sp, c.steering.heading_error, glm::length(horizontal(goal - b.position)), speed);
+  if (fixed_rate) {
+    // eq. 3: the heading turns at -sgn(phi) R about the vertical.
+    dvec3 world_rate = b.attitude * c.omega;
+    world_rate.y = -turn_rate;
+    c.omega = glm::conjugate(b.attitude) * world_rate;
+  }
   c.omega.x = std::clamp((bank_cmd - bank) / sp.bank_time, -sp.roll_rate, sp.roll_rate);
-  if (fixed_rate) c.omega.y = -turn_rate;
   if (braking)
     c.omega.z = std::clamp((sp.brake_pitch - pitch_angle(b.attitude)) / sp.bank_time,
                            -sp.roll_rate, sp.roll_rate);
@@ -115,7 +118,10 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
 void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
   const double crouch = std::min(b.mode_time / std::max(sp.crouch_time, dt), 1.0);
   const double floor = w.ground_height + sp.stand_height - sp.crouch_depth * crouch;
-  if (b.mode_time < sp.crouch_time) b.velocity = dvec3{0.0};
+  if (b.mode_time < sp.crouch_time) {
+    b.velocity = dvec3{0.0};
+    b.position.y = floor;
+  }
   if (b.position.y < floor) {
     b.position.y = floor;
     b.velocity.y = std::max(b.velocity.y, 0.0);
