@@ -22,12 +22,12 @@ const Branch* route_branch(const BirdState& b, const World& w) {
   return &w.branches[static_cast<uint32_t>(r.branch)];
 }
 
-// A point on the branch's horizontal perpendicular, on the bird's side, three approach distances
+// A point on the branch's horizontal perpendicular, on the bird's side, five approach distances
 // out: where a bird that cannot turn onto the landing curve goes first.
 dvec3 landing_gate(const Species& s, const Branch& br, const dvec3& q2, const dvec3& position) {
   const dvec3 across{-br.direction.z, 0.0, br.direction.x};
   const double side = glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
-  return q2 + across * (side * 3.0 * s.approach_distance);
+  return q2 + across * (side * 5.0 * s.approach_distance);
 }
 
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
@@ -49,12 +49,24 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
     b.landing_stage = b.via_point != q2 || heading_in ? LandingStage::curve : LandingStage::gate;
   }
   if (b.landing_stage == LandingStage::gate) {
+    // Reached within approach_distance, or flown past close by (as a target, route_goal).
     const dvec3 gate = landing_gate(s, br, q2, b.position);
-    if (glm::length(horizontal(gate - b.position)) > s.approach_distance) return gate;
+    const dvec3 to_gate = horizontal(gate - b.position);
+    const double distance = glm::length(to_gate);
+    const bool flown_past = glm::dot(to_gate, b.velocity) < 0.0;
+    if (distance > s.approach_distance &&
+        !(flown_past && distance <= kMissedTargetRadii * s.approach_distance))
+      return gate;
     place_curve();
     b.landing_stage = LandingStage::curve;
   }
-  if (b.via_point == q2) return q2;  // straight in
+  if (b.landing_progress >= 1.0 || b.via_point == q2) {
+    // At the end of the curve (or lined up): straight in, unless the bird is flying away from
+    // the branch, which it would only circle: then round through the gate again.
+    const bool closing = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    if (!closing) b.landing_stage = LandingStage::gate;
+    return q2;
+  }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
                                         b.position, s.approach_distance);
   return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
