@@ -5,16 +5,22 @@
 #include <glm/geometric.hpp>
 
 #include "constants.h"
+#include "wingbeat.h"
 
 namespace aeroflock {
 
 using glm::dvec3;
 
-double lift_coefficient(const Species& s, double alpha) { return s.Cl_max * std::sin(2 * alpha); }
+Coefficients coefficients(const Species& s, double sin_a, double cos_a) {
+  return {s.Cl_max * 2.0 * sin_a * cos_a, s.Cd_0 + (s.Cd_90 - s.Cd_0) * sin_a * sin_a};
+}
+
+double lift_coefficient(const Species& s, double alpha) {
+  return coefficients(s, std::sin(alpha), std::cos(alpha)).lift;
+}
 
 double drag_coefficient(const Species& s, double alpha) {
-  const double sa = std::sin(alpha);
-  return s.Cd_0 + (s.Cd_90 - s.Cd_0) * sa * sa;
+  return coefficients(s, std::sin(alpha), std::cos(alpha)).drag;
 }
 
 double attack_angle(const dvec3& air_velocity, const dvec3& chord, const dvec3& normal) {
@@ -31,12 +37,29 @@ dvec3 aerodynamic_force(const Species& s, const dvec3& air_velocity, const dvec3
   const double speed = std::sqrt(speed2);
   const double sin_a = u_normal / speed;
   const double cos_a = -u_chord / speed;
-  const double cl = s.Cl_max * 2.0 * sin_a * cos_a;
-  const double cd = s.Cd_0 + (s.Cd_90 - s.Cd_0) * sin_a * sin_a;
+  const Coefficients c = coefficients(s, sin_a, cos_a);
   const double q_area = 0.5 * kAirDensity * speed2 * area;  // eqs. 1, 2 without the coefficient
   const dvec3 lift_dir = chord * sin_a + normal * cos_a;    // the in-plane air direction turned 90 deg
   const dvec3 drag_dir = (chord * -cos_a) + (normal * sin_a);
-  return q_area * (cl * lift_dir + cd * drag_dir);
+  return q_area * (c.lift * lift_dir + c.drag * drag_dir);
+}
+
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency,
+                       const dvec3& body_air, const dvec3& omega) {
+  WingForces out{};
+  WingPoint right[2];
+  right_wing_points(s, phase, amp, frequency, right);
+  for (int i = 0; i < 2; ++i) {
+    const WingPoint points[2] = {right[i], mirror_to_left(right[i])};
+    for (int side = 0; side < 2; ++side) {
+      const WingPoint& p = points[side];
+      const dvec3 air = body_air - glm::cross(omega, p.position) - p.velocity;
+      const dvec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
+      out.force[2 * side + i] = force;
+      out.torque += glm::cross(p.position, force);
+    }
+  }
+  return out;
 }
 
 }  // namespace aeroflock

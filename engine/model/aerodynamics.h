@@ -7,7 +7,11 @@
 
 namespace aeroflock {
 
-// Cl = Cl_max sin(2 alpha), Cd = Cd_0 + (Cd_90 - Cd_0) sin^2(alpha).
+// Cl = Cl_max sin(2 alpha), Cd = Cd_0 + (Cd_90 - Cd_0) sin^2(alpha), from sin and cos of alpha.
+struct Coefficients {
+  double lift, drag;
+};
+Coefficients coefficients(const Species& s, double sin_alpha, double cos_alpha);
 double lift_coefficient(const Species& s, double alpha);
 double drag_coefficient(const Species& s, double alpha);
 
@@ -18,6 +22,16 @@ double drag_coefficient(const Species& s, double alpha);
 // meets the lower surface.
 glm::dvec3 aerodynamic_force(const Species& s, const glm::dvec3& air_velocity,
                              const glm::dvec3& chord, const glm::dvec3& normal, double area);
+
+// The four wing points' forces (right arm, right hand, left arm, left hand) and their torque about
+// the centre of mass, body frame. The air at a point r is body_air - omega x r - the point's own
+// wingbeat velocity (body_air: the wind less the body's velocity, in the body frame).
+struct WingForces {
+  glm::dvec3 force[4];
+  glm::dvec3 torque;
+};
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency,
+                       const glm::dvec3& body_air, const glm::dvec3& omega);
 
 // Signed attack angle alpha of the same in-plane air velocity, radians (for tests and export).
 double attack_angle(const glm::dvec3& air_velocity, const glm::dvec3& chord,

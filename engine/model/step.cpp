@@ -12,7 +12,6 @@
 #include "control.h"
 #include "route.h"
 #include "tail.h"
-#include "wingbeat.h"
 
 namespace aeroflock {
 namespace {
@@ -80,25 +79,12 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * w.wind;
-  // Air relative to a point at r moving with `own` velocity (MODEL.md: wind - (v + w x r + own)).
-  auto air_at = [&](const dvec3& r, const dvec3& own) {
-    return body_wind - (body_velocity + glm::cross(c.omega, r) + own);
-  };
-  WingPoint right[2];
-  right_wing_points(sp, b.phase, b.amplitude, b.frequency, right);
-  for (int i = 0; i < 2; ++i) {
-    const WingPoint left = mirror_to_left(right[i]);
-    const WingPoint* points[2] = {&right[i], &left};
-    for (int side = 0; side < 2; ++side) {
-      const WingPoint& p = *points[side];
-      const dvec3 force = aerodynamic_force(sp, air_at(p.position, p.velocity), p.chord, p.normal, p.area);
-      f.wing[2 * side + i] = to_world * force;
-      f.torque += glm::cross(p.position, force);
-    }
-  }
+  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, body_wind - body_velocity, c.omega);
+  for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
+  f.torque = wings.torque;
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
-  const dvec3 tail = aerodynamic_force(sp, air_at(tg.position, dvec3{0.0}), tg.chord, tg.normal,
-                                       tail_area(sp, c.opening));
+  const dvec3 tail_air = body_wind - body_velocity - glm::cross(c.omega, tg.position);
+  const dvec3 tail = aerodynamic_force(sp, tail_air, tg.chord, tg.normal, tail_area(sp, c.opening));
   f.tail = to_world * tail;
   f.tail_torque = glm::cross(tg.position, tail);  // eq. 11
   f.torque += f.tail_torque;
