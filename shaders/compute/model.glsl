@@ -1,0 +1,500 @@
+// The bird model of engine/model, function for function, in float. Force and integration
+// statements are `precise` so that they are not contracted into FMAs: the CPU reference is built
+// with -ffp-contract=off, and the two then differ only by float-vs-double rounding.
+
+const float kAirDensity = 1.225e-3;  // g/cm^3
+const float kGravity = 980.665;      // cm/s^2
+const float kPi = 3.14159265358979;
+const float kMissedTargetRadii = 3.0;
+const float kGateApproaches = 5.0;
+
+// The bird's state while it is stepped (engine/model/bird.h).
+struct Bird {
+  vec3 position, velocity;
+  vec4 attitude;  // x, y, z, w
+  vec3 omega;
+  float phase, frequency, amplitude, tail_bend, tail_twist, mode_time, takeoff_time;
+  vec3 landing_start, via_point;
+  float landing_progress;
+  uint mode, landing_stage, species, route, target, targets_reached;
+};
+
+Bird unpack(GpuBird g) {
+  Bird b;
+  b.position = g.position_phase.xyz;
+  b.phase = g.position_phase.w;
+  b.velocity = g.velocity_frequency.xyz;
+  b.frequency = g.velocity_frequency.w;
+  b.attitude = g.attitude;
+  b.omega = g.omega_amplitude.xyz;
+  b.amplitude = g.omega_amplitude.w;
+  b.tail_bend = g.tail_times.x;
+  b.tail_twist = g.tail_times.y;
+  b.mode_time = g.tail_times.z;
+  b.takeoff_time = g.tail_times.w;
+  b.via_point = g.via_progress.xyz;
+  b.landing_progress = g.via_progress.w;
+  b.landing_start = g.landing_start.xyz;
+  b.mode = g.ids.x & 0xffu;
+  b.landing_stage = (g.ids.x >> 8) & 0xffu;
+  b.species = g.ids.x >> 16;
+  b.route = g.ids.y;
+  b.target = g.ids.z;
+  b.targets_reached = g.ids.w;
+  return b;
+}
+
+GpuBird pack(Bird b) {
+  GpuBird g;
+  g.position_phase = vec4(b.position, b.phase);
+  g.velocity_frequency = vec4(b.velocity, b.frequency);
+  g.attitude = b.attitude;
+  g.omega_amplitude = vec4(b.omega, b.amplitude);
+  g.tail_times = vec4(b.tail_bend, b.tail_twist, b.mode_time, b.takeoff_time);
+  g.via_progress = vec4(b.via_point, b.landing_progress);
+  g.landing_start = vec4(b.landing_start, 0.0);
+  g.ids = uvec4(b.mode | (b.landing_stage << 8) | (b.species << 16), b.route, b.target,
+                b.targets_reached);
+  return g;
+}
+
+// --- Quaternions and the body (body.cpp) ---------------------------------------------------
+
+vec3 rotate(vec4 q, vec3 v) {
+  precise vec3 t = 2.0 * cross(q.xyz, v);
+  precise vec3 r = v + q.w * t + cross(q.xyz, t);
+  return r;
+}
+
+vec3 rotate_back(vec4 q, vec3 v) { return rotate(vec4(-q.xyz, q.w), v); }
+
+// eq. 14 for a quaternion: q + dt/2 q (omega, 0), renormalised.
+vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
+  precise vec4 dq = vec4(q.w * omega + cross(q.xyz, omega), -dot(q.xyz, omega));
+  precise vec4 r = q + (0.5 * dt) * dq;
+  return normalize(r);
+}
+
+float bank_angle(vec4 q) { return asin(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
+float pitch_angle(vec4 q) { return asin(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
+vec4 heading_attitude(float heading) { return vec4(0.0, -sin(0.5 * heading), 0.0, cos(0.5 * heading)); }
+vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
+
+// eq. 15
+float ground_effect_force(Species s, float height) {
+  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / height : 0.0;
+}
+
+// --- Aerodynamics (eqs. 1, 2; aerodynamics.cpp) ---------------------------------------------
+
+vec3 aerodynamic_force(Species s, vec3 air, vec3 chord, vec3 normal, float area) {
+  precise float u_chord = dot(air, chord);
+  precise float u_normal = dot(air, normal);
+  precise float speed2 = u_chord * u_chord + u_normal * u_normal;
+  if (!(speed2 > 0.0)) return vec3(0.0);
+  precise float speed = sqrt(speed2);
+  precise float sin_a = u_normal / speed;
+  precise float cos_a = -u_chord / speed;
+  precise float cl = s.Cl_max * 2.0 * sin_a * cos_a;
+  precise float cd = s.Cd_0 + (s.Cd_90 - s.Cd_0) * sin_a * sin_a;
+  precise float q_area = 0.5 * kAirDensity * speed2 * area;
+  precise vec3 lift_dir = chord * sin_a + normal * cos_a;
+  precise vec3 drag_dir = chord * -cos_a + normal * sin_a;
+  precise vec3 f = q_area * (cl * lift_dir + cd * drag_dir);
+  return f;
+}
+
+// --- Wingbeat (wingbeat.cpp) ------------------------------------------------------------------
+
+struct WingPoint {
+  vec3 position, velocity, chord, normal;
+  float area;
+};
+
+void flap(inout vec3 fy, inout vec3 fz, float angle) {
+  float c = cos(angle), s = sin(angle);
+  vec3 y = c * fy - s * fz;
+  vec3 z = s * fy + c * fz;
+  fy = y;
+  fz = z;
+}
+
+void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
+  float c = cos(angle), s = sin(angle);
+  chord = c * fx - s * fy;
+  normal = s * fx + c * fy;
+}
+
+void right_wing_points(Species s, float phase, float amp, float frequency, out WingPoint arm,
+                       out WingPoint hand) {
+  float hand_phase = phase - s.lag_hand;
+  float cp = cos(phase), sp = sin(phase), ch = cos(hand_phase), sh = sin(hand_phase);
+  float flap_arm = amp * s.A_arm * cp + s.flap_bias;
+  float flap_hand = amp * s.A_hand * ch;
+  float feather_arm = s.B_arm * sp - s.twist_bias;
+  float feather_hand = s.B_hand * sh;
+  float leadlag = s.C_leadlag * sp;
+  float phase_rate = 2.0 * kPi * frequency;
+  float leadlag_rate = s.C_leadlag * cp * phase_rate;
+  float flap_arm_rate = -amp * s.A_arm * sp * phase_rate;
+  float flap_hand_rate = -amp * s.A_hand * sh * phase_rate;
+
+  float cl = cos(leadlag), sl = sin(leadlag);
+  vec3 sx = vec3(cl, 0.0, -sl), sy = vec3(0.0, 1.0, 0.0), sz = vec3(sl, 0.0, cl);
+  vec3 ax = sx, ay = sy, az = sz;
+  flap(ay, az, flap_arm);
+  vec3 hx = ax, hy = ay, hz = az;
+  flap(hy, hz, flap_hand);
+
+  vec3 shoulder = vec3(s.shoulder_x, 0.0, s.shoulder_z);
+  vec3 wrist = shoulder + az * s.arm_length;
+  arm.position = shoulder + az * (0.5 * s.arm_length);
+  hand.position = wrist + hz * (0.5 * s.hand_length);
+  vec3 omega_shoulder = vec3(0.0, leadlag_rate, 0.0) - sx * flap_arm_rate;
+  vec3 omega_wrist = -ax * flap_hand_rate;
+  arm.velocity = cross(omega_shoulder, arm.position - shoulder);
+  hand.velocity = cross(omega_shoulder, hand.position - shoulder) + cross(omega_wrist, hand.position - wrist);
+  feather(ax, ay, feather_arm, arm.chord, arm.normal);
+  feather(hx, hy, feather_arm + feather_hand, hand.chord, hand.normal);
+  arm.area = s.arm_area;
+  hand.area = s.hand_area;
+}
+
+WingPoint mirror_to_left(WingPoint p) {
+  vec3 m = vec3(1.0, 1.0, -1.0);
+  p.position *= m;
+  p.velocity *= m;
+  p.chord *= m;
+  p.normal *= m;
+  return p;
+}
+
+// --- Tail (eqs. 9, 10; tail.cpp) ------------------------------------------------------------
+
+float tail_opening(Species s, float bend, float twist) {
+  float larger = abs(bend) > abs(twist) ? bend : twist;
+  return s.Ct * abs(larger) + s.tail_min;
+}
+
+void tail_geometry(Species s, float bend, float twist, out vec3 position, out vec3 chord,
+                   out vec3 normal) {
+  float pitch = s.tail_incidence + bend;
+  float cp = cos(pitch), sp = sin(pitch), ct = cos(twist), st = sin(twist);
+  vec3 trailing = vec3(-cp, ct * sp, st * sp);
+  position = vec3(s.tail_hinge_x, 0.0, 0.0) + trailing * s.tail_arm;
+  chord = vec3(cp, -ct * sp, -st * sp);
+  normal = vec3(sp, ct * cp, st * cp);
+}
+
+// --- Control (control.cpp) ------------------------------------------------------------------
+
+float sign_outside(float x, float band) { return x > band ? 1.0 : (x < -band ? -1.0 : 0.0); }
+
+float steer_share(Species s, float heading_error) {
+  if (abs(heading_error) <= s.dead_band) return 0.0;
+  return clamp(heading_error / s.steer_full_error, -1.0, 1.0);
+}
+
+struct Steering {
+  float heading_error, heading_error_ahead, height_error;
+};
+
+Steering steer_towards(Species s, vec4 attitude, vec3 position, vec3 velocity, vec3 goal) {
+  vec3 head = rotate(attitude, vec3(1, 0, 0));
+  vec3 to_goal = goal - position;
+  Steering st;
+  st.heading_error = atan(-head.z * to_goal.x + head.x * to_goal.z, head.x * to_goal.x + head.z * to_goal.z);
+  float speed = length(velocity.xz);
+  float turn_rate = speed > 1.0 ? kGravity * tan(bank_angle(attitude)) / speed : 0.0;
+  st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
+  st.height_error = to_goal.y - s.height_lead * velocity.y;
+  return st;
+}
+
+float rate_step(float value, float lo, float hi, float rate, float dy, float dt) {
+  return clamp(value + sign(dy) * rate * dt, lo, hi);
+}
+
+float approach(float angle, float command, float rate, float dt) {
+  float step = rate * dt;
+  return angle + clamp(command - angle, -step, step);
+}
+
+float coordinated_bank(Species s, float turn_rate, float speed) {
+  return clamp(atan(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
+}
+
+float pursuit_bank(Species s, float heading_error, float distance, float speed) {
+  if (abs(heading_error) <= s.dead_band) return 0.0;
+  if (abs(heading_error) >= 0.5 * kPi || distance <= 0.0) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
+  float tightest = speed * speed / (kGravity * s.tan_bank_max);
+  return coordinated_bank(s, 2.0 * speed * sin(heading_error) / max(distance, tightest), speed);
+}
+
+vec3 landing_point(vec3 bird, vec3 heading, vec3 branch_point, vec3 branch_direction) {
+  float hn = length(heading.xz);
+  if (hn == 0.0) return branch_point;
+  float hx = heading.x / hn, hz = heading.z / hn;
+  float nx = -branch_direction.z, nz = branch_direction.x;
+  float det = hx * (-nz) - hz * (-nx);
+  if (abs(det) < 1e-6) return branch_point;
+  float dx = branch_point.x - bird.x, dz = branch_point.z - bird.z;
+  float s = (dx * (-nz) - dz * (-nx)) / det;
+  if (s <= 0.0) return branch_point;
+  vec3 q3 = vec3(bird.x + s * hx, branch_point.y, bird.z + s * hz);
+  return 0.25 * bird + 0.5 * q3 + 0.25 * branch_point;
+}
+
+vec3 landing_curve(vec3 q1, vec3 p, vec3 q2, float u) {
+  vec3 q3 = 2.0 * p - 0.5 * (q1 + q2);
+  float v = 1.0 - u;
+  return v * v * q1 + 2.0 * u * v * q3 + u * u * q2;
+}
+
+float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float lookahead) {
+  const float kStep = 1.0 / 128.0;
+  vec3 q3 = 2.0 * p - 0.5 * (q1 + q2);
+  while (u < 1.0) {
+    vec3 at = landing_curve(q1, p, q2, u);
+    vec3 tangent = (1.0 - u) * (q3 - q1) + u * (q2 - q3);
+    bool behind = dot(at - position, tangent) < 0.0;
+    if (!behind && distance(at, position) >= lookahead) break;
+    u = min(1.0, u + kStep);
+  }
+  return u;
+}
+
+// --- Route and landing (route.cpp) ------------------------------------------------------------
+
+vec3 perch_point(Species s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
+
+vec3 target_centre(uint route_target) { return targets[route_targets[route_target]].centre_radius.xyz; }
+
+vec3 landing_gate(Species s, uint branch, vec3 q2, vec3 position) {
+  vec3 direction = branches[branch].direction.xyz;
+  vec3 across = vec3(-direction.z, 0.0, direction.x);
+  float side = dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+  return q2 + across * (side * kGateApproaches * s.approach_distance);
+}
+
+void place_curve(inout Bird b, uint branch, vec3 q2) {
+  b.landing_start = b.position;
+  b.via_point = landing_point(b.position, rotate(b.attitude, vec3(1, 0, 0)), q2, branches[branch].direction.xyz);
+  b.landing_progress = 0.0;
+}
+
+vec3 landing_goal(inout Bird b, Species s, uint branch) {
+  vec3 q2 = perch_point(s, branch);
+  if (b.landing_stage == kStageNone) {
+    place_curve(b, branch, q2);
+    bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    b.landing_stage = any(notEqual(b.via_point, q2)) || heading_in ? kStageCurve : kStageGate;
+  }
+  if (b.landing_stage == kStageGate) {
+    vec3 gate = landing_gate(s, branch, q2, b.position);
+    vec3 to_gate = horizontal(gate - b.position);
+    float d = length(to_gate);
+    bool flown_past = dot(to_gate, b.velocity) < 0.0;
+    if (d > s.approach_distance && !(flown_past && d <= kMissedTargetRadii * s.approach_distance))
+      return gate;
+    place_curve(b, branch, q2);
+    b.landing_stage = kStageCurve;
+  }
+  if (b.landing_progress >= 1.0 || all(equal(b.via_point, q2))) {
+    bool closing = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    if (!closing) b.landing_stage = kStageGate;
+    return q2;
+  }
+  b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
+                                        b.position, s.approach_distance);
+  return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+}
+
+vec3 route_goal(inout Bird b, Species s) {
+  Route r = routes[b.route];
+  if (b.target < r.count) {
+    Target t = targets[route_targets[r.first + b.target]];
+    vec3 to_target = t.centre_radius.xyz - b.position;
+    float d = length(to_target);
+    bool flown_past = dot(to_target, b.velocity - t.velocity.xyz) < 0.0;
+    if (d <= t.centre_radius.w || (d <= kMissedTargetRadii * t.centre_radius.w && flown_past)) {
+      b.targets_reached += 1u;
+      b.target += 1u;
+      if (b.target == r.count && (r.flags & 1u) != 0u && r.branch == 0u) b.target = 0u;
+    }
+  }
+  if (b.target < r.count) return target_centre(r.first + b.target);
+  if (r.branch == 0u) return target_centre(r.first + r.count - 1u);
+  uint branch = r.branch - 1u;
+  return (r.flags & 2u) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
+}
+
+void perch(inout Bird b, Species s, uint branch) {
+  vec3 head = rotate(b.attitude, vec3(1, 0, 0));
+  b.position = perch_point(s, branch);
+  b.velocity = vec3(0.0);
+  b.omega = vec3(0.0);
+  b.attitude = heading_attitude(atan(head.z, head.x));
+  b.amplitude = 0.0;
+  b.tail_bend = 0.0;
+  b.tail_twist = 0.0;
+  b.mode = kPerched;
+  b.mode_time = 0.0;
+  b.targets_reached += 1u;
+}
+
+bool approach_branch(inout Bird b, Species s) {
+  Route r = routes[b.route];
+  if (r.branch == 0u || b.target < r.count) return false;
+  uint branch = r.branch - 1u;
+  vec3 to_perch = perch_point(s, branch) - b.position;
+  float d = length(to_perch);
+  if (d <= s.perch_radius) {
+    perch(b, s, branch);
+    return true;
+  }
+  bool closing = dot(to_perch, b.velocity) > 0.0;
+  if (b.mode == kLanding && !closing) {
+    b.mode = kFlying;
+    b.mode_time = 0.0;
+    b.landing_stage = kStageNone;
+  } else if (b.mode == kFlying && closing && d <= s.brake_distance) {
+    b.mode = kLanding;
+    b.mode_time = 0.0;
+  }
+  return false;
+}
+
+// --- One step (step.cpp) ----------------------------------------------------------------------
+
+struct Commands {
+  Steering steering;
+  float bend, twist;  // where the tail moves to
+  float opening;
+  vec3 omega;
+};
+
+Commands control(Bird b, Species s, vec3 goal) {
+  bool on_legs = b.mode == kTakingOff;
+  bool braking = b.mode == kLanding;
+  bool fixed_rate = pc.turning == 1u && !braking;
+  Commands c;
+  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal);
+  c.bend = sign_outside(c.steering.height_error, s.height_band) * s.bend_max;
+  c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
+  float bank = bank_angle(b.attitude);
+  c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
+  c.opening = braking ? s.open_tail : tail_opening(s, b.tail_bend, b.tail_twist);
+  c.omega = b.omega;
+  if (on_legs) {
+    c.omega = vec3(0.0);
+    return c;
+  }
+  float speed = length(b.velocity.xz);
+  float turn_rate = sign_outside(c.steering.heading_error, s.dead_band) * s.turn_rate;
+  float bank_cmd = 0.0;
+  if (fixed_rate)
+    bank_cmd = coordinated_bank(s, turn_rate, speed);
+  else if (!braking)
+    bank_cmd = pursuit_bank(s, c.steering.heading_error, length(goal.xz - b.position.xz), speed);
+  if (fixed_rate) {
+    vec3 world_rate = rotate(b.attitude, c.omega);
+    world_rate.y = -turn_rate;
+    c.omega = rotate_back(b.attitude, world_rate);
+  }
+  c.omega.x = clamp((bank_cmd - bank) / s.bank_time, -s.roll_rate, s.roll_rate);
+  if (braking)
+    c.omega.z = clamp((s.brake_pitch - pitch_angle(b.attitude)) / s.bank_time, -s.roll_rate, s.roll_rate);
+  return c;
+}
+
+struct Forces {
+  vec3 wing[4];
+  vec3 tail, total, torque, tail_torque;  // torques in the body frame
+};
+
+Forces forces(Bird b, Species s, Commands c) {
+  Forces f;
+  vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz) - rotate_back(b.attitude, b.velocity);
+  WingPoint right[2];
+  right_wing_points(s, b.phase, b.amplitude, b.frequency, right[0], right[1]);
+  precise vec3 torque = vec3(0.0);
+  for (int i = 0; i < 2; ++i) {
+    for (int side = 0; side < 2; ++side) {
+      WingPoint p = side == 0 ? right[i] : mirror_to_left(right[i]);
+      precise vec3 air = body_air - cross(c.omega, p.position) - p.velocity;
+      vec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
+      f.wing[2 * side + i] = rotate(b.attitude, force);
+      torque += cross(p.position, force);
+    }
+  }
+  vec3 tail_position, tail_chord, tail_normal;
+  tail_geometry(s, b.tail_bend, b.tail_twist, tail_position, tail_chord, tail_normal);
+  precise vec3 tail_air = body_air - cross(c.omega, tail_position);
+  vec3 tail = aerodynamic_force(s, tail_air, tail_chord, tail_normal, s.tail_area_per_radian * c.opening);
+  f.tail = rotate(b.attitude, tail);
+  f.tail_torque = cross(tail_position, tail);
+  f.torque = torque + f.tail_torque;
+  precise vec3 total = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail;
+  total.y -= s.mass * kGravity;
+  if (pc.ground_effect != 0u) total.y += ground_effect_force(s, b.position.y - pc.wind_ground.w);
+  if (b.mode == kTakingOff && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
+    vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
+    total += s.leg_force * (cos(s.push_angle) * ahead + sin(s.push_angle) * vec3(0, 1, 0));
+  }
+  f.total = total;
+  return f;
+}
+
+void stand_on_legs(inout Bird b, Species s, float dt) {
+  float crouch = min(b.mode_time / max(s.crouch_time, dt), 1.0);
+  float floor_y = pc.wind_ground.w + s.stand_height - s.crouch_depth * crouch;
+  if (b.mode_time < s.crouch_time) {
+    b.velocity = vec3(0.0);
+    b.position.y = floor_y;
+  }
+  if (b.position.y < floor_y) {
+    b.position.y = floor_y;
+    b.velocity.y = max(b.velocity.y, 0.0);
+    if (b.mode_time < s.crouch_time + s.leg_time) b.velocity.xz = vec2(0.0);
+  }
+  b.omega = vec3(0.0);
+}
+
+void step_bird(inout Bird b, Species s, float time, float dt) {
+  if (b.mode == kPerched || (b.mode == kStanding && time + 0.5 * dt < b.takeoff_time)) {
+    b.mode_time += dt;
+    return;
+  }
+  if (b.mode == kStanding) {
+    b.mode = kTakingOff;
+    b.mode_time = 0.0;
+    b.frequency = s.f_max;
+    b.amplitude = s.amp_max;
+  }
+  vec3 goal = route_goal(b, s);
+  if (approach_branch(b, s)) return;
+  Commands c = control(b, s, goal);
+  Forces f = forces(b, s, c);
+
+  bool on_legs = b.mode == kTakingOff;
+  precise vec3 position = b.position + b.velocity * dt;
+  precise vec3 velocity = b.velocity + f.total / s.mass * dt;
+  precise vec3 omega = c.omega + f.torque * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
+  b.position = position;
+  b.velocity = velocity;
+  b.attitude = integrate_attitude(b.attitude, c.omega, dt);
+  b.omega = omega;
+  if (on_legs) stand_on_legs(b, s, dt);
+
+  b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.frequency = on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.steering.height_error, dt);
+  b.amplitude = on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.steering.height_error, dt);
+  b.tail_bend = approach(b.tail_bend, c.bend, s.tail_rate, dt);
+  b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
+  b.mode_time += dt;
+  if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
+    b.mode = kFlying;
+    b.mode_time = 0.0;
+  }
+}
