@@ -461,10 +461,18 @@ void stand_on_legs(inout Bird b, Species s, float dt) {
   b.omega = vec3(0.0);
 }
 
-void step_bird(inout Bird b, Species s, float time, float dt) {
+Forces no_forces() {
+  Forces f;
+  f.wing[0] = f.wing[1] = f.wing[2] = f.wing[3] = vec3(0.0);
+  f.tail = f.total = f.torque = f.tail_torque = vec3(0.0);
+  return f;
+}
+
+// One step of dt from `time`; returns the step's forces (zero for a bird at rest).
+Forces step_bird(inout Bird b, Species s, float time, float dt) {
   if (b.mode == kPerched || (b.mode == kStanding && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
-    return;
+    return no_forces();
   }
   if (b.mode == kStanding) {
     b.mode = kTakingOff;
@@ -473,7 +481,7 @@ void step_bird(inout Bird b, Species s, float time, float dt) {
     b.amplitude = s.amp_max;
   }
   vec3 goal = route_goal(b, s);
-  if (approach_branch(b, s)) return;
+  if (approach_branch(b, s)) return no_forces();
   Commands c = control(b, s, goal);
   Forces f = forces(b, s, c);
 
@@ -497,4 +505,5 @@ void step_bird(inout Bird b, Species s, float time, float dt) {
     b.mode = kFlying;
     b.mode_time = 0.0;
   }
+  return f;
 }
