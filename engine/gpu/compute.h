@@ -1,0 +1,119 @@
+#pragma once
+// Compute pipelines, the barriers between their work, and submitting it to the queue.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <functional>
+#include <initializer_list>
+#include <span>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/device.h"
+
+namespace aeroflock::gpu {
+
+// A compute shader with `bindings` storage buffers (set 0, bindings 0..bindings-1) and a push-
+// constant block of `push_size` bytes (0: none). Its pool holds `max_sets` descriptor sets.
+class ComputePipeline {
+public:
+    ComputePipeline(const Device& device, std::span<const uint32_t> spirv, uint32_t bindings,
+                    uint32_t push_size, uint32_t max_sets = 4);
+    ~ComputePipeline();
+    ComputePipeline(const ComputePipeline&) = delete;
+    ComputePipeline& operator=(const ComputePipeline&) = delete;
+
+    // A descriptor set with binding i = the whole of buffers[i] (e.g. one per state buffer for
+    // ping-ponging). Lives as long as the pipeline.
+    VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
+    VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
+    // make_set, and the set that dispatch() uses without one.
+    void set_buffers(std::span<const Buffer* const> buffers) { default_set_ = make_set(buffers); }
+    void set_buffers(std::initializer_list<const Buffer*> buffers) { default_set_ = make_set(buffers); }
+
+    // Records bind + push constants + vkCmdDispatch(groups_x, 1, 1). `push_size` must be the
+    // pipeline's. Error if groups_x exceeds maxComputeWorkGroupCount[0].
+    void dispatch(VkCommandBuffer cmd, uint32_t groups_x, const void* push = nullptr,
+                  uint32_t push_size = 0) const;
+    void dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_t groups_x, const void* push,
+                  uint32_t push_size) const;
+
+    VkPipeline handle() const { return pipeline_; }
+    VkPipelineLayout layout() const { return layout_; }
+
+private:
+    void destroy();
+
+    const Device& device_;
+    uint32_t bindings_;
+    uint32_t push_size_;
+    VkShaderModule module_ = VK_NULL_HANDLE;
+    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+    VkDescriptorPool pool_ = VK_NULL_HANDLE;
+    VkDescriptorSet default_set_ = VK_NULL_HANDLE;
+};
+
+// Work groups of `local_size` needed for `items` invocations.
+uint32_t group_count(uint64_t items, uint32_t local_size);
+
+// Barriers (global memory barriers; every earlier compute or transfer write is covered):
+// earlier compute/transfer writes -> compute shader reads and writes (and earlier reads before
+// later writes). Use between dependent dispatches, at the start of a frame, after an upload copy.
+void barrier_to_compute(VkCommandBuffer cmd);
+// earlier compute/transfer writes -> transfer reads and writes: before copying results out.
+void barrier_to_transfer(VkCommandBuffer cmd);
+// earlier compute/transfer writes -> host reads: before the host reads a mapped buffer.
+void barrier_to_host(VkCommandBuffer cmd);
+
+// vkCmdCopyBuffer of `size` bytes.
+void copy_buffer(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize size,
+                 VkDeviceSize src_offset = 0, VkDeviceSize dst_offset = 0);
+// barrier_to_transfer, copy the whole of `src` (at most dst.size()) to `dst`, barrier_to_host:
+// after the fence, dst.mapped() holds src's contents.
+void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst);
+
+// Owns a command pool on the device's compute queue. Not thread-safe (one thread submits).
+//
+// Synchronous: run([&](VkCommandBuffer cmd) { ... }) records, submits, waits (setup, tests).
+// Asynchronous, `frames` command buffers in turn (double-buffered with frames = 2):
+//     VkCommandBuffer cmd = submitter.begin();     // waits for this slot's previous frame only
+//     barrier_to_compute(cmd);                      // after the previous frame's work
+//     pipeline.dispatch(cmd, groups, &push, sizeof push);
+//     record_readback(cmd, state, readback[submitter.frame()]);
+//     VkFence done = submitter.submit();
+//     ... later: submitter.wait(done); read readback[...]
+class Submitter {
+public:
+    explicit Submitter(const Device& device, uint32_t frames = 2);
+    ~Submitter();  // waits for the frames in flight
+    Submitter(const Submitter&) = delete;
+    Submitter& operator=(const Submitter&) = delete;
+
+    void run(const std::function<void(VkCommandBuffer)>& record);
+
+    VkCommandBuffer begin();
+    VkFence submit();
+    // Slot of the frame being recorded (after begin()) or last submitted: 0..frames-1.
+    uint32_t frame() const { return slot_; }
+    void wait(VkFence fence) const;
+    void wait_all() const;
+
+private:
+    struct Slot {
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;
+        bool submitted = false;
+    };
+    void submit(VkCommandBuffer cmd, VkFence fence) const;
+    void destroy();
+
+    const Device& device_;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    std::vector<Slot> slots_;
+    uint32_t slot_ = 0;
+    bool recording_ = false;
+};
+
+}  // namespace aeroflock::gpu
