@@ -58,6 +58,48 @@ GpuBird pack(Bird b) {
   return g;
 }
 
+// --- Precise trigonometry --------------------------------------------------------------------
+// Vulkan lets sin and cos be off by 2^-11 (lavapipe's are); these are good to a few float ulps
+// for the angles the model uses, so that the shader follows the double-precision reference.
+
+vec2 sin_cos(float x) {
+  precise float k = round(x * 0.636619772);            // x / (pi / 2)
+  precise float r = (x - k * 1.57079637) + k * 4.37113883e-8;  // x - k pi / 2, two-part pi / 2
+  precise float r2 = r * r;
+  precise float s = r + r * r2 * (-1.66666667e-1 + r2 * (8.33333333e-3 + r2 * (-1.98412698e-4 + r2 * 2.75573192e-6)));
+  precise float c = 1.0 + r2 * (-0.5 + r2 * (4.16666667e-2 + r2 * (-1.38888889e-3 + r2 * 2.48015873e-5)));
+  int q = int(k) & 3;
+  if (q == 0) return vec2(s, c);
+  if (q == 1) return vec2(c, -s);
+  if (q == 2) return vec2(-s, -c);
+  return vec2(-c, s);
+}
+float sin_p(float x) { return sin_cos(x).x; }
+float cos_p(float x) { return sin_cos(x).y; }
+float tan_p(float x) {
+  vec2 sc = sin_cos(x);
+  return sc.x / sc.y;
+}
+
+// atan2 (Vulkan allows atan 4096 ulps): reduced to |u| <= tan(pi / 8), then a series.
+float atan_p(float y, float x) {
+  float ax = abs(x), ay = abs(y);
+  if (ax == 0.0 && ay == 0.0) return 0.0;
+  bool swap = ay > ax;
+  precise float t = swap ? ax / ay : ay / ax;
+  bool shift = t > 0.414213562;
+  precise float u = shift ? (t - 1.0) / (t + 1.0) : t;
+  precise float u2 = u * u;
+  precise float a = u + u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * (0.111111111 +
+                    u2 * (-0.0909090909 + u2 * (0.0769230769 + u2 * (-0.0666666667)))))));
+  if (shift) a += 0.785398163;
+  if (swap) a = 1.57079633 - a;
+  if (x < 0.0) a = 3.14159265 - a;
+  return y < 0.0 ? -a : a;
+}
+float atan_p(float x) { return atan_p(x, 1.0); }
+float asin_p(float x) { return atan_p(x, sqrt(max(0.0, 1.0 - x * x))); }
+
 // --- Quaternions and the body (body.cpp) ---------------------------------------------------
 
 vec3 rotate(vec4 q, vec3 v) {
@@ -75,9 +117,9 @@ vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
   return normalize(r);
 }
 
-float bank_angle(vec4 q) { return asin(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
-float pitch_angle(vec4 q) { return asin(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
-vec4 heading_attitude(float heading) { return vec4(0.0, -sin(0.5 * heading), 0.0, cos(0.5 * heading)); }
+float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
+float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
+vec4 heading_attitude(float heading) { return vec4(0.0, -sin_p(0.5 * heading), 0.0, cos_p(0.5 * heading)); }
 vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
 
 // eq. 15
@@ -112,7 +154,7 @@ struct WingPoint {
 };
 
 void flap(inout vec3 fy, inout vec3 fz, float angle) {
-  float c = cos(angle), s = sin(angle);
+  float c = cos_p(angle), s = sin_p(angle);
   vec3 y = c * fy - s * fz;
   vec3 z = s * fy + c * fz;
   fy = y;
@@ -120,7 +162,7 @@ void flap(inout vec3 fy, inout vec3 fz, float angle) {
 }
 
 void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
-  float c = cos(angle), s = sin(angle);
+  float c = cos_p(angle), s = sin_p(angle);
   chord = c * fx - s * fy;
   normal = s * fx + c * fy;
 }
@@ -128,7 +170,7 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
 void right_wing_points(Species s, float phase, float amp, float frequency, out WingPoint arm,
                        out WingPoint hand) {
   float hand_phase = phase - s.lag_hand;
-  float cp = cos(phase), sp = sin(phase), ch = cos(hand_phase), sh = sin(hand_phase);
+  float cp = cos_p(phase), sp = sin_p(phase), ch = cos_p(hand_phase), sh = sin_p(hand_phase);
   float flap_arm = amp * s.A_arm * cp + s.flap_bias;
   float flap_hand = amp * s.A_hand * ch;
   float feather_arm = s.B_arm * sp - s.twist_bias;
@@ -139,7 +181,7 @@ void right_wing_points(Species s, float phase, float amp, float frequency, out W
   float flap_arm_rate = -amp * s.A_arm * sp * phase_rate;
   float flap_hand_rate = -amp * s.A_hand * sh * phase_rate;
 
-  float cl = cos(leadlag), sl = sin(leadlag);
+  float cl = cos_p(leadlag), sl = sin_p(leadlag);
   vec3 sx = vec3(cl, 0.0, -sl), sy = vec3(0.0, 1.0, 0.0), sz = vec3(sl, 0.0, cl);
   vec3 ax = sx, ay = sy, az = sz;
   flap(ay, az, flap_arm);
@@ -179,7 +221,7 @@ float tail_opening(Species s, float bend, float twist) {
 void tail_geometry(Species s, float bend, float twist, out vec3 position, out vec3 chord,
                    out vec3 normal) {
   float pitch = s.tail_incidence + bend;
-  float cp = cos(pitch), sp = sin(pitch), ct = cos(twist), st = sin(twist);
+  float cp = cos_p(pitch), sp = sin_p(pitch), ct = cos_p(twist), st = sin_p(twist);
   vec3 trailing = vec3(-cp, ct * sp, st * sp);
   position = vec3(s.tail_hinge_x, 0.0, 0.0) + trailing * s.tail_arm;
   chord = vec3(cp, -ct * sp, -st * sp);
@@ -203,9 +245,9 @@ Steering steer_towards(Species s, vec4 attitude, vec3 position, vec3 velocity, v
   vec3 head = rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   Steering st;
-  st.heading_error = atan(-head.z * to_goal.x + head.x * to_goal.z, head.x * to_goal.x + head.z * to_goal.z);
+  st.heading_error = atan_p(-head.z * to_goal.x + head.x * to_goal.z, head.x * to_goal.x + head.z * to_goal.z);
   float speed = length(velocity.xz);
-  float turn_rate = speed > 1.0 ? kGravity * tan(bank_angle(attitude)) / speed : 0.0;
+  float turn_rate = speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / speed : 0.0;
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
   return st;
@@ -221,14 +263,14 @@ float approach(float angle, float command, float rate, float dt) {
 }
 
 float coordinated_bank(Species s, float turn_rate, float speed) {
-  return clamp(atan(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
+  return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
 float pursuit_bank(Species s, float heading_error, float distance, float speed) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
   if (abs(heading_error) >= 0.5 * kPi || distance <= 0.0) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
   float tightest = speed * speed / (kGravity * s.tan_bank_max);
-  return coordinated_bank(s, 2.0 * speed * sin(heading_error) / max(distance, tightest), speed);
+  return coordinated_bank(s, 2.0 * speed * sin_p(heading_error) / max(distance, tightest), speed);
 }
 
 vec3 landing_point(vec3 bird, vec3 heading, vec3 branch_point, vec3 branch_direction) {
@@ -334,7 +376,7 @@ void perch(inout Bird b, Species s, uint branch) {
   b.position = perch_point(s, branch);
   b.velocity = vec3(0.0);
   b.omega = vec3(0.0);
-  b.attitude = heading_attitude(atan(head.z, head.x));
+  b.attitude = heading_attitude(atan_p(head.z, head.x));
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
@@ -440,7 +482,7 @@ Forces forces(Bird b, Species s, Commands c) {
   if (pc.ground_effect != 0u) total.y += ground_effect_force(s, b.position.y - pc.wind_ground.w);
   if (b.mode == kTakingOff && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
     vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
-    total += s.leg_force * (cos(s.push_angle) * ahead + sin(s.push_angle) * vec3(0, 1, 0));
+    total += s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
   }
   f.total = total;
   return f;

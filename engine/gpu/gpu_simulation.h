@@ -1,0 +1,65 @@
+// The flock stepped by the compute shader: every bird one element of a storage buffer, a frame's
+// steps in one dispatch, the state read back double-buffered without stalling the stepping.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "gpu/buffer.h"
+#include "gpu/compute.h"
+#include "gpu/device.h"
+#include "gpu/layout.h"
+#include "model/bird.h"
+#include "model/scenario.h"
+
+namespace aeroflock::gpu {
+
+// One step's forces of a bird, as the probe shader writes them (StepForces' total, torque, tail
+// and tail torque).
+struct ProbeForces {
+  glm::vec4 total, torque, tail, tail_torque;
+};
+
+class GpuSimulation {
+ public:
+  // Throws gpu::Error when the flock does not fit the device (naming the limit and the largest
+  // flock that fits). `birds` as spawn_birds (engine/model/simulation.h) places them.
+  GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds);
+  GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override = 0);
+
+  // Submits one frame (scenario.steps_per_frame steps of dt); returns without waiting for it.
+  void step_frame();
+  // One step of every bird, waited for, with each bird's forces (for the cross-check tests).
+  std::vector<ProbeForces> step_probe();
+  // The state after the last submitted frame (waits for that frame only).
+  const std::vector<BirdState>& birds();
+
+  const Scenario& scenario() const { return scenario_; }
+  double time() const { return time_; }
+  uint64_t steps() const { return steps_; }
+
+ private:
+  StepConstants constants(uint32_t steps) const;
+  void write_targets(uint32_t slot, double time);
+
+  const Device& device_;
+  Scenario scenario_;
+  uint32_t count_;
+  Buffer birds_, species_, routes_, route_targets_, branches_, probes_;
+  Buffer targets_[2];       // one per frame in flight: the host moves targets between frames
+  Buffer readback_[2];
+  ComputePipeline step_, probe_;
+  VkDescriptorSet step_sets_[2], probe_set_;
+  std::vector<BirdState> host_birds_;
+  VkFence last_frame_ = VK_NULL_HANDLE;
+  uint32_t last_slot_ = 0;
+  bool host_current_ = true;
+  double time_ = 0.0;
+  uint64_t steps_ = 0;
+  Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
+};
+
+}  // namespace aeroflock::gpu
