@@ -1,4 +1,5 @@
-// MODEL.md's behaviours 1-8 on the CPU reference, each with its quantitative criterion. The
+// MODEL.md's behaviours 1-8, each with its quantitative criterion, on one backend: built with
+// flight_cpu.cpp (the CPU reference) and with flight_vulkan.cpp (the compute shaders). The
 // paper's figures are the built-in scenarios (scenarios/fig*.toml), so what users run is what is
 // tested; cruise, climb and descent are small scenarios written here.
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include "model/constants.h"
 #include "model/control.h"
 #include "model/simulation.h"
+#include "flight.h"
 #include "model/tail.h"
 
 namespace aeroflock {
@@ -24,7 +26,7 @@ namespace {
 using glm::dvec3;
 
 // Runs `sim` for `seconds`, calling `each_frame` after every frame.
-void run(Simulation& sim, double seconds, const std::function<void(const Simulation&)>& each_frame) {
+void run(Flight& sim, double seconds, const std::function<void(Flight&)>& each_frame) {
   while (sim.time() < seconds - 1e-9) {
     sim.step_frame();
     each_frame(sim);
@@ -32,7 +34,7 @@ void run(Simulation& sim, double seconds, const std::function<void(const Simulat
 }
 
 // Runs `sim` step by step until `seconds`, calling `each_step` after every step.
-void run_steps(Simulation& sim, double seconds, const std::function<void(const Simulation&)>& each_step) {
+void run_steps(Flight& sim, double seconds, const std::function<void(Flight&)>& each_step) {
   while (sim.time() < seconds - 1e-9) {
     sim.step_once();
     each_step(sim);
@@ -69,7 +71,7 @@ random_phase = false
   return parse_scenario(toml, "straight.toml");
 }
 
-const Species& species_of(const Simulation& sim, const BirdState& b) {
+const Species& species_of(Flight& sim, const BirdState& b) {
   return sim.scenario().species[b.species];
 }
 
@@ -79,11 +81,13 @@ const Species& species_of(const Simulation& sim, const BirdState& b) {
 class Cruise : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Cruise, HoldsHeightWithFrequencyAndAmplitudeInside) {
-  Simulation sim(straight_flight(GetParam(), 1e6, 0.0));
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const auto flight = make_flight(straight_flight(GetParam(), 1e6, 0.0));
+  Flight& sim = *flight;
   const Species& sp = sim.scenario().species[sim.birds()[0].species];
   double y_lo = 1e9, y_hi = -1e9, f_lo = 1e9, f_hi = -1e9, a_lo = 1e9, a_hi = -1e9;
   int frames = 0, closed = 0;
-  run(sim, 30.0, [&](const Simulation& s) {
+  run(sim, 30.0, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() < 2.0) return;
     y_lo = std::min(y_lo, b.position.y), y_hi = std::max(y_hi, b.position.y);
@@ -115,14 +119,16 @@ void PrintTo(const VerticalCase& c, std::ostream* os) { *os << c.species << " to
 class ClimbDescent : public ::testing::TestWithParam<VerticalCase> {};
 
 TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const VerticalCase c = GetParam();
-  Simulation sim(straight_flight(c.species, 10000.0, c.above));
+  const auto flight = make_flight(straight_flight(c.species, 10000.0, c.above));
+  Flight& sim = *flight;
   const BirdState start = sim.birds()[0];
   const Species& sp = species_of(sim, start);
   const Target& goal = sim.world().targets[0];
   double reached_at = -1.0;
   BirdState at_half_second;
-  run(sim, 20.0, [&](const Simulation& s) {
+  run(sim, 20.0, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() <= 0.5) at_half_second = b;
     if (reached_at < 0 && glm::distance(b.position, goal.centre) <= goal.radius) reached_at = s.time();
@@ -141,13 +147,15 @@ TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5)
 class Circling : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
-  Simulation sim(load_scenario(GetParam()));
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const auto flight = make_flight(load_scenario(GetParam()));
+  Flight& sim = *flight;
   const bool tail_model = sim.world().turning == TurningModel::tail;
   const Species& sp = species_of(sim, sim.birds()[0]);
   double r_lo = 1e9, r_hi = 0, y_lo = 1e9, y_hi = -1e9;
   int frames = 0, banked_in = 0, turning = 0, twisted_in = 0, open_in_turn = 0;
   uint32_t reached_at_10s = 0;
-  run(sim, 60.0, [&](const Simulation& s) {
+  run(sim, 60.0, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() < 10.0) {
       reached_at_10s = b.targets_reached;
@@ -189,17 +197,19 @@ TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
 
 // Eq. 3: with fixed-rate turning the heading turns at R about the vertical, banked or not.
 TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   Scenario scenario = straight_flight("starling", -1e5, 0.0);  // the target far behind
   scenario.world.turning = TurningModel::fixed_rate;
-  Simulation sim(scenario);
+  const auto flight = make_flight(scenario);
+  Flight& sim = *flight;
   const Species& sp = species_of(sim, sim.birds()[0]);
   auto heading = [&] {
     const dvec3 head = sim.birds()[0].attitude * dvec3{1.0, 0.0, 0.0};
     return std::atan2(head.z, head.x);
   };
-  run(sim, 1.0, [](const Simulation&) {});  // banked into the turn by now
+  run(sim, 1.0, [](Flight&) {});  // banked into the turn by now
   const double before = heading(), bank = bank_angle(sim.birds()[0].attitude);
-  run(sim, 1.5, [](const Simulation&) {});
+  run(sim, 1.5, [](Flight&) {});
   const double turned = std::remainder(heading() - before, 2.0 * kPi);
   RecordProperty("bank_deg", std::to_string(degrees(bank)));
   EXPECT_GT(std::fabs(bank), radians(20.0));
@@ -212,13 +222,15 @@ TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
 // --- 4. Ground effect (Fig. 17): descending to a target on the ground, the starling never goes
 // below y = 0 with k = 10, and does without ground effect.
 double lowest_height(const std::string& scenario) {
-  Simulation sim(load_scenario(scenario));
+  const auto flight = make_flight(load_scenario(scenario));
+  Flight& sim = *flight;
   double lowest = 1e9;
-  run_steps(sim, sim.scenario().duration, [&](const Simulation& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
+  run_steps(sim, sim.scenario().duration, [&](Flight& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
   return lowest;
 }
 
 TEST(GroundEffect, KeepsTheStarlingAboveTheGroundOnlyWhenOn) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const double with = lowest_height("fig17-ground-effect");
   const double without = lowest_height("fig17-no-ground-effect");
   RecordProperty("lowest_with_cm", std::to_string(with));
@@ -232,16 +244,18 @@ struct Heights {
   double at_03 = 0, at_07 = 0;
 };
 Heights takeoff_heights(const std::string& scenario) {
-  Simulation sim(load_scenario(scenario));
+  const auto flight = make_flight(load_scenario(scenario));
+  Flight& sim = *flight;
   Heights h;
-  run_steps(sim, 0.3, [](const Simulation&) {});
+  run_steps(sim, 0.3, [](Flight&) {});
   h.at_03 = sim.birds()[0].position.y;
-  run_steps(sim, 0.7, [](const Simulation&) {});
+  run_steps(sim, 0.7, [](Flight&) {});
   h.at_07 = sim.birds()[0].position.y;
   return h;
 }
 
 TEST(TakeOff, LegForceGivesAQuickerAscent) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const Heights legs = takeoff_heights("fig20-takeoff-legs");
   const Heights none = takeoff_heights("fig19-takeoff-no-legs");
   RecordProperty("with_legs_cm", std::to_string(legs.at_03) + ", " + std::to_string(legs.at_07));
@@ -251,10 +265,12 @@ TEST(TakeOff, LegForceGivesAQuickerAscent) {
 }
 
 TEST(TakeOff, CrouchesBeforeThePush) {
-  Simulation sim(load_scenario("fig20-takeoff-legs"));
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const auto flight = make_flight(load_scenario("fig20-takeoff-legs"));
+  Flight& sim = *flight;
   const Species& sp = species_of(sim, sim.birds()[0]);
   const double standing = sim.birds()[0].position.y;
-  run_steps(sim, 0.95 * sp.crouch_time, [](const Simulation&) {});
+  run_steps(sim, 0.95 * sp.crouch_time, [](Flight&) {});
   EXPECT_NEAR(sim.birds()[0].position.y, standing - 0.95 * sp.crouch_depth, 0.01 * sp.crouch_depth);
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
@@ -267,11 +283,12 @@ struct Landing {
   double approach_off_perpendicular = 0;  // degrees
 };
 Landing land(const std::string& scenario) {
-  Simulation sim(load_scenario(scenario));
+  const auto flight = make_flight(load_scenario(scenario));
+  Flight& sim = *flight;
   const Branch& branch = sim.world().branches[0];
   std::vector<dvec3> track;
   Landing result;
-  run(sim, sim.scenario().duration, [&](const Simulation& s) {
+  run(sim, sim.scenario().duration, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     if (b.mode != FlightMode::perched) track.push_back(b.position);
     result.perched = b.mode == FlightMode::perched;
@@ -291,6 +308,7 @@ Landing land(const std::string& scenario) {
 }
 
 TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const Landing controlled = land("fig18-branch-path-control");
   const Landing direct = land("fig18-branch-direct");
   RecordProperty("path_control_off_perpendicular_deg", std::to_string(controlled.approach_off_perpendicular));
@@ -309,11 +327,13 @@ Scenario landing_from(const dvec3& start, double heading) {
 }
 
 TEST(BranchLanding, LinedUpBirdFliesStraightIn) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   // On the branch's perpendicular (through (4000, 500, 3000) along (1, 0, 1)), heading in.
-  Simulation sim(landing_from(dvec3{4000.0 - 2500.0, 600.0, 3000.0 - 2500.0}, 45.0));
+  const auto flight = make_flight(landing_from(dvec3{4000.0 - 2500.0, 600.0, 3000.0 - 2500.0}, 45.0));
+  Flight& sim = *flight;
   LandingStage stage = LandingStage::none;
   double lowest_x = 1e9;
-  run(sim, 10.0, [&](const Simulation& s) {
+  run(sim, 10.0, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     if (stage == LandingStage::none) stage = b.landing_stage;
     lowest_x = std::min(lowest_x, b.position.x);
@@ -324,10 +344,12 @@ TEST(BranchLanding, LinedUpBirdFliesStraightIn) {
 }
 
 TEST(BranchLanding, OvershootingBirdGoesRoundAndPerches) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   // Past the branch and flying away from it: it must come round (through the gate) to land.
-  Simulation sim(landing_from(dvec3{6000.0, 800.0, 5000.0}, 45.0));
+  const auto flight = make_flight(landing_from(dvec3{6000.0, 800.0, 5000.0}, 45.0));
+  Flight& sim = *flight;
   bool went_to_gate = false;
-  run(sim, 40.0, [&](const Simulation& s) {
+  run(sim, 60.0, [&](Flight& s) {
     went_to_gate |= s.birds()[0].landing_stage == LandingStage::gate;
   });
   EXPECT_TRUE(went_to_gate);
@@ -336,10 +358,12 @@ TEST(BranchLanding, OvershootingBirdGoesRoundAndPerches) {
 
 // --- 7. Moving targets (Fig. 21): a target moving at 5 m/s is caught and the route goes on.
 TEST(MovingTarget, IsCaughtAndTheRouteGoesOn) {
-  Simulation sim(load_scenario("fig21-moving-target"));
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const auto flight = make_flight(load_scenario("fig21-moving-target"));
+  Flight& sim = *flight;
   const Target& runner = sim.world().targets[0];
   double entered_at = -1, closest = 1e9;
-  run(sim, sim.scenario().duration, [&](const Simulation& s) {
+  run(sim, sim.scenario().duration, [&](Flight& s) {
     const BirdState& b = s.birds()[0];
     const double d = glm::distance(b.position, target_position(runner, s.time()));
     closest = std::min(closest, d);
@@ -356,9 +380,11 @@ TEST(MovingTarget, IsCaughtAndTheRouteGoesOn) {
 class BuiltinScenario : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BuiltinScenario, FliesWithoutNaN) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   Scenario scenario = load_scenario(GetParam());
-  Simulation sim(scenario, std::min<uint32_t>(200, static_cast<uint32_t>(spawn_birds(scenario).size())));
-  run(sim, scenario.duration, [](const Simulation&) {});
+  const auto flight = make_flight(scenario, std::min<uint32_t>(200, static_cast<uint32_t>(spawn_birds(scenario).size())));
+  Flight& sim = *flight;
+  run(sim, scenario.duration, [](Flight&) {});
   for (const BirdState& b : sim.birds()) ASSERT_TRUE(finite(b));
 }
 

@@ -84,15 +84,22 @@ StepConstants GpuSimulation::constants(uint32_t steps) const {
 }
 
 void GpuSimulation::write_targets(uint32_t slot, double time) {
+  scenario_.world.move_targets(time);
   const std::vector<GpuTarget> targets = pack_targets(scenario_.world, time);
   if (!targets.empty()) std::memcpy(targets_[slot].mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
 }
 
-void GpuSimulation::step_frame() {
-  const uint32_t steps = scenario_.steps_per_frame;
+double GpuSimulation::frame_start() const {
+  const uint64_t per_frame = scenario_.steps_per_frame;
+  return double(steps_ / per_frame * per_frame) * scenario_.dt;
+}
+
+void GpuSimulation::step_frame() { step(scenario_.steps_per_frame); }
+
+void GpuSimulation::step(uint32_t steps) {
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous frame only
   const uint32_t slot = submitter_.frame();
-  write_targets(slot, time_);  // targets move between frames
+  write_targets(slot, frame_start());  // targets move between frames
   const StepConstants c = constants(steps);
   barrier_to_compute(cmd);
   step_.dispatch(cmd, step_sets_[slot], group_count(count_, kLocalSize), &c, sizeof c);
@@ -100,13 +107,13 @@ void GpuSimulation::step_frame() {
   last_frame_ = submitter_.submit();
   last_slot_ = slot;
   host_current_ = false;
-  time_ += steps * scenario_.dt;
   steps_ += steps;
+  time_ = steps_ * scenario_.dt;
 }
 
 std::vector<ProbeForces> GpuSimulation::step_probe() {
   submitter_.wait_all();
-  write_targets(0, time_);
+  write_targets(0, frame_start());
   const StepConstants c = constants(1);
   submitter_.run([&](VkCommandBuffer cmd) {
     barrier_to_compute(cmd);
@@ -116,8 +123,8 @@ std::vector<ProbeForces> GpuSimulation::step_probe() {
   last_frame_ = VK_NULL_HANDLE;
   last_slot_ = 0;
   host_current_ = false;
-  time_ += scenario_.dt;
   ++steps_;
+  time_ = steps_ * scenario_.dt;
   std::vector<ProbeForces> out(count_);
   std::memcpy(out.data(), probes_.mapped(), count_ * sizeof(ProbeForces));
   return out;

@@ -32,18 +32,24 @@ class GpuSimulation {
 
   // Submits one frame (scenario.steps_per_frame steps of dt); returns without waiting for it.
   void step_frame();
+  // Submits `steps` steps in one dispatch (tests sample single steps); targets stay where they
+  // were at the start of the current frame, as with step_frame.
+  void step(uint32_t steps);
   // One step of every bird, waited for, with each bird's forces (for the cross-check tests).
   std::vector<ProbeForces> step_probe();
   // The state after the last submitted frame (waits for that frame only).
   const std::vector<BirdState>& birds();
 
   const Scenario& scenario() const { return scenario_; }
+  // The world, its targets where the birds see them now (moved at each frame's start).
+  const World& world() const { return scenario_.world; }
   double time() const { return time_; }
   uint64_t steps() const { return steps_; }
 
  private:
   StepConstants constants(uint32_t steps) const;
   void write_targets(uint32_t slot, double time);
+  double frame_start() const;
 
   const Device& device_;
   Scenario scenario_;
