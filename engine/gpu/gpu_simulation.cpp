@@ -45,8 +45,17 @@ Buffer bird_buffer(const Device& device, const std::vector<BirdState>& birds, Me
 
 }  // namespace
 
+// The scenario's birds, once the device is known to hold that many (before spawning them).
+std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario, uint32_t birds_override) {
+  uint64_t count = birds_override;
+  if (count == 0)
+    for (const Flock& f : scenario.flocks) count += f.count;
+  check_storage_size(device, count * sizeof(GpuBird), sizeof(GpuBird));
+  return spawn_birds(scenario, birds_override);
+}
+
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override)
-    : GpuSimulation(device, scenario, spawn_birds(scenario, birds_override)) {}
+    : GpuSimulation(device, scenario, spawn_fitting(device, scenario, birds_override)) {}
 
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds)
     : device_(device),
