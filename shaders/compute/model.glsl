@@ -119,7 +119,10 @@ vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
 
 float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
 float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
-vec4 heading_attitude(float heading) { return vec4(0.0, -sin_p(0.5 * heading), 0.0, cos_p(0.5 * heading)); }
+vec4 heading_attitude(float heading) {
+  vec2 sc = sin_cos(0.5 * heading);
+  return vec4(0.0, -sc.x, 0.0, sc.y);
+}
 vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
 
 // eq. 15
@@ -154,7 +157,8 @@ struct WingPoint {
 };
 
 void flap(inout vec3 fy, inout vec3 fz, float angle) {
-  float c = cos_p(angle), s = sin_p(angle);
+  vec2 sc = sin_cos(angle);
+  float c = sc.y, s = sc.x;
   vec3 y = c * fy - s * fz;
   vec3 z = s * fy + c * fz;
   fy = y;
@@ -162,7 +166,8 @@ void flap(inout vec3 fy, inout vec3 fz, float angle) {
 }
 
 void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
-  float c = cos_p(angle), s = sin_p(angle);
+  vec2 sc = sin_cos(angle);
+  float c = sc.y, s = sc.x;
   chord = c * fx - s * fy;
   normal = s * fx + c * fy;
 }
@@ -170,7 +175,8 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
 void right_wing_points(Species s, float phase, float amp, float frequency, out WingPoint arm,
                        out WingPoint hand) {
   float hand_phase = phase - s.lag_hand;
-  float cp = cos_p(phase), sp = sin_p(phase), ch = cos_p(hand_phase), sh = sin_p(hand_phase);
+  vec2 p = sin_cos(phase), h = sin_cos(hand_phase);
+  float cp = p.y, sp = p.x, ch = h.y, sh = h.x;
   float flap_arm = amp * s.A_arm * cp + s.flap_bias;
   float flap_hand = amp * s.A_hand * ch;
   float feather_arm = s.B_arm * sp - s.twist_bias;
@@ -181,7 +187,8 @@ void right_wing_points(Species s, float phase, float amp, float frequency, out W
   float flap_arm_rate = -amp * s.A_arm * sp * phase_rate;
   float flap_hand_rate = -amp * s.A_hand * sh * phase_rate;
 
-  float cl = cos_p(leadlag), sl = sin_p(leadlag);
+  vec2 l = sin_cos(leadlag);
+  float cl = l.y, sl = l.x;
   vec3 sx = vec3(cl, 0.0, -sl), sy = vec3(0.0, 1.0, 0.0), sz = vec3(sl, 0.0, cl);
   vec3 ax = sx, ay = sy, az = sz;
   flap(ay, az, flap_arm);
@@ -221,7 +228,8 @@ float tail_opening(Species s, float bend, float twist) {
 void tail_geometry(Species s, float bend, float twist, out vec3 position, out vec3 chord,
                    out vec3 normal) {
   float pitch = s.tail_incidence + bend;
-  float cp = cos_p(pitch), sp = sin_p(pitch), ct = cos_p(twist), st = sin_p(twist);
+  vec2 p = sin_cos(pitch), t = sin_cos(twist);
+  float cp = p.y, sp = p.x, ct = t.y, st = t.x;
   vec3 trailing = vec3(-cp, ct * sp, st * sp);
   position = vec3(s.tail_hinge_x, 0.0, 0.0) + trailing * s.tail_arm;
   chord = vec3(cp, -ct * sp, -st * sp);
@@ -241,13 +249,13 @@ struct Steering {
   float heading_error, heading_error_ahead, height_error;
 };
 
-Steering steer_towards(Species s, vec4 attitude, vec3 position, vec3 velocity, vec3 goal) {
+Steering steer_towards(Species s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal) {
   vec3 head = rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   Steering st;
   st.heading_error = atan_p(-head.z * to_goal.x + head.x * to_goal.z, head.x * to_goal.x + head.z * to_goal.z);
   float speed = length(velocity.xz);
-  float turn_rate = speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / speed : 0.0;
+  float turn_rate = speed > 1.0 ? kGravity * tan_p(bank) / speed : 0.0;
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
   return st;
@@ -421,10 +429,10 @@ Commands control(Bird b, Species s, vec3 goal) {
   bool braking = b.mode == kLanding;
   bool fixed_rate = pc.turning == 1u && !braking;
   Commands c;
-  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal);
+  float bank = bank_angle(b.attitude);
+  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal);
   c.bend = sign_outside(c.steering.height_error, s.height_band) * s.bend_max;
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
-  float bank = bank_angle(b.attitude);
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = braking ? s.open_tail : tail_opening(s, b.tail_bend, b.tail_twist);
   c.omega = b.omega;
@@ -451,22 +459,24 @@ Commands control(Bird b, Species s, vec3 goal) {
 }
 
 struct Forces {
-  vec3 wing[4];
-  vec3 tail, total, torque, tail_torque;  // torques in the body frame
+  vec3 tail, total;          // world
+  vec3 torque, tail_torque;  // body frame
 };
 
 Forces forces(Bird b, Species s, Commands c) {
   Forces f;
-  vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz) - rotate_back(b.attitude, b.velocity);
+  vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz - b.velocity);
   WingPoint right[2];
   right_wing_points(s, b.phase, b.amplitude, b.frequency, right[0], right[1]);
+  // The aerodynamic forces are summed in the body frame and turned to the world once.
+  precise vec3 body_force = vec3(0.0);
   precise vec3 torque = vec3(0.0);
   for (int i = 0; i < 2; ++i) {
     for (int side = 0; side < 2; ++side) {
       WingPoint p = side == 0 ? right[i] : mirror_to_left(right[i]);
       precise vec3 air = body_air - cross(c.omega, p.position) - p.velocity;
       vec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
-      f.wing[2 * side + i] = rotate(b.attitude, force);
+      body_force += force;
       torque += cross(p.position, force);
     }
   }
@@ -477,7 +487,7 @@ Forces forces(Bird b, Species s, Commands c) {
   f.tail = rotate(b.attitude, tail);
   f.tail_torque = cross(tail_position, tail);
   f.torque = torque + f.tail_torque;
-  precise vec3 total = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail;
+  precise vec3 total = rotate(b.attitude, body_force + tail);
   total.y -= s.mass * kGravity;
   if (pc.ground_effect != 0u) total.y += ground_effect_force(s, b.position.y - pc.wind_ground.w);
   if (b.mode == kTakingOff && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
@@ -505,7 +515,6 @@ void stand_on_legs(inout Bird b, Species s, float dt) {
 
 Forces no_forces() {
   Forces f;
-  f.wing[0] = f.wing[1] = f.wing[2] = f.wing[3] = vec3(0.0);
   f.tail = f.total = f.torque = f.tail_torque = vec3(0.0);
   return f;
 }
