@@ -318,8 +318,6 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 
 vec3 perch_point(Species s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
 
-vec3 target_centre(uint route_target) { return targets[route_targets[route_target]].centre_radius.xyz; }
-
 vec3 landing_gate(Species s, uint branch, vec3 q2, vec3 position) {
   vec3 direction = branches[branch].direction.xyz;
   vec3 across = vec3(-direction.z, 0.0, direction.x);
@@ -360,21 +358,41 @@ vec3 landing_goal(inout Bird b, Species s, uint branch) {
   return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
 }
 
-vec3 route_goal(inout Bird b, Species s) {
-  Route r = routes[b.route];
+// What a bird's route asks of it now: the route and its current (or, past the end, last)
+// target, loaded from the buffers when the target changes (targets only move between frames).
+struct Leg {
+  Route route;
+  vec4 centre_radius;
+  vec3 velocity;
+};
+
+Leg load_leg(Bird b) {
+  Leg l;
+  l.route = routes[b.route];
+  l.centre_radius = vec4(0.0);
+  l.velocity = vec3(0.0);
+  if (l.route.count > 0u) {
+    Target t = targets[route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
+    l.centre_radius = t.centre_radius;
+    l.velocity = t.velocity.xyz;
+  }
+  return l;
+}
+
+vec3 route_goal(inout Bird b, Species s, inout Leg leg) {
+  Route r = leg.route;
   if (b.target < r.count) {
-    Target t = targets[route_targets[r.first + b.target]];
-    vec3 to_target = t.centre_radius.xyz - b.position;
+    vec3 to_target = leg.centre_radius.xyz - b.position;
     float d = length(to_target);
-    bool flown_past = dot(to_target, b.velocity - t.velocity.xyz) < 0.0;
-    if (d <= t.centre_radius.w || (d <= kMissedTargetRadii * t.centre_radius.w && flown_past)) {
+    bool flown_past = dot(to_target, b.velocity - leg.velocity) < 0.0;
+    if (d <= leg.centre_radius.w || (d <= kMissedTargetRadii * leg.centre_radius.w && flown_past)) {
       b.targets_reached += 1u;
       b.target += 1u;
       if (b.target == r.count && (r.flags & 1u) != 0u && r.branch == 0u) b.target = 0u;
+      leg = load_leg(b);
     }
   }
-  if (b.target < r.count) return target_centre(r.first + b.target);
-  if (r.branch == 0u) return target_centre(r.first + r.count - 1u);
+  if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
   return (r.flags & 2u) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
 }
@@ -393,8 +411,8 @@ void perch(inout Bird b, Species s, uint branch) {
   b.targets_reached += 1u;
 }
 
-bool approach_branch(inout Bird b, Species s) {
-  Route r = routes[b.route];
+bool approach_branch(inout Bird b, Species s, Leg leg) {
+  Route r = leg.route;
   if (r.branch == 0u || b.target < r.count) return false;
   uint branch = r.branch - 1u;
   vec3 to_perch = perch_point(s, branch) - b.position;
@@ -520,7 +538,7 @@ Forces no_forces() {
 }
 
 // One step of dt from `time`; returns the step's forces (zero for a bird at rest).
-Forces step_bird(inout Bird b, Species s, float time, float dt) {
+Forces step_bird(inout Bird b, Species s, inout Leg leg, float time, float dt) {
   if (b.mode == kPerched || (b.mode == kStanding && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
     return no_forces();
@@ -531,8 +549,8 @@ Forces step_bird(inout Bird b, Species s, float time, float dt) {
     b.frequency = s.f_max;
     b.amplitude = s.amp_max;
   }
-  vec3 goal = route_goal(b, s);
-  if (approach_branch(b, s)) return no_forces();
+  vec3 goal = route_goal(b, s, leg);
+  if (approach_branch(b, s, leg)) return no_forces();
   Commands c = control(b, s, goal);
   Forces f = forces(b, s, c);
 

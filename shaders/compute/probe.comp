@@ -20,7 +20,8 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.bird_count) return;
   Bird b = unpack(birds[i]);
-  Forces f = step_bird(b, species[b.species], pc.time, pc.dt);
+  Leg leg = load_leg(b);
+  Forces f = step_bird(b, species[b.species], leg, pc.time, pc.dt);
   birds[i] = pack(b);
   probes[i] = ProbeForces(vec4(f.total, 0.0), vec4(f.torque, 0.0), vec4(f.tail, 0.0), vec4(f.tail_torque, 0.0));
 }

@@ -13,6 +13,7 @@ void main() {
   if (i >= pc.bird_count) return;
   Bird b = unpack(birds[i]);
   Species s = species[b.species];
-  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, pc.time + float(k) * pc.dt, pc.dt);
+  Leg leg = load_leg(b);
+  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt);
   birds[i] = pack(b);
 }
