@@ -10,135 +10,137 @@ namespace aeroflock::gpu {
 ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
                                  uint32_t bindings, uint32_t push_size, uint32_t max_sets)
     : device_(device), bindings_(bindings), push_size_(push_size) {
-    if (spirv.empty()) throw Error("compute pipeline: empty SPIR-V");
-    if (push_size % 4 != 0 || push_size > device.limits().maxPushConstantsSize)
-        throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
-                    " bytes (a multiple of 4, at most maxPushConstantsSize = " +
-                    std::to_string(device.limits().maxPushConstantsSize) + ")");
-    VkDevice dev = device.handle();
-    try {
-        VkShaderModuleCreateInfo module{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-        module.codeSize = spirv.size_bytes();
-        module.pCode = spirv.data();
-        check(vkCreateShaderModule(dev, &module, nullptr, &module_), "vkCreateShaderModule");
+  if (spirv.empty()) throw Error("compute pipeline: empty SPIR-V");
+  if (push_size % 4 != 0 || push_size > device.limits().maxPushConstantsSize)
+    throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
+                " bytes (a multiple of 4, at most maxPushConstantsSize = " +
+                std::to_string(device.limits().maxPushConstantsSize) + ")");
+  VkDevice dev = device.handle();
+  try {
+    VkShaderModuleCreateInfo module{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    module.codeSize = spirv.size_bytes();
+    module.pCode = spirv.data();
+    check(vkCreateShaderModule(dev, &module, nullptr, &module_), "vkCreateShaderModule");
 
-        std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
-        for (uint32_t i = 0; i < bindings; ++i)
-            slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-        VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        set_layout.bindingCount = bindings;
-        set_layout.pBindings = slots.data();
-        check(vkCreateDescriptorSetLayout(dev, &set_layout, nullptr, &set_layout_), "vkCreateDescriptorSetLayout");
+    std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
+    for (uint32_t i = 0; i < bindings; ++i)
+      slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set_layout.bindingCount = bindings;
+    set_layout.pBindings = slots.data();
+    check(vkCreateDescriptorSetLayout(dev, &set_layout, nullptr, &set_layout_),
+          "vkCreateDescriptorSetLayout");
 
-        VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
-        VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-        layout.setLayoutCount = 1;
-        layout.pSetLayouts = &set_layout_;
-        layout.pushConstantRangeCount = push_size > 0 ? 1 : 0;
-        layout.pPushConstantRanges = &push;
-        check(vkCreatePipelineLayout(dev, &layout, nullptr, &layout_), "vkCreatePipelineLayout");
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
+    VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout.setLayoutCount = 1;
+    layout.pSetLayouts = &set_layout_;
+    layout.pushConstantRangeCount = push_size > 0 ? 1 : 0;
+    layout.pPushConstantRanges = &push;
+    check(vkCreatePipelineLayout(dev, &layout, nullptr, &layout_), "vkCreatePipelineLayout");
 
-        VkComputePipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-        pipeline.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-        pipeline.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-        pipeline.stage.module = module_;
-        pipeline.stage.pName = "main";
-        pipeline.layout = layout_;
-        check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
-              "vkCreateComputePipelines");
+    VkComputePipelineCreateInfo pipeline{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    pipeline.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    pipeline.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    pipeline.stage.module = module_;
+    pipeline.stage.pName = "main";
+    pipeline.layout = layout_;
+    check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
+          "vkCreateComputePipelines");
 
-        VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, bindings * max_sets)};
-        VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-        pool.maxSets = max_sets;
-        pool.poolSizeCount = 1;
-        pool.pPoolSizes = &size;
-        check(vkCreateDescriptorPool(dev, &pool, nullptr, &pool_), "vkCreateDescriptorPool");
-    } catch (...) {
-        destroy();
-        throw;
-    }
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, bindings * max_sets)};
+    VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool.maxSets = max_sets;
+    pool.poolSizeCount = 1;
+    pool.pPoolSizes = &size;
+    check(vkCreateDescriptorPool(dev, &pool, nullptr, &pool_), "vkCreateDescriptorPool");
+  } catch (...) {
+    destroy();
+    throw;
+  }
 }
 
 ComputePipeline::~ComputePipeline() { destroy(); }
 
 void ComputePipeline::destroy() {
-    VkDevice dev = device_.handle();
-    if (pool_) vkDestroyDescriptorPool(dev, pool_, nullptr);  // frees its sets
-    if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
-    if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
-    if (set_layout_) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
-    if (module_) vkDestroyShaderModule(dev, module_, nullptr);
-    pool_ = VK_NULL_HANDLE;
-    pipeline_ = VK_NULL_HANDLE;
-    layout_ = VK_NULL_HANDLE;
-    set_layout_ = VK_NULL_HANDLE;
-    module_ = VK_NULL_HANDLE;
+  VkDevice dev = device_.handle();
+  if (pool_) vkDestroyDescriptorPool(dev, pool_, nullptr);  // frees its sets
+  if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
+  if (set_layout_) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+  if (module_) vkDestroyShaderModule(dev, module_, nullptr);
+  pool_ = VK_NULL_HANDLE;
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+  module_ = VK_NULL_HANDLE;
 }
 
 VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers) {
-    if (buffers.size() != bindings_)
-        throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
-                    std::to_string(bindings_) + " bindings");
-    const VkDeviceSize range = device_.limits().maxStorageBufferRange;
-    for (const Buffer* b : buffers)
-        if (b->size() > range)
-            throw Error("a storage buffer of " + std::to_string(b->size()) + " bytes; " +
-                        device_.name() + " allows " + std::to_string(range) + " (maxStorageBufferRange)");
+  if (buffers.size() != bindings_)
+    throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
+                std::to_string(bindings_) + " bindings");
+  const VkDeviceSize range = device_.limits().maxStorageBufferRange;
+  for (const Buffer* b : buffers)
+    if (b->size() > range)
+      throw Error("a storage buffer of " + std::to_string(b->size()) + " bytes; " + device_.name() +
+                  " allows " + std::to_string(range) + " (maxStorageBufferRange)");
 
-    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    alloc.descriptorPool = pool_;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout_;
-    VkDescriptorSet set = VK_NULL_HANDLE;
-    check(vkAllocateDescriptorSets(device_.handle(), &alloc, &set),
-          "vkAllocateDescriptorSets (more sets than the pipeline's max_sets?)");
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = pool_;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &set_layout_;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  check(vkAllocateDescriptorSets(device_.handle(), &alloc, &set),
+        "vkAllocateDescriptorSets (more sets than the pipeline's max_sets?)");
 
-    std::vector<VkDescriptorBufferInfo> infos(bindings_);
-    std::vector<VkWriteDescriptorSet> writes(bindings_);
-    for (uint32_t i = 0; i < bindings_; ++i) {
-        infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstSet = set;
-        writes[i].dstBinding = i;
-        writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
-    }
-    vkUpdateDescriptorSets(device_.handle(), bindings_, writes.data(), 0, nullptr);
-    return set;
+  std::vector<VkDescriptorBufferInfo> infos(bindings_);
+  std::vector<VkWriteDescriptorSet> writes(bindings_);
+  for (uint32_t i = 0; i < bindings_; ++i) {
+    infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    writes[i].dstSet = set;
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
+  }
+  vkUpdateDescriptorSets(device_.handle(), bindings_, writes.data(), 0, nullptr);
+  return set;
 }
 
 VkDescriptorSet ComputePipeline::make_set(std::initializer_list<const Buffer*> buffers) {
-    return make_set(std::span<const Buffer* const>(buffers.begin(), buffers.size()));
+  return make_set(std::span<const Buffer* const>(buffers.begin(), buffers.size()));
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, uint32_t groups_x, const void* push,
                                uint32_t push_size) const {
-    if (!default_set_) throw Error("compute pipeline: dispatch before set_buffers");
-    dispatch(cmd, default_set_, groups_x, push, push_size);
+  if (!default_set_) throw Error("compute pipeline: dispatch before set_buffers");
+  dispatch(cmd, default_set_, groups_x, push, push_size);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_t groups_x,
                                const void* push, uint32_t push_size) const {
-    if (push_size != push_size_ || (push_size > 0 && !push))
-        throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
-                    " bytes for a block of " + std::to_string(push_size_));
-    const uint32_t max_groups = device_.limits().maxComputeWorkGroupCount[0];
-    if (groups_x > max_groups)
-        throw Error("compute dispatch of " + std::to_string(groups_x) + " work groups; " +
-                    device_.name() + " allows " + std::to_string(max_groups) +
-                    " (maxComputeWorkGroupCount[0])");
-    if (groups_x == 0) return;
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);
-    if (push_size > 0) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
-    vkCmdDispatch(cmd, groups_x, 1, 1);
+  if (push_size != push_size_ || (push_size > 0 && !push))
+    throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
+                " bytes for a block of " + std::to_string(push_size_));
+  const uint32_t max_groups = device_.limits().maxComputeWorkGroupCount[0];
+  if (groups_x > max_groups)
+    throw Error("compute dispatch of " + std::to_string(groups_x) + " work groups; " +
+                device_.name() + " allows " + std::to_string(max_groups) +
+                " (maxComputeWorkGroupCount[0])");
+  if (groups_x == 0) return;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);
+  if (push_size > 0)
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
+  vkCmdDispatch(cmd, groups_x, 1, 1);
 }
 
 uint32_t group_count(uint64_t items, uint32_t local_size) {
-    const uint64_t groups = (items + local_size - 1) / local_size;
-    if (groups > UINT32_MAX) throw Error("group_count: " + std::to_string(items) + " items");
-    return static_cast<uint32_t>(groups);
+  const uint64_t groups = (items + local_size - 1) / local_size;
+  if (groups > UINT32_MAX) throw Error("group_count: " + std::to_string(items) + " items");
+  return static_cast<uint32_t>(groups);
 }
 
 // --- Barriers and copies --------------------------------------------------------------------
@@ -146,160 +148,160 @@ uint32_t group_count(uint64_t items, uint32_t local_size) {
 namespace {
 
 void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = dst_access;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
 }  // namespace
 
 void barrier_to_compute(VkCommandBuffer cmd) {
-    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 void barrier_to_transfer(VkCommandBuffer cmd) {
-    memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                   VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
 }
 
 void barrier_to_host(VkCommandBuffer cmd) {
-    memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  memory_barrier(cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
 void copy_buffer(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize size,
                  VkDeviceSize src_offset, VkDeviceSize dst_offset) {
-    if (src_offset + size > src.size() || dst_offset + size > dst.size())
-        throw Error("copy_buffer: " + std::to_string(size) + " bytes out of range");
-    VkBufferCopy region{src_offset, dst_offset, size};
-    vkCmdCopyBuffer(cmd, src.handle(), dst.handle(), 1, &region);
+  if (src_offset + size > src.size() || dst_offset + size > dst.size())
+    throw Error("copy_buffer: " + std::to_string(size) + " bytes out of range");
+  VkBufferCopy region{src_offset, dst_offset, size};
+  vkCmdCopyBuffer(cmd, src.handle(), dst.handle(), 1, &region);
 }
 
 void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst) {
-    barrier_to_transfer(cmd);
-    copy_buffer(cmd, src, dst, std::min(src.size(), dst.size()));
-    barrier_to_host(cmd);
+  barrier_to_transfer(cmd);
+  copy_buffer(cmd, src, dst, std::min(src.size(), dst.size()));
+  barrier_to_host(cmd);
 }
 
 // --- Submitter ------------------------------------------------------------------------------
 
 Submitter::Submitter(const Device& device, uint32_t frames) : device_(device) {
-    if (frames == 0) throw Error("Submitter with 0 frames");
-    VkDevice dev = device.handle();
-    try {
-        VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-        pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-        pool.queueFamilyIndex = device.queue_family();
-        check(vkCreateCommandPool(dev, &pool, nullptr, &pool_), "vkCreateCommandPool");
+  if (frames == 0) throw Error("Submitter with 0 frames");
+  VkDevice dev = device.handle();
+  try {
+    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = device.queue_family();
+    check(vkCreateCommandPool(dev, &pool, nullptr, &pool_), "vkCreateCommandPool");
 
-        slots_.resize(frames);
-        for (Slot& s : slots_) {
-            VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-            alloc.commandPool = pool_;
-            alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-            alloc.commandBufferCount = 1;
-            check(vkAllocateCommandBuffers(dev, &alloc, &s.cmd), "vkAllocateCommandBuffers");
-            VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-            check(vkCreateFence(dev, &fence, nullptr, &s.fence), "vkCreateFence");
-        }
-        slot_ = frames - 1;  // begin() moves to slot 0
-    } catch (...) {
-        destroy();
-        throw;
+    slots_.resize(frames);
+    for (Slot& s : slots_) {
+      VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+      alloc.commandPool = pool_;
+      alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+      alloc.commandBufferCount = 1;
+      check(vkAllocateCommandBuffers(dev, &alloc, &s.cmd), "vkAllocateCommandBuffers");
+      VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+      check(vkCreateFence(dev, &fence, nullptr, &s.fence), "vkCreateFence");
     }
+    slot_ = frames - 1;  // begin() moves to slot 0
+  } catch (...) {
+    destroy();
+    throw;
+  }
 }
 
 Submitter::~Submitter() {
-    try {
-        wait_all();
-    } catch (const Error&) {  // device lost: nothing left to wait for
-    }
-    destroy();
+  try {
+    wait_all();
+  } catch (const Error&) {  // device lost: nothing left to wait for
+  }
+  destroy();
 }
 
 void Submitter::destroy() {
-    VkDevice dev = device_.handle();
-    for (Slot& s : slots_)
-        if (s.fence) vkDestroyFence(dev, s.fence, nullptr);
-    slots_.clear();
-    if (pool_) vkDestroyCommandPool(dev, pool_, nullptr);  // frees its command buffers
-    pool_ = VK_NULL_HANDLE;
+  VkDevice dev = device_.handle();
+  for (Slot& s : slots_)
+    if (s.fence) vkDestroyFence(dev, s.fence, nullptr);
+  slots_.clear();
+  if (pool_) vkDestroyCommandPool(dev, pool_, nullptr);  // frees its command buffers
+  pool_ = VK_NULL_HANDLE;
 }
 
 void Submitter::submit(VkCommandBuffer cmd, VkFence fence) const {
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    check(vkQueueSubmit(device_.queue(), 1, &submit, fence), "vkQueueSubmit");
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  check(vkQueueSubmit(device_.queue(), 1, &submit, fence), "vkQueueSubmit");
 }
 
 void Submitter::run(const std::function<void(VkCommandBuffer)>& record) {
-    VkDevice dev = device_.handle();
-    VkCommandBuffer cmd = VK_NULL_HANDLE;
-    VkFence fence = VK_NULL_HANDLE;
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = pool_;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    check(vkAllocateCommandBuffers(dev, &alloc, &cmd), "vkAllocateCommandBuffers");
-    bool submitted = false;
-    try {
-        VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-        check(vkCreateFence(dev, &fence_info, nullptr, &fence), "vkCreateFence");
-        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-        check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-        record(cmd);
-        check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-        submit(cmd, fence);
-        submitted = true;
-        wait(fence);
-    } catch (...) {
-        if (submitted) vkQueueWaitIdle(device_.queue());  // only on failure
-        if (fence) vkDestroyFence(dev, fence, nullptr);
-        vkFreeCommandBuffers(dev, pool_, 1, &cmd);
-        throw;
-    }
-    vkDestroyFence(dev, fence, nullptr);
+  VkDevice dev = device_.handle();
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = pool_;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  check(vkAllocateCommandBuffers(dev, &alloc, &cmd), "vkAllocateCommandBuffers");
+  bool submitted = false;
+  try {
+    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    check(vkCreateFence(dev, &fence_info, nullptr, &fence), "vkCreateFence");
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+    record(cmd);
+    check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    submit(cmd, fence);
+    submitted = true;
+    wait(fence);
+  } catch (...) {
+    if (submitted) vkQueueWaitIdle(device_.queue());  // only on failure
+    if (fence) vkDestroyFence(dev, fence, nullptr);
     vkFreeCommandBuffers(dev, pool_, 1, &cmd);
+    throw;
+  }
+  vkDestroyFence(dev, fence, nullptr);
+  vkFreeCommandBuffers(dev, pool_, 1, &cmd);
 }
 
 VkCommandBuffer Submitter::begin() {
-    if (recording_) throw Error("Submitter::begin() twice without submit()");
-    slot_ = (slot_ + 1) % slots_.size();
-    Slot& s = slots_[slot_];
-    if (s.submitted) {
-        wait(s.fence);
-        check(vkResetFences(device_.handle(), 1, &s.fence), "vkResetFences");
-        s.submitted = false;
-    }
-    check(vkResetCommandBuffer(s.cmd, 0), "vkResetCommandBuffer");
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check(vkBeginCommandBuffer(s.cmd, &begin), "vkBeginCommandBuffer");
-    recording_ = true;
-    return s.cmd;
+  if (recording_) throw Error("Submitter::begin() twice without submit()");
+  slot_ = (slot_ + 1) % slots_.size();
+  Slot& s = slots_[slot_];
+  if (s.submitted) {
+    wait(s.fence);
+    check(vkResetFences(device_.handle(), 1, &s.fence), "vkResetFences");
+    s.submitted = false;
+  }
+  check(vkResetCommandBuffer(s.cmd, 0), "vkResetCommandBuffer");
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(s.cmd, &begin), "vkBeginCommandBuffer");
+  recording_ = true;
+  return s.cmd;
 }
 
 VkFence Submitter::submit() {
-    if (!recording_) throw Error("Submitter::submit() without begin()");
-    Slot& s = slots_[slot_];
-    recording_ = false;
-    check(vkEndCommandBuffer(s.cmd), "vkEndCommandBuffer");
-    submit(s.cmd, s.fence);
-    s.submitted = true;
-    return s.fence;
+  if (!recording_) throw Error("Submitter::submit() without begin()");
+  Slot& s = slots_[slot_];
+  recording_ = false;
+  check(vkEndCommandBuffer(s.cmd), "vkEndCommandBuffer");
+  submit(s.cmd, s.fence);
+  s.submitted = true;
+  return s.fence;
 }
 
 void Submitter::wait(VkFence fence) const {
-    check(vkWaitForFences(device_.handle(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  check(vkWaitForFences(device_.handle(), 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
 }
 
 void Submitter::wait_all() const {
-    for (const Slot& s : slots_)
-        if (s.submitted) wait(s.fence);
+  for (const Slot& s : slots_)
+    if (s.submitted) wait(s.fence);
 }
 
 }  // namespace aeroflock::gpu

@@ -16,43 +16,45 @@ namespace aeroflock::gpu {
 // A compute shader with `bindings` storage buffers (set 0, bindings 0..bindings-1) and a push-
 // constant block of `push_size` bytes (0: none). Its pool holds `max_sets` descriptor sets.
 class ComputePipeline {
-public:
-    ComputePipeline(const Device& device, std::span<const uint32_t> spirv, uint32_t bindings,
-                    uint32_t push_size, uint32_t max_sets = 4);
-    ~ComputePipeline();
-    ComputePipeline(const ComputePipeline&) = delete;
-    ComputePipeline& operator=(const ComputePipeline&) = delete;
+ public:
+  ComputePipeline(const Device& device, std::span<const uint32_t> spirv, uint32_t bindings,
+                  uint32_t push_size, uint32_t max_sets = 4);
+  ~ComputePipeline();
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
 
-    // A descriptor set with binding i = the whole of buffers[i] (e.g. one per state buffer for
-    // ping-ponging). Lives as long as the pipeline.
-    VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
-    VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
-    // make_set, and the set that dispatch() uses without one.
-    void set_buffers(std::span<const Buffer* const> buffers) { default_set_ = make_set(buffers); }
-    void set_buffers(std::initializer_list<const Buffer*> buffers) { default_set_ = make_set(buffers); }
+  // A descriptor set with binding i = the whole of buffers[i] (e.g. one per state buffer for
+  // ping-ponging). Lives as long as the pipeline.
+  VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
+  VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
+  // make_set, and the set that dispatch() uses without one.
+  void set_buffers(std::span<const Buffer* const> buffers) { default_set_ = make_set(buffers); }
+  void set_buffers(std::initializer_list<const Buffer*> buffers) {
+    default_set_ = make_set(buffers);
+  }
 
-    // Records bind + push constants + vkCmdDispatch(groups_x, 1, 1). `push_size` must be the
-    // pipeline's. Error if groups_x exceeds maxComputeWorkGroupCount[0].
-    void dispatch(VkCommandBuffer cmd, uint32_t groups_x, const void* push = nullptr,
-                  uint32_t push_size = 0) const;
-    void dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_t groups_x, const void* push,
-                  uint32_t push_size) const;
+  // Records bind + push constants + vkCmdDispatch(groups_x, 1, 1). `push_size` must be the
+  // pipeline's. Error if groups_x exceeds maxComputeWorkGroupCount[0].
+  void dispatch(VkCommandBuffer cmd, uint32_t groups_x, const void* push = nullptr,
+                uint32_t push_size = 0) const;
+  void dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_t groups_x, const void* push,
+                uint32_t push_size) const;
 
-    VkPipeline handle() const { return pipeline_; }
-    VkPipelineLayout layout() const { return layout_; }
+  VkPipeline handle() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
 
-private:
-    void destroy();
+ private:
+  void destroy();
 
-    const Device& device_;
-    uint32_t bindings_;
-    uint32_t push_size_;
-    VkShaderModule module_ = VK_NULL_HANDLE;
-    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-    VkPipelineLayout layout_ = VK_NULL_HANDLE;
-    VkPipeline pipeline_ = VK_NULL_HANDLE;
-    VkDescriptorPool pool_ = VK_NULL_HANDLE;
-    VkDescriptorSet default_set_ = VK_NULL_HANDLE;
+  const Device& device_;
+  uint32_t bindings_;
+  uint32_t push_size_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet default_set_ = VK_NULL_HANDLE;
 };
 
 // Work groups of `local_size` needed for `items` invocations.
@@ -85,35 +87,35 @@ void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst);
 //     VkFence done = submitter.submit();
 //     ... later: submitter.wait(done); read readback[...]
 class Submitter {
-public:
-    explicit Submitter(const Device& device, uint32_t frames = 2);
-    ~Submitter();  // waits for the frames in flight
-    Submitter(const Submitter&) = delete;
-    Submitter& operator=(const Submitter&) = delete;
+ public:
+  explicit Submitter(const Device& device, uint32_t frames = 2);
+  ~Submitter();  // waits for the frames in flight
+  Submitter(const Submitter&) = delete;
+  Submitter& operator=(const Submitter&) = delete;
 
-    void run(const std::function<void(VkCommandBuffer)>& record);
+  void run(const std::function<void(VkCommandBuffer)>& record);
 
-    VkCommandBuffer begin();
-    VkFence submit();
-    // Slot of the frame being recorded (after begin()) or last submitted: 0..frames-1.
-    uint32_t frame() const { return slot_; }
-    void wait(VkFence fence) const;
-    void wait_all() const;
+  VkCommandBuffer begin();
+  VkFence submit();
+  // Slot of the frame being recorded (after begin()) or last submitted: 0..frames-1.
+  uint32_t frame() const { return slot_; }
+  void wait(VkFence fence) const;
+  void wait_all() const;
 
-private:
-    struct Slot {
-        VkCommandBuffer cmd = VK_NULL_HANDLE;
-        VkFence fence = VK_NULL_HANDLE;
-        bool submitted = false;
-    };
-    void submit(VkCommandBuffer cmd, VkFence fence) const;
-    void destroy();
+ private:
+  struct Slot {
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    bool submitted = false;
+  };
+  void submit(VkCommandBuffer cmd, VkFence fence) const;
+  void destroy();
 
-    const Device& device_;
-    VkCommandPool pool_ = VK_NULL_HANDLE;
-    std::vector<Slot> slots_;
-    uint32_t slot_ = 0;
-    bool recording_ = false;
+  const Device& device_;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  std::vector<Slot> slots_;
+  uint32_t slot_ = 0;
+  bool recording_ = false;
 };
 
 }  // namespace aeroflock::gpu

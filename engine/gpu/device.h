@@ -13,16 +13,16 @@ namespace aeroflock::gpu {
 
 // One physical device, as list_devices() sees it.
 struct DeviceInfo {
-    uint32_t index = 0;               // position in vkEnumeratePhysicalDevices
-    std::string name;                 // "llvmpipe (LLVM 15.0.6, 256 bits)"
-    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
-    std::string driver_name;          // "llvmpipe" (VkPhysicalDeviceDriverProperties)
-    std::string driver_info;          // "Mesa 22.3.6 (LLVM 15.0.6)"
-    uint32_t api_version = 0;         // VK_MAKE_API_VERSION
-    VkDeviceSize max_storage_buffer_range = 0;  // bytes one storage-buffer binding may cover
-    VkDeviceSize max_allocation_size = 0;       // maxMemoryAllocationSize (Maintenance3)
-    VkDeviceSize device_local_heap = 0;         // size of the largest device-local heap
-    uint32_t subgroup_size = 0;
+  uint32_t index = 0;  // position in vkEnumeratePhysicalDevices
+  std::string name;    // "llvmpipe (LLVM 15.0.6, 256 bits)"
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  std::string driver_name;                    // "llvmpipe" (VkPhysicalDeviceDriverProperties)
+  std::string driver_info;                    // "Mesa 22.3.6 (LLVM 15.0.6)"
+  uint32_t api_version = 0;                   // VK_MAKE_API_VERSION
+  VkDeviceSize max_storage_buffer_range = 0;  // bytes one storage-buffer binding may cover
+  VkDeviceSize max_allocation_size = 0;       // maxMemoryAllocationSize (Maintenance3)
+  VkDeviceSize device_local_heap = 0;         // size of the largest device-local heap
+  uint32_t subgroup_size = 0;
 };
 
 // "cpu", "discrete GPU", "integrated GPU", "virtual GPU", "other".
@@ -33,60 +33,61 @@ std::string version_string(uint32_t api_version);
 std::string describe(const DeviceInfo& info);
 
 struct DeviceOptions {
-    int index = -1;           // >= 0: that device; < 0: a discrete GPU, else integrated, virtual, cpu
-    bool validation = false;  // Khronos validation layer; AEROFLOCK_VALIDATION=1 also turns it on
+  int index = -1;           // >= 0: that device; < 0: a discrete GPU, else integrated, virtual, cpu
+  bool validation = false;  // Khronos validation layer; AEROFLOCK_VALIDATION=1 also turns it on
 };
 
 class Device {
-public:
-    explicit Device(const DeviceOptions& options = {});
-    ~Device();
-    Device(const Device&) = delete;
-    Device& operator=(const Device&) = delete;
+ public:
+  explicit Device(const DeviceOptions& options = {});
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
 
-    // Every Vulkan device of the machine (an empty list when there is a loader but no device).
-    // Error when there is no Vulkan loader or driver at all.
-    static std::vector<DeviceInfo> list_devices();
+  // Every Vulkan device of the machine (an empty list when there is a loader but no device).
+  // Error when there is no Vulkan loader or driver at all.
+  static std::vector<DeviceInfo> list_devices();
 
-    const DeviceInfo& info() const { return info_; }
-    const std::string& name() const { return info_.name; }
-    std::string driver() const { return info_.driver_name + " " + info_.driver_info; }
-    const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
-    const VkPhysicalDeviceMemoryProperties& memory() const { return memory_; }
+  const DeviceInfo& info() const { return info_; }
+  const std::string& name() const { return info_.name; }
+  std::string driver() const { return info_.driver_name + " " + info_.driver_info; }
+  const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
+  const VkPhysicalDeviceMemoryProperties& memory() const { return memory_; }
 
-    VkInstance instance() const { return instance_; }
-    VkPhysicalDevice physical() const { return physical_; }
-    VkDevice handle() const { return device_; }
-    VkQueue queue() const { return queue_; }
-    uint32_t queue_family() const { return queue_family_; }
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physical() const { return physical_; }
+  VkDevice handle() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queue_family() const { return queue_family_; }
 
-    // The first memory type allowed by `type_bits` that has all of `required` (and, among those,
-    // all of `preferred` if one has); UINT32_MAX if none.
-    uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required,
-                         VkMemoryPropertyFlags preferred = 0) const;
+  // The first memory type allowed by `type_bits` that has all of `required` (and, among those,
+  // all of `preferred` if one has); UINT32_MAX if none.
+  uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required,
+                       VkMemoryPropertyFlags preferred = 0) const;
 
-    bool validation() const { return messenger_ != VK_NULL_HANDLE; }
-    // Messages of the validation layer so far (each is also printed to stderr).
-    int validation_errors() const { return errors_.load(); }
-    int validation_warnings() const { return warnings_.load(); }
+  bool validation() const { return messenger_ != VK_NULL_HANDLE; }
+  // Messages of the validation layer so far (each is also printed to stderr).
+  int validation_errors() const { return errors_.load(); }
+  int validation_warnings() const { return warnings_.load(); }
 
-private:
-    void destroy();
-    static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(
-        VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
-        const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+ private:
+  void destroy();
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                   VkDebugUtilsMessageTypeFlagsEXT types,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                   void* self);
 
-    VkInstance instance_ = VK_NULL_HANDLE;
-    VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
-    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
-    VkDevice device_ = VK_NULL_HANDLE;
-    VkQueue queue_ = VK_NULL_HANDLE;
-    uint32_t queue_family_ = 0;
-    DeviceInfo info_;
-    VkPhysicalDeviceProperties properties_{};
-    VkPhysicalDeviceMemoryProperties memory_{};
-    std::atomic<int> errors_{0};
-    std::atomic<int> warnings_{0};
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  DeviceInfo info_;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::atomic<int> errors_{0};
+  std::atomic<int> warnings_{0};
 };
 
 }  // namespace aeroflock::gpu

@@ -8,7 +8,7 @@
 namespace aeroflock::gpu {
 
 struct Error : std::runtime_error {
-    using std::runtime_error::runtime_error;
+  using std::runtime_error::runtime_error;
 };
 
 // "VK_ERROR_OUT_OF_DEVICE_MEMORY", ...
