@@ -37,7 +37,8 @@ bool has_instance_extension(const char* layer, const char* name) {
 
 // An instance for Vulkan 1.2; with `messenger` (validation on) it enables the Khronos layer with
 // synchronization validation and reports through `messenger` from vkCreateInstance on.
-VkInstance create_instance(const VkDebugUtilsMessengerCreateInfoEXT* messenger) {
+VkInstance create_instance(const VkDebugUtilsMessengerCreateInfoEXT* messenger,
+                           const std::vector<const char*>& wanted) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "aeroflock";
   app.pEngineName = "aeroflock";
@@ -45,7 +46,7 @@ VkInstance create_instance(const VkDebugUtilsMessengerCreateInfoEXT* messenger) 
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pApplicationInfo = &app;
-  std::vector<const char*> extensions;
+  std::vector<const char*> extensions = wanted;
   const VkValidationFeatureEnableEXT sync_validation =
       VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
   VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
@@ -181,7 +182,7 @@ std::string describe(const DeviceInfo& info) {
 }
 
 std::vector<DeviceInfo> Device::list_devices() {
-  VkInstance instance = create_instance(nullptr);
+  VkInstance instance = create_instance(nullptr, {});
   std::vector<DeviceInfo> infos;
   try {
     auto devices = physical_devices(instance);
@@ -206,7 +207,7 @@ Device::Device(const DeviceOptions& options) {
   messenger.pUserData = this;
   const bool validation = options.validation || validation_from_env();
 
-  instance_ = create_instance(validation ? &messenger : nullptr);
+  instance_ = create_instance(validation ? &messenger : nullptr, options.instance_extensions);
   try {
     if (validation) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
@@ -245,16 +246,26 @@ Device::Device(const DeviceOptions& options) {
     vkGetPhysicalDeviceProperties(physical_, &properties_);
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 
-    // One queue from the first family that can compute.
+    // One queue from the first family that can compute (and draw, and present, when asked).
+    if (options.surface) surface_ = options.surface(instance_);
+    VkQueueFlags needed = VK_QUEUE_COMPUTE_BIT;
+    if (options.graphics || surface_) needed |= VK_QUEUE_GRAPHICS_BIT;
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, nullptr);
     std::vector<VkQueueFamilyProperties> families(n);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, families.data());
     queue_family_ = UINT32_MAX;
-    for (uint32_t i = 0; i < n && queue_family_ == UINT32_MAX; ++i)
-      if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) queue_family_ = i;
+    for (uint32_t i = 0; i < n && queue_family_ == UINT32_MAX; ++i) {
+      VkBool32 present = VK_TRUE;
+      if (surface_) vkGetPhysicalDeviceSurfaceSupportKHR(physical_, i, surface_, &present);
+      if ((families[i].queueFlags & needed) == needed && present) queue_family_ = i;
+    }
     if (queue_family_ == UINT32_MAX)
-      throw Error("Vulkan device " + info_.name + " has no compute queue");
+      throw Error("Vulkan device " + info_.name + " has no queue that can " +
+                  (surface_                         ? "compute, draw and present"
+                   : needed & VK_QUEUE_GRAPHICS_BIT ? "compute and draw"
+                                                    : "compute"));
+    const char* swapchain = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queue{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -264,6 +275,10 @@ Device::Device(const DeviceOptions& options) {
     VkDeviceCreateInfo create{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     create.queueCreateInfoCount = 1;
     create.pQueueCreateInfos = &queue;
+    if (surface_) {
+      create.enabledExtensionCount = 1;
+      create.ppEnabledExtensionNames = &swapchain;
+    }
     check(vkCreateDevice(physical_, &create, nullptr, &device_), "vkCreateDevice");
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
   } catch (...) {
@@ -279,6 +294,10 @@ void Device::destroy() {
     vkDeviceWaitIdle(device_);
     vkDestroyDevice(device_, nullptr);
     device_ = VK_NULL_HANDLE;
+  }
+  if (surface_) {
+    vkDestroySurfaceKHR(instance_, surface_, nullptr);
+    surface_ = VK_NULL_HANDLE;
   }
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,12 @@ std::string describe(const DeviceInfo& info);
 struct DeviceOptions {
   int index = -1;           // >= 0: that device; < 0: a discrete GPU, else integrated, virtual, cpu
   bool validation = false;  // Khronos validation layer; AEROFLOCK_VALIDATION=1 also turns it on
+  bool graphics = false;    // the queue must also do graphics (rendering)
+  // For a window: the instance extensions the windowing system needs, and a function that makes
+  // the window's surface once the instance exists. The device then owns the surface, its queue
+  // can present to it, and VK_KHR_swapchain is enabled.
+  std::vector<const char*> instance_extensions;
+  std::function<VkSurfaceKHR(VkInstance)> surface;
 };
 
 class Device {
@@ -58,6 +65,7 @@ class Device {
   VkPhysicalDevice physical() const { return physical_; }
   VkDevice handle() const { return device_; }
   VkQueue queue() const { return queue_; }
+  VkSurfaceKHR surface() const { return surface_; }  // VK_NULL_HANDLE without a window
   uint32_t queue_family() const { return queue_family_; }
 
   // The first memory type allowed by `type_bits` that has all of `required` (and, among those,
@@ -78,6 +86,7 @@ class Device {
                                                    void* self);
 
   VkInstance instance_ = VK_NULL_HANDLE;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
