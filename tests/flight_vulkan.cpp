@@ -12,7 +12,7 @@ gpu::Device* device() {
   static std::unique_ptr<gpu::Device> d = []() -> std::unique_ptr<gpu::Device> {
     try {
       if (gpu::Device::list_devices().empty()) return nullptr;
-      return std::make_unique<gpu::Device>(gpu::DeviceOptions{-1, true});
+      return std::make_unique<gpu::Device>(gpu::headless(-1, true));
     } catch (const gpu::Error&) {
       return nullptr;
     }

@@ -29,7 +29,7 @@ using glm::dvec3;
 std::unique_ptr<gpu::Device> open_device() {
   try {
     if (gpu::Device::list_devices().empty()) return nullptr;
-    return std::make_unique<gpu::Device>(gpu::DeviceOptions{-1, true});
+    return std::make_unique<gpu::Device>(gpu::headless(-1, true));
   } catch (const gpu::Error&) {
     return nullptr;
   }

@@ -58,7 +58,7 @@ TEST(GpuDevice, ListsDevices) {
 
 TEST(GpuDevice, OpensWithValidation) {
   SKIP_WITHOUT_VULKAN();
-  gpu::Device device({.validation = true});
+  gpu::Device device(gpu::headless(-1, true));
   EXPECT_TRUE(device.validation());
   EXPECT_FALSE(device.name().empty());
   EXPECT_FALSE(device.driver().empty());
@@ -81,7 +81,7 @@ TEST(GpuDevice, EmbedsShaders) {
 
 TEST(GpuDevice, AddsMillionFloats) {
   SKIP_WITHOUT_VULKAN();
-  gpu::Device device({.validation = true});
+  gpu::Device device(gpu::headless(-1, true));
   const uint32_t n = 1'000'000;
   std::vector<float> a(n), b(n);
   for (uint32_t i = 0; i < n; ++i) {
@@ -176,7 +176,7 @@ TEST(GpuDevice, BadIndexListsDevices) {
   SKIP_WITHOUT_VULKAN();
   const auto devices = gpu::Device::list_devices();
   try {
-    gpu::Device device({.index = static_cast<int>(devices.size()) + 5});
+    gpu::Device device(gpu::headless(static_cast<int>(devices.size()) + 5, false));
     FAIL() << "no error for a bad device index";
   } catch (const gpu::Error& e) {
     const std::string m = e.what();

@@ -45,7 +45,7 @@ class CpuBackend final : public Backend {
 class VulkanBackend final : public Backend {
  public:
   VulkanBackend(const BackendOptions& options, Scenario scenario)
-      : device_(gpu::DeviceOptions{options.device, false}),
+      : device_(gpu::headless(options.device, false)),
         simulation_(device_, std::move(scenario), options.birds) {}
   std::string name() const override { return "vulkan"; }
   std::string device() const override { return device_.name() + " (" + device_.driver() + ")"; }

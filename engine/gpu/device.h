@@ -44,6 +44,14 @@ struct DeviceOptions {
   std::function<VkSurfaceKHR(VkInstance)> surface;
 };
 
+// Options for a headless device: that device index (< 0: the preferred one), validation on or off.
+inline DeviceOptions headless(int index, bool validation) {
+  DeviceOptions o;
+  o.index = index;
+  o.validation = validation;
+  return o;
+}
+
 class Device {
  public:
   explicit Device(const DeviceOptions& options = {});
