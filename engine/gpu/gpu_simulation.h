@@ -45,6 +45,10 @@ class GpuSimulation {
   const World& world() const { return scenario_.world; }
   double time() const { return time_; }
   uint64_t steps() const { return steps_; }
+  // The birds' state on the device (bird_count() gpu::GpuBird), written by the submitted frames:
+  // what the renderer draws from, after a compute-to-vertex barrier.
+  const Buffer& bird_buffer() const { return birds_; }
+  uint32_t bird_count() const { return count_; }
 
  private:
   StepConstants constants(uint32_t steps) const;
