@@ -1,9 +1,10 @@
 # aeroflock_add_shaders(TARGET tgt SOURCES a.comp b.comp ...)
 #
-# Compiles each GLSL compute shader (paths relative to shaders/compute, or absolute) to SPIR-V with
+# Compiles each GLSL shader (paths relative to shaders/compute, or absolute) to SPIR-V with
 # glslangValidator and adds a generated C++ source to `tgt` that embeds the words and defines
 #   std::span<const uint32_t> aeroflock::gpu::shader_spirv(std::string_view name)
-# (declared in engine/gpu/shaders.h; name = the file stem, e.g. "step"). `#include "x.glsl"`
+# (declared in engine/gpu/shaders.h; name = the file stem for compute shaders, e.g. "step", and
+# stem_stage for the others, e.g. "bird_vert"). `#include "x.glsl"`
 # finds the files of shaders/compute; every shader is rebuilt when any *.glsl there changes.
 # Call it once per target.
 
@@ -21,7 +22,7 @@ function(aeroflock_add_shaders)
   if(NOT ARG_TARGET OR NOT ARG_SOURCES)
     message(FATAL_ERROR "aeroflock_add_shaders(TARGET tgt SOURCES a.comp ...)")
   endif()
-  file(GLOB includes CONFIGURE_DEPENDS ${AEROFLOCK_SHADER_DIR}/*.glsl)
+  file(GLOB includes CONFIGURE_DEPENDS ${AEROFLOCK_SHADER_DIR}/*.glsl ${AEROFLOCK_SHADER_DIR}/../render/*.glsl)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/spirv)
   set(headers "")
   set(includes_code "")
@@ -29,6 +30,11 @@ function(aeroflock_add_shaders)
   foreach(src IN LISTS ARG_SOURCES)
     cmake_path(ABSOLUTE_PATH src BASE_DIRECTORY ${AEROFLOCK_SHADER_DIR} NORMALIZE)
     cmake_path(GET src STEM name)
+    cmake_path(GET src EXTENSION LAST_ONLY ext)
+    if(NOT ext STREQUAL ".comp")
+      string(SUBSTRING ${ext} 1 -1 stage)
+      set(name ${name}_${stage})  # bird.vert -> "bird_vert"
+    endif()
     if(NOT name MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
       message(FATAL_ERROR "shader ${src}: its stem must be a C identifier")
     endif()
@@ -38,7 +44,7 @@ function(aeroflock_add_shaders)
       COMMAND ${GLSLANG_VALIDATOR} --target-env vulkan1.2 -V --quiet -I${AEROFLOCK_SHADER_DIR}
               --vn ${name}_spirv -o ${header} ${src}
       DEPENDS ${src} ${includes}
-      COMMENT "SPIR-V ${name}.comp"
+      COMMENT "SPIR-V ${name}"
       VERBATIM)
     list(APPEND headers ${header})
     string(APPEND includes_code "#include \"${name}.spv.h\"\n")

@@ -38,7 +38,7 @@ std::vector<GpuBird> pack_birds(const std::vector<BirdState>& birds) {
   return out;
 }
 
-Buffer bird_buffer(const Device& device, const std::vector<BirdState>& birds, Memory memory) {
+Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds, Memory memory) {
   check_storage_size(device, birds.size() * sizeof(GpuBird), sizeof(GpuBird));
   return buffer_with(device, pack_birds(birds), memory);
 }
@@ -61,7 +61,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     : device_(device),
       scenario_(std::move(scenario)),
       count_(static_cast<uint32_t>(birds.size())),
-      birds_(bird_buffer(device, birds, Memory::device_local)),
+      birds_(make_bird_buffer(device, birds, Memory::device_local)),
       species_(buffer_with(device, pack_species(scenario_), Memory::device_local)),
       routes_(buffer_with(device, pack(scenario_.world).routes, Memory::device_local)),
       route_targets_(buffer_with(device, pack(scenario_.world).route_targets, Memory::device_local)),

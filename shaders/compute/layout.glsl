@@ -45,22 +45,17 @@ struct Branch {
   vec4 direction;
 };
 
-layout(std430, set = 0, binding = 0) buffer Birds { GpuBird birds[]; };
+// The render shaders read the birds: they define BIRDS_ACCESS as readonly.
+#ifndef BIRDS_ACCESS
+#define BIRDS_ACCESS
+#endif
+layout(std430, set = 0, binding = 0) BIRDS_ACCESS buffer Birds { GpuBird birds[]; };
 layout(std430, set = 0, binding = 1) readonly buffer SpeciesTable { Species species[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Targets { Target targets[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Routes { Route routes[]; };
 layout(std430, set = 0, binding = 4) readonly buffer RouteTargets { uint route_targets[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Branches { Branch branches[]; };
 
-layout(push_constant) uniform StepConstants {
-  vec4 wind_ground;  // xyz wind, w ground height
-  float dt;
-  float time;        // at the start of the dispatch
-  uint steps;
-  uint bird_count;
-  uint turning;      // 0 tail, 1 fixed-rate
-  uint ground_effect;
-} pc;
 
 const uint kFlying = 0u, kStanding = 1u, kTakingOff = 2u, kLanding = 3u, kPerched = 4u;
 const uint kStageNone = 0u, kStageGate = 1u, kStageCurve = 2u;

@@ -6,6 +6,7 @@
 layout(local_size_x = 64) in;
 
 #include "layout.glsl"
+#include "constants.glsl"
 #include "model.glsl"
 
 void main() {

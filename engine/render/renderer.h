@@ -1,0 +1,52 @@
+// Draws the flock straight from the simulation's bird buffer (instanced: one instance a bird,
+// posed in the vertex shader from its state), with the ground, the sky, the branches and, when
+// asked, the target spheres. Records into a caller's command buffer and colour image, so that a
+// window (swapchain images) and headless rendering (an offscreen image) share it.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+
+#include "gpu/buffer.h"
+#include "gpu/device.h"
+#include "model/scenario.h"
+#include "render/camera.h"
+
+namespace aeroflock::render {
+
+struct View {
+  Camera camera;
+  bool show_targets = true;
+  float time = 0.0f;  // s, for anything animated independently of the birds
+};
+
+class Renderer {
+ public:
+  // `color_format`: the images it will draw into (e.g. VK_FORMAT_R8G8B8A8_UNORM offscreen, the
+  // swapchain's format in a window); `extent` their size (make a new Renderer on resize). The
+  // device must have a graphics queue (gpu::DeviceOptions::graphics).
+  Renderer(const gpu::Device& device, const Scenario& scenario, VkFormat color_format,
+           VkExtent2D extent);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Records one frame: waits (barrier) for earlier compute writes to `birds`, clears and draws
+  // into `color` (any layout before; `final_layout` after: e.g. PRESENT_SRC_KHR or
+  // TRANSFER_SRC_OPTIMAL). `birds` holds `bird_count` gpu::GpuBird; `world` gives the targets'
+  // positions now and the branches.
+  void record(VkCommandBuffer cmd, VkImage color, VkImageView color_view, const gpu::Buffer& birds,
+              uint32_t bird_count, const World& world, const View& view,
+              VkImageLayout final_layout);
+
+  VkExtent2D extent() const;
+  VkFormat format() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace aeroflock::render

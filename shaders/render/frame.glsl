@@ -1,0 +1,20 @@
+// What every render shader sees: the camera and the light, as push constants.
+layout(push_constant) uniform Frame {
+  mat4 view_projection;
+  vec4 eye;        // xyz camera position (cm), w time (s)
+  vec4 sun;        // xyz direction towards the sun, w fog density (1/cm)
+  vec4 fog_color;  // rgb, w unused
+  uint instance_offset;  // into the instance buffers of the pass (targets, branches)
+  uint pad0, pad1, pad2;
+} frame;
+
+vec3 shade(vec3 albedo, vec3 normal, vec3 world_position) {
+  vec3 n = normalize(normal);
+  vec3 to_eye = normalize(frame.eye.xyz - world_position);
+  if (dot(n, to_eye) < 0.0) n = -n;  // wings and tail are seen from both sides
+  float diffuse = max(dot(n, frame.sun.xyz), 0.0);
+  vec3 lit = albedo * (0.35 + 0.65 * diffuse);
+  float distance = length(frame.eye.xyz - world_position);
+  float fog = 1.0 - exp(-frame.sun.w * distance);
+  return mix(lit, frame.fog_color.rgb, clamp(fog, 0.0, 1.0));
+}

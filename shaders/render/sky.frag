@@ -1,0 +1,31 @@
+#version 450
+// Sky above the horizon, the ground (a checkerboard of 10 m squares, fogged) below it. The
+// ground writes its depth so that birds below it are hidden.
+#extension GL_GOOGLE_include_directive : require
+
+#include "frame.glsl"
+
+layout(location = 0) in vec2 in_ndc;
+layout(location = 0) out vec4 out_color;
+
+
+void main() {
+  mat4 inverse_vp = inverse(frame.view_projection);
+  vec4 far_point = inverse_vp * vec4(in_ndc, 1.0, 1.0);
+  vec3 ray = normalize(far_point.xyz / far_point.w - frame.eye.xyz);
+  float height = frame.eye.y - frame.fog_color.w;  // fog_color.w: ground height
+  if (ray.y < 0.0 && height > 0.0) {
+    float t = height / -ray.y;
+    vec3 hit = frame.eye.xyz + t * ray;
+    vec2 cell = floor(hit.xz / 1000.0);
+    float checker = mod(cell.x + cell.y, 2.0);
+    vec3 grass = mix(vec3(0.30, 0.42, 0.22), vec3(0.34, 0.47, 0.25), checker);
+    out_color = vec4(shade(grass, vec3(0, 1, 0), hit), 1.0);
+    vec4 clip = frame.view_projection * vec4(hit, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+  } else {
+    float up = clamp(ray.y, 0.0, 1.0);
+    out_color = vec4(mix(frame.fog_color.rgb, vec3(0.32, 0.52, 0.85), pow(up, 0.6)), 1.0);
+    gl_FragDepth = 1.0;
+  }
+}

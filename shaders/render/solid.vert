@@ -1,0 +1,35 @@
+#version 450
+// Target spheres and branches: a unit mesh per instance, placed and scaled from the world's
+// buffers (targets: centre and radius; branches: point and direction).
+#extension GL_GOOGLE_include_directive : require
+
+#include "frame.glsl"
+#define BIRDS_ACCESS readonly
+#include "../compute/layout.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 0) out vec3 out_normal;
+layout(location = 1) out vec3 out_world;
+layout(location = 2) flat out uint out_kind;
+
+layout(constant_id = 0) const uint kKind = 0u;  // 0 target spheres, 1 branches
+
+void main() {
+  vec3 world, normal = in_normal;
+  if (kKind == 0u) {
+    vec4 cr = targets[gl_InstanceIndex].centre_radius;
+    world = cr.xyz + cr.w * in_position;
+  } else {
+    Branch br = branches[gl_InstanceIndex];
+    vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
+    mat3 m = mat3(along, up, across);
+    // A branch 1 m long and 4 cm thick, its top at the perch point.
+    world = br.point.xyz + m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
+    normal = m * in_normal;
+  }
+  out_normal = normal;
+  out_world = world;
+  out_kind = kKind;
+  gl_Position = frame.view_projection * vec4(world, 1.0);
+}
