@@ -68,7 +68,7 @@ GpuSpecies pack(const Species& s) {
       f(s.leg_force), f(s.leg_time), f(s.push_angle), f(s.approach_distance),
       f(s.brake_distance), f(s.brake_pitch), f(s.perch_radius),
       f(s.Ct * std::max(s.bend_max, s.rot_max) + s.tail_min),
-      0.0f, 0.0f, 0.0f, 0.0f};
+      f(s.box_b), 0.0f, 0.0f, 0.0f};
 }
 
 std::vector<GpuTarget> pack_targets(const World& w, double time) {

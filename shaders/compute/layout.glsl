@@ -28,7 +28,7 @@ struct Species {
   float bank_time, stand_height, crouch_time, crouch_depth;
   float leg_force, leg_time, push_angle, approach_distance;
   float brake_distance, brake_pitch, perch_radius, open_tail;
-  float pad0, pad1, pad2, pad3;
+  float box_b, pad1, pad2, pad3;  // box_b: for drawing the body
 };
 
 struct Target {

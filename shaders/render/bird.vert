@@ -7,9 +7,12 @@
 #define BIRDS_ACCESS readonly
 #include "../compute/layout.glsl"
 
-layout(location = 0) in vec3 in_position;  // part-local, see bird_mesh.cpp
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in uint in_part;      // 0 body, 1 arm, 2 hand, 3 tail; +4: left side
+// The mesh, read by vertex index (engine/render/meshes.h).
+struct MeshVertex {
+  vec4 position;  // xyz, w: part
+  vec4 normal;
+};
+layout(std430, set = 0, binding = 6) readonly buffer Mesh { MeshVertex mesh[]; };
 
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_world;
@@ -24,6 +27,9 @@ mat3 rot_y(float a) { float c = cos(a), s = sin(a); return mat3(c, 0, -s, 0, 1, 
 mat3 rot_z(float a) { float c = cos(a), s = sin(a); return mat3(c, s, 0, -s, c, 0, 0, 0, 1); }
 
 void main() {
+  MeshVertex mv = mesh[gl_VertexIndex];
+  vec3 in_position = mv.position.xyz, in_normal = mv.normal.xyz;
+  uint in_part = uint(mv.position.w);  // 0 body, 1 arm, 2 hand, 3 tail; +4: left side
   GpuBird b = birds[gl_InstanceIndex];
   uint species_index = b.ids.x >> 16;
   Species s = species[species_index];
@@ -34,7 +40,7 @@ void main() {
 
   vec3 p = in_position, n = in_normal;
   if (part == 0u) {  // body: the box a x b x b
-    p *= vec3(-2.0 * s.tail_hinge_x, s.pad0, s.pad0);
+    p *= vec3(-2.0 * s.tail_hinge_x, s.box_b, s.box_b);
   } else if (part == 3u) {  // tail: a fan of radius lr opened to phi, bent and twisted
     float opening = s.Ct * max(abs(b.tail_times.x), abs(b.tail_times.y)) + s.tail_min;
     float lr = sqrt(2.0 * s.tail_area_per_radian);

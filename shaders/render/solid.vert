@@ -7,8 +7,12 @@
 #define BIRDS_ACCESS readonly
 #include "../compute/layout.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
+// The mesh, read by vertex index (engine/render/meshes.h).
+struct MeshVertex {
+  vec4 position;  // xyz, w: part
+  vec4 normal;
+};
+layout(std430, set = 0, binding = 6) readonly buffer Mesh { MeshVertex mesh[]; };
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_world;
 layout(location = 2) flat out uint out_kind;
@@ -16,6 +20,7 @@ layout(location = 2) flat out uint out_kind;
 layout(constant_id = 0) const uint kKind = 0u;  // 0 target spheres, 1 branches
 
 void main() {
+  vec3 in_position = mesh[gl_VertexIndex].position.xyz, in_normal = mesh[gl_VertexIndex].normal.xyz;
   vec3 world, normal = in_normal;
   if (kKind == 0u) {
     vec4 cr = targets[gl_InstanceIndex].centre_radius;

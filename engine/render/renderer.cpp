@@ -1,0 +1,435 @@
+#include "render/renderer.h"
+
+#include <array>
+#include <cstring>
+#include <map>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "gpu/error.h"
+#include "gpu/layout.h"
+#include "gpu/shaders.h"
+#include "render/meshes.h"
+
+namespace aeroflock::render {
+namespace {
+
+using gpu::Buffer;
+using gpu::check;
+using gpu::Memory;
+
+constexpr uint32_t kBindings = 7;  // birds, species, targets, routes, route targets, branches, mesh
+constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+// The push constants of shaders/render/frame.glsl.
+struct FrameConstants {
+  glm::mat4 view_projection;
+  glm::vec4 eye;        // xyz, w time
+  glm::vec4 sun;        // xyz towards the sun, w fog density
+  glm::vec4 fog_color;  // rgb, w ground height
+  uint32_t instance_offset = 0, pad0 = 0, pad1 = 0, pad2 = 0;
+};
+static_assert(sizeof(FrameConstants) == 128);
+
+template <class T>
+Buffer buffer_of(const gpu::Device& device, const std::vector<T>& items) {
+  Buffer b(device, std::max<size_t>(items.size(), 1) * sizeof(T), Memory::device_local);
+  if (!items.empty()) b.upload(std::as_bytes(std::span<const T>(items)));
+  return b;
+}
+
+VkShaderModule shader_module(VkDevice device, std::string_view name) {
+  const std::span<const uint32_t> words = gpu::shader_spirv(name);
+  VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  info.codeSize = words.size_bytes();
+  info.pCode = words.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  check(vkCreateShaderModule(device, &info, nullptr, &module), "vkCreateShaderModule");
+  return module;
+}
+
+// How one of the four pipelines draws.
+struct PipelineSpec {
+  std::string_view vertex, fragment;
+  uint32_t kind = 0;  // solid.vert's specialisation: 0 targets, 1 branches
+  bool depth_write = true;
+  VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
+  bool blend = false;
+};
+
+}  // namespace
+
+struct Renderer::Impl {
+  const gpu::Device& device;
+  VkFormat format;
+  VkExtent2D extent;
+  // Buffers the renderer owns (species, targets now, branches, meshes) and a stand-in for the
+  // routing tables the render shaders declare but do not read.
+  Buffer species, targets, branches, unused, bird_mesh, sphere, box;
+  uint32_t bird_vertices, sphere_vertices, box_vertices, target_count, branch_count;
+  float ground_height;
+  VkImage depth_image = VK_NULL_HANDLE;
+  VkDeviceMemory depth_memory = VK_NULL_HANDLE;
+  VkImageView depth_view = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  std::map<VkImageLayout, VkRenderPass> passes;  // by final layout
+  std::map<VkImageLayout, std::array<VkPipeline, 4>> pipelines;  // sky, birds, branches, targets
+  std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
+  std::map<VkBuffer, std::array<VkDescriptorSet, 3>> sets;  // by bird buffer: bird, sphere, box mesh
+
+  Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e)
+      : device(d),
+        format(f),
+        extent(e),
+        species(buffer_of(d, [&] {
+          std::vector<gpu::GpuSpecies> out;
+          for (const Species& s : scenario.species) out.push_back(gpu::pack(s));
+          return out;
+        }())),
+        targets(d, kMaxTargets * sizeof(gpu::GpuTarget), Memory::device_local),
+        branches(buffer_of(d, gpu::pack(scenario.world).branches)),
+        unused(d, 16, Memory::device_local),
+        bird_mesh(buffer_of(d, render::bird_mesh())),
+        sphere(buffer_of(d, sphere_mesh())),
+        box(buffer_of(d, box_mesh())),
+        bird_vertices(uint32_t(render::bird_mesh().size())),
+        sphere_vertices(uint32_t(sphere_mesh().size())),
+        box_vertices(uint32_t(box_mesh().size())),
+        target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
+        branch_count(uint32_t(scenario.world.branches.size())),
+        ground_height(float(scenario.world.ground_height)) {
+    create_depth();
+    create_layouts();
+  }
+
+  ~Impl() {
+    VkDevice dev = device.handle();
+    vkDeviceWaitIdle(dev);
+    for (auto& [key, fb] : framebuffers) vkDestroyFramebuffer(dev, fb, nullptr);
+    for (auto& [key, list] : pipelines)
+      for (VkPipeline p : list) vkDestroyPipeline(dev, p, nullptr);
+    for (auto& [key, pass] : passes) vkDestroyRenderPass(dev, pass, nullptr);
+    vkDestroyDescriptorPool(dev, pool, nullptr);
+    vkDestroyPipelineLayout(dev, layout, nullptr);
+    vkDestroyDescriptorSetLayout(dev, set_layout, nullptr);
+    vkDestroyImageView(dev, depth_view, nullptr);
+    vkDestroyImage(dev, depth_image, nullptr);
+    vkFreeMemory(dev, depth_memory, nullptr);
+  }
+
+  void create_depth() {
+    VkDevice dev = device.handle();
+    VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    image.imageType = VK_IMAGE_TYPE_2D;
+    image.format = kDepthFormat;
+    image.extent = {extent.width, extent.height, 1};
+    image.mipLevels = 1;
+    image.arrayLayers = 1;
+    image.samples = VK_SAMPLE_COUNT_1_BIT;
+    image.tiling = VK_IMAGE_TILING_OPTIMAL;
+    image.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+    check(vkCreateImage(dev, &image, nullptr, &depth_image), "vkCreateImage (depth)");
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(dev, depth_image, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (alloc.memoryTypeIndex == UINT32_MAX) alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, 0);
+    check(vkAllocateMemory(dev, &alloc, nullptr, &depth_memory), "vkAllocateMemory (depth)");
+    check(vkBindImageMemory(dev, depth_image, depth_memory, 0), "vkBindImageMemory");
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = depth_image;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = kDepthFormat;
+    view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+    check(vkCreateImageView(dev, &view, nullptr, &depth_view), "vkCreateImageView (depth)");
+  }
+
+  void create_layouts() {
+    VkDevice dev = device.handle();
+    std::array<VkDescriptorSetLayoutBinding, kBindings> bindings{};
+    for (uint32_t i = 0; i < kBindings; ++i) {
+      bindings[i].binding = i;
+      bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      bindings[i].descriptorCount = 1;
+      bindings[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set.bindingCount = kBindings;
+    set.pBindings = bindings.data();
+    check(vkCreateDescriptorSetLayout(dev, &set, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+    VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                             sizeof(FrameConstants)};
+    VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    info.setLayoutCount = 1;
+    info.pSetLayouts = &set_layout;
+    info.pushConstantRangeCount = 1;
+    info.pPushConstantRanges = &push;
+    check(vkCreatePipelineLayout(dev, &info, nullptr, &layout), "vkCreatePipelineLayout");
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * 8 * kBindings};
+    VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool_info.maxSets = 3 * 8;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    check(vkCreateDescriptorPool(dev, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
+  }
+
+  VkRenderPass pass(VkImageLayout final_layout) {
+    if (auto it = passes.find(final_layout); it != passes.end()) return it->second;
+    std::array<VkAttachmentDescription, 2> attachments{};
+    attachments[0].format = format;
+    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // the sky covers every pixel
+    attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    attachments[0].finalLayout = final_layout;
+    attachments[1] = attachments[0];
+    attachments[1].format = kDepthFormat;
+    attachments[1].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &color;
+    subpass.pDepthStencilAttachment = &depth;
+    // Earlier work on the attachments (the previous frame, a present) before this frame's writes;
+    // this frame's writes before whatever reads the image next (copies, presentation).
+    std::array<VkSubpassDependency, 2> deps{};
+    deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+    deps[0].dstSubpass = 0;
+    deps[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                           VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                           VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+    deps[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT |
+                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    deps[1].srcSubpass = 0;
+    deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+    deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT;
+    deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = 2;
+    info.pAttachments = attachments.data();
+    info.subpassCount = 1;
+    info.pSubpasses = &subpass;
+    info.dependencyCount = 2;
+    info.pDependencies = deps.data();
+    VkRenderPass result = VK_NULL_HANDLE;
+    check(vkCreateRenderPass(device.handle(), &info, nullptr, &result), "vkCreateRenderPass");
+    passes[final_layout] = result;
+    return result;
+  }
+
+  VkPipeline make_pipeline(VkRenderPass render_pass, const PipelineSpec& spec) {
+    VkDevice dev = device.handle();
+    VkShaderModule vert = shader_module(dev, spec.vertex), frag = shader_module(dev, spec.fragment);
+    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo specialization{1, &entry, sizeof(uint32_t), &spec.kind};
+    std::array<VkPipelineShaderStageCreateInfo, 2> stages{};
+    stages[0].sType = stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vert;
+    stages[0].pName = "main";
+    stages[0].pSpecializationInfo = &specialization;
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = frag;
+    stages[1].pName = "main";
+    VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = spec.depth_write;
+    depth.depthCompareOp = spec.depth_compare;
+    VkPipelineColorBlendAttachmentState attachment{};
+    attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    if (spec.blend) {
+      attachment.blendEnable = VK_TRUE;
+      attachment.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
+      attachment.dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+      attachment.colorBlendOp = VK_BLEND_OP_ADD;
+      attachment.srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
+      attachment.alphaBlendOp = VK_BLEND_OP_ADD;
+    }
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &attachment;
+    const std::array<VkDynamicState, 2> dynamic_states = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = uint32_t(dynamic_states.size());
+    dynamic.pDynamicStates = dynamic_states.data();
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.stageCount = 2;
+    info.pStages = stages.data();
+    info.pVertexInputState = &input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = layout;
+    info.renderPass = render_pass;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    const VkResult r = vkCreateGraphicsPipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    vkDestroyShaderModule(dev, vert, nullptr);
+    vkDestroyShaderModule(dev, frag, nullptr);
+    check(r, "vkCreateGraphicsPipelines");
+    return pipeline;
+  }
+
+  const std::array<VkPipeline, 4>& pipelines_for(VkImageLayout final_layout) {
+    if (auto it = pipelines.find(final_layout); it != pipelines.end()) return it->second;
+    VkRenderPass rp = pass(final_layout);
+    std::array<VkPipeline, 4> list = {
+        make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false}),
+        make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true}),
+    };
+    return pipelines[final_layout] = list;
+  }
+
+  VkFramebuffer framebuffer(VkImageView view, VkImageLayout final_layout) {
+    const auto key = std::make_pair(view, final_layout);
+    if (auto it = framebuffers.find(key); it != framebuffers.end()) return it->second;
+    const std::array<VkImageView, 2> views = {view, depth_view};
+    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    info.renderPass = pass(final_layout);
+    info.attachmentCount = 2;
+    info.pAttachments = views.data();
+    info.width = extent.width;
+    info.height = extent.height;
+    info.layers = 1;
+    VkFramebuffer fb = VK_NULL_HANDLE;
+    check(vkCreateFramebuffer(device.handle(), &info, nullptr, &fb), "vkCreateFramebuffer");
+    return framebuffers[key] = fb;
+  }
+
+  const std::array<VkDescriptorSet, 3>& sets_for(const Buffer& birds) {
+    if (auto it = sets.find(birds.handle()); it != sets.end()) return it->second;
+    std::array<VkDescriptorSet, 3> result{};
+    const std::array<const Buffer*, 3> meshes = {&bird_mesh, &sphere, &box};
+    for (size_t m = 0; m < 3; ++m) {
+      VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+      alloc.descriptorPool = pool;
+      alloc.descriptorSetCount = 1;
+      alloc.pSetLayouts = &set_layout;
+      check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
+      const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, &unused,
+                                                            &unused, &branches, meshes[m]};
+      std::array<VkDescriptorBufferInfo, kBindings> infos{};
+      std::array<VkWriteDescriptorSet, kBindings> writes{};
+      for (uint32_t i = 0; i < kBindings; ++i) {
+        infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        writes[i].dstSet = result[m];
+        writes[i].dstBinding = i;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+      }
+      vkUpdateDescriptorSets(device.handle(), kBindings, writes.data(), 0, nullptr);
+    }
+    return sets[birds.handle()] = result;
+  }
+};
+
+Renderer::Renderer(const gpu::Device& device, const Scenario& scenario, VkFormat color_format,
+                   VkExtent2D extent)
+    : impl_(std::make_unique<Impl>(device, scenario, color_format, extent)) {}
+
+Renderer::~Renderer() = default;
+
+VkExtent2D Renderer::extent() const { return impl_->extent; }
+VkFormat Renderer::format() const { return impl_->format; }
+
+void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_view,
+                      const gpu::Buffer& birds, uint32_t bird_count, const World& world,
+                      const View& view, VkImageLayout final_layout) {
+  Impl& r = *impl_;
+  const auto& pipelines = r.pipelines_for(final_layout);
+  const auto& sets = r.sets_for(birds);
+
+  // The targets where they are now, written in the command stream (no host race with frames in
+  // flight); then every earlier write (compute, transfer) before the vertex shaders read.
+  if (r.target_count > 0) {
+    const std::vector<gpu::GpuTarget> now = gpu::pack_targets(world, 0.0);
+    std::vector<gpu::GpuTarget> placed(r.target_count);
+    for (uint32_t i = 0; i < r.target_count; ++i)
+      placed[i] = {glm::vec4(glm::vec3(world.target_now.size() > i ? world.target_now[i]
+                                                                    : world.targets[i].centre),
+                             float(world.targets[i].radius)),
+                   now[i].velocity};
+    vkCmdUpdateBuffer(cmd, r.targets.handle(), 0, placed.size() * sizeof(gpu::GpuTarget), placed.data());
+  }
+  VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                       0, 1, &barrier, 0, nullptr, 0, nullptr);
+
+  VkClearValue clears[2] = {};
+  clears[1].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = r.pass(final_layout);
+  begin.framebuffer = r.framebuffer(color_view, final_layout);
+  begin.renderArea = {{0, 0}, r.extent};
+  begin.clearValueCount = 2;
+  begin.pClearValues = clears;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  const VkViewport viewport{0, 0, float(r.extent.width), float(r.extent.height), 0, 1};
+  const VkRect2D scissor{{0, 0}, r.extent};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+
+  FrameConstants frame;
+  frame.view_projection = view.camera.view_projection(float(r.extent.width) / float(r.extent.height));
+  frame.eye = glm::vec4(view.camera.eye, view.time);
+  frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);
+  frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
+  vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof frame, &frame);
+  auto draw = [&](VkPipeline pipeline, VkDescriptorSet set, uint32_t vertices, uint32_t instances) {
+    if (instances == 0) return;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &set, 0, nullptr);
+    vkCmdDraw(cmd, vertices, instances, 0, 0);
+  };
+  draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
+  draw(pipelines[1], sets[0], r.bird_vertices, bird_count);        // the flock
+  draw(pipelines[2], sets[2], r.box_vertices, r.branch_count);     // branches
+  if (view.show_targets) draw(pipelines[3], sets[1], r.sphere_vertices, r.target_count);
+  vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace aeroflock::render
