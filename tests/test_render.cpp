@@ -1,0 +1,130 @@
+// Headless rendering: the image has the asked size, the birds are drawn where their state says
+// (projected with the same camera), and a bird with its wings up draws differently from one with
+// its wings down. Validation on.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include <glm/vec4.hpp>
+
+#include "gpu/compute.h"
+#include "gpu/device.h"
+#include "gpu/gpu_simulation.h"
+#include "io/scenario_file.h"
+#include "model/constants.h"
+#include "model/simulation.h"
+#include "render/offscreen.h"
+#include "render/renderer.h"
+
+namespace aeroflock {
+namespace {
+
+std::unique_ptr<gpu::Device> open_device() {
+  try {
+    if (gpu::Device::list_devices().empty()) return nullptr;
+    gpu::DeviceOptions options = gpu::headless(-1, true);
+    options.graphics = true;
+    return std::make_unique<gpu::Device>(options);
+  } catch (const gpu::Error&) {
+    return nullptr;
+  }
+}
+
+struct Image {
+  uint32_t width, height;
+  std::vector<uint8_t> rgba;
+  glm::ivec3 at(int x, int y) const {
+    const size_t i = (size_t(y) * width + x) * 4;
+    return {rgba[i], rgba[i + 1], rgba[i + 2]};
+  }
+};
+
+// Renders the birds of `sim` as they are, seen by `camera`.
+Image render(const gpu::Device& device, gpu::GpuSimulation& sim, const render::Camera& camera,
+             VkExtent2D size) {
+  render::Renderer renderer(device, sim.scenario(), render::Offscreen::kFormat, size);
+  render::Offscreen target(device, size);
+  gpu::Submitter submitter(device, 1);
+  render::View view;
+  view.camera = camera;
+  view.show_targets = false;
+  sim.birds();  // the last frame has finished
+  submitter.run([&](VkCommandBuffer cmd) {
+    renderer.record(cmd, target.image(), target.view(), sim.bird_buffer(), sim.bird_count(),
+                    sim.world(), view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    target.record_copy(cmd);
+  });
+  return {size.width, size.height, target.pixels()};
+}
+
+// Pixel coordinates of a world point.
+glm::vec2 project(const render::Camera& camera, VkExtent2D size, const glm::dvec3& p) {
+  const glm::vec4 clip = camera.view_projection(float(size.width) / size.height) * glm::vec4(glm::vec3(p), 1.0f);
+  const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+  return {(ndc.x * 0.5f + 0.5f) * size.width, (ndc.y * 0.5f + 0.5f) * size.height};
+}
+
+// Pixels within `radius` of `centre` that differ from the same pixels of `background`.
+int changed_near(const Image& image, const Image& background, glm::vec2 centre, int radius) {
+  int changed = 0;
+  for (int y = int(centre.y) - radius; y <= int(centre.y) + radius; ++y)
+    for (int x = int(centre.x) - radius; x <= int(centre.x) + radius; ++x) {
+      if (x < 0 || y < 0 || x >= int(image.width) || y >= int(image.height)) continue;
+      const glm::ivec3 d = image.at(x, y) - background.at(x, y);
+      if (std::abs(d.x) + std::abs(d.y) + std::abs(d.z) > 30) ++changed;
+    }
+  return changed;
+}
+
+TEST(Render, BirdsAreWhereTheirStateSays) {
+  const auto device = open_device();
+  if (!device) GTEST_SKIP() << "no Vulkan device";
+  const VkExtent2D size{320, 180};
+  Scenario scenario = load_scenario("fig16-circling-eagle");
+  gpu::GpuSimulation sim(*device, scenario, 1);
+  for (int i = 0; i < 20; ++i) sim.step_frame();
+  const glm::dvec3 bird = sim.birds()[0].position;
+  render::Camera camera;
+  camera.target = glm::vec3(bird);
+  camera.eye = glm::vec3(bird) + glm::vec3(-800.0f, 300.0f, -600.0f);
+  const Image image = render(*device, sim, camera, size);
+  ASSERT_EQ(image.rgba.size(), size.width * size.height * 4u);
+
+  // The same view with the bird moved far away: what is left is the background.
+  Scenario empty = scenario;
+  gpu::GpuSimulation away(*device, empty, std::vector<BirdState>{[&] {
+                            BirdState b = sim.birds()[0];
+                            b.position += glm::dvec3(0.0, 1e5, 0.0);
+                            return b;
+                          }()});
+  const Image background = render(*device, away, camera, size);
+  const glm::vec2 at = project(camera, size, bird);
+  EXPECT_GT(changed_near(image, background, at, 6), 10) << "bird pixels at " << at.x << ", " << at.y;
+  EXPECT_EQ(changed_near(image, background, {40, 40}, 6), 0) << "nothing drawn far from the bird";
+  EXPECT_EQ(device->validation_errors(), 0);
+}
+
+TEST(Render, WingsUpAndDownDrawDifferently) {
+  const auto device = open_device();
+  if (!device) GTEST_SKIP() << "no Vulkan device";
+  const VkExtent2D size{320, 180};
+  Scenario scenario = load_scenario("fig16-circling-eagle");
+  BirdState bird = spawn_birds(scenario)[0];
+  bird.amplitude = 1.0;
+  auto render_at_phase = [&](double phase) {
+    BirdState b = bird;
+    b.phase = phase;
+    gpu::GpuSimulation sim(*device, scenario, std::vector<BirdState>{b});
+    render::Camera camera;
+    camera.target = glm::vec3(b.position);
+    camera.eye = glm::vec3(b.position) + glm::vec3(600.0f, 0.0f, 0.0f);  // head on
+    return render(*device, sim, camera, size);
+  };
+  const Image up = render_at_phase(0.0), down = render_at_phase(kPi);
+  EXPECT_GT(changed_near(up, down, {160, 90}, 80), 50);
+  EXPECT_EQ(device->validation_errors(), 0);
+}
+
+}  // namespace
+}  // namespace aeroflock
