@@ -1,9 +1,13 @@
 # Runs the aeroflock program and checks what it did.
 #   -DAEROFLOCK=exe -DARGS="run;x.toml" -DEXPECT_RC=0|nonzero
 #   [-DEXPECT_STDERR=regex] [-DSUMMARY=file.json: must exist with every summary key]
+#   [-DPNG=file.png -DPNG_SIZE=WxH: must exist, a PNG of that size]
 string(REPLACE "," ";" args "${ARGS}")
 if(SUMMARY)
   file(REMOVE "${SUMMARY}")
+endif()
+if(PNG)
+  file(REMOVE "${PNG}")
 endif()
 execute_process(COMMAND "${AEROFLOCK}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                 ERROR_VARIABLE err)
@@ -25,4 +29,19 @@ if(SUMMARY)
       message(FATAL_ERROR "${SUMMARY}: no key ${key}")
     endif()
   endforeach()
+endif()
+if(PNG)
+  if(NOT EXISTS "${PNG}")
+    message(FATAL_ERROR "${PNG} was not written")
+  endif()
+  # Width and height: big-endian at bytes 16 and 20 of the IHDR chunk.
+  file(READ "${PNG}" header LIMIT 24 HEX)
+  string(SUBSTRING "${header}" 0 16 signature)
+  string(SUBSTRING "${header}" 32 8 w_hex)
+  string(SUBSTRING "${header}" 40 8 h_hex)
+  math(EXPR w "0x${w_hex}")
+  math(EXPR h "0x${h_hex}")
+  if(NOT signature STREQUAL "89504e470d0a1a0a" OR NOT "${w}x${h}" STREQUAL "${PNG_SIZE}")
+    message(FATAL_ERROR "${PNG}: expected a ${PNG_SIZE} PNG, got ${signature} ${w}x${h}")
+  endif()
 endif()

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "backend.h"
+#include "frame_output.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
 
@@ -32,6 +33,7 @@ struct RunOptions {
   std::optional<double> seconds;
   std::string summary;
   int threads = 0;
+  ImageOptions images;
 };
 
 int list_scenarios() {
@@ -123,8 +125,10 @@ int run(const RunOptions& opt) {
   summary.scenario = scenario.name;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
-  std::unique_ptr<Backend> backend =
-      make_backend({opt.backend, opt.birds, opt.device}, std::move(scenario));
+  std::unique_ptr<Backend> backend = make_backend(
+      {opt.backend, opt.birds, opt.device, opt.images.any()}, std::move(scenario));
+  std::unique_ptr<FrameOutput> images;
+  if (opt.images.any()) images = std::make_unique<FrameOutput>(opt.images, *backend);
   summary.backend = backend->name();
   summary.device = backend->device();
 
@@ -136,6 +140,7 @@ int run(const RunOptions& opt) {
   };
   for (uint64_t frame = 0; frame < frames; ++frame) {
     backend->step_frame();
+    if (images) images->frame(*backend, frame);
     const double w = wall();
     progress.update(backend->time(), seconds, birds,
                     w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
@@ -146,6 +151,7 @@ int run(const RunOptions& opt) {
   summary.steps = backend->steps();
   summary.sim_seconds = backend->time();
   summary.stats = flock_statistics(backend->birds());
+  if (images) images->finish(*backend);
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
   print_summary(summary, opt.summary);
   return 0;
@@ -177,6 +183,22 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file");
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(kPositive);
+  run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)");
+  run_cmd->add_option("--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png");
+  run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
+  run_cmd->add_option_function<std::string>(
+      "--size",
+      [&](const std::string& text) {
+        unsigned w = 0, h = 0;
+        char x = 0;
+        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 8192 || h > 8192)
+          throw CLI::ValidationError("--size", "expected WxH between 16x16 and 8192x8192, got " + text);
+        opt.images.width = w;
+        opt.images.height = h;
+      },
+      "Image size WxH (default 1280x720)");
 
   try {
     app.parse(argc, argv);

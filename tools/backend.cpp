@@ -35,6 +35,7 @@ class CpuBackend final : public Backend {
   double time() const override { return simulation_.time(); }
   uint64_t steps() const override { return simulation_.steps(); }
   const std::vector<BirdState>& birds() override { return simulation_.birds(); }
+  const Scenario& scenario() const override { return simulation_.scenario(); }
 
  private:
   Simulation simulation_;
@@ -45,7 +46,11 @@ class CpuBackend final : public Backend {
 class VulkanBackend final : public Backend {
  public:
   VulkanBackend(const BackendOptions& options, Scenario scenario)
-      : device_(gpu::headless(options.device, false)),
+      : device_([&] {
+          gpu::DeviceOptions o = gpu::headless(options.device, false);
+          o.graphics = options.graphics;
+          return o;
+        }()),
         simulation_(device_, std::move(scenario), options.birds) {}
   std::string name() const override { return "vulkan"; }
   std::string device() const override { return device_.name() + " (" + device_.driver() + ")"; }
@@ -53,6 +58,9 @@ class VulkanBackend final : public Backend {
   double time() const override { return simulation_.time(); }
   uint64_t steps() const override { return simulation_.steps(); }
   const std::vector<BirdState>& birds() override { return simulation_.birds(); }
+  const Scenario& scenario() const override { return simulation_.scenario(); }
+  gpu::GpuSimulation* gpu_simulation() override { return &simulation_; }
+  const gpu::Device* gpu_device() const override { return &device_; }
 
  private:
   gpu::Device device_;

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "gpu/device.h"
+#include "gpu/gpu_simulation.h"
 #include "model/bird.h"
 #include "model/scenario.h"
 
@@ -21,12 +23,17 @@ class Backend {
   virtual double time() const = 0;         // simulated seconds so far
   virtual uint64_t steps() const = 0;      // steps per bird so far
   virtual const std::vector<BirdState>& birds() = 0;
+  virtual const Scenario& scenario() const = 0;
+  // The compute backend's simulation (its birds already on the device), or nullptr.
+  virtual gpu::GpuSimulation* gpu_simulation() { return nullptr; }
+  virtual const gpu::Device* gpu_device() const { return nullptr; }
 };
 
 struct BackendOptions {
   std::string name = "vulkan";
   uint32_t birds = 0;  // > 0: override the scenario's flock sizes
   int device = -1;     // Vulkan device index (-1: prefer a real GPU)
+  bool graphics = false;  // the Vulkan device will also render
 };
 
 // The Vulkan devices, one line each, for `aeroflock devices`.

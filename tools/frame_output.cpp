@@ -1,0 +1,177 @@
+#include "frame_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "gpu/compute.h"
+#include "gpu/layout.h"
+#include "io/image.h"
+#include "render/offscreen.h"
+#include "render/renderer.h"
+
+namespace aeroflock {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool has_program(const char* name) {
+  const std::string command = std::string("command -v ") + name + " >/dev/null 2>&1";
+  return std::system(command.c_str()) == 0;
+}
+
+void check_writable_dir(const fs::path& dir, const char* option) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(std::string(option) + " " + dir.string() + ": " + ec.message());
+  const fs::path probe = dir / ".aeroflock-probe";
+  FILE* f = std::fopen(probe.c_str(), "w");
+  if (!f) throw std::runtime_error(std::string(option) + " " + dir.string() + ": cannot write there");
+  std::fclose(f);
+  fs::remove(probe, ec);
+}
+
+// Looks at the flock from behind and above, far enough to see all of it; eases between frames.
+class AutoCamera {
+ public:
+  render::Camera update(const std::vector<BirdState>& birds) {
+    glm::dvec3 centre{0.0};
+    size_t n = 0;
+    for (const BirdState& b : birds)
+      if (std::isfinite(b.position.x)) centre += b.position, ++n;
+    if (n > 0) centre /= double(n);
+    double radius = 0.0;
+    for (const BirdState& b : birds)
+      if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
+    radius = std::clamp(radius, 200.0, 1e5);
+    const float ease = first_ ? 1.0f : 0.1f;
+    first_ = false;
+    centre_ = glm::mix(centre_, glm::vec3(centre), ease);
+    radius_ = radius_ + ease * (float(radius) - radius_);
+    render::Camera camera;
+    camera.target = centre_;
+    camera.eye = centre_ + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
+    return camera;
+  }
+
+ private:
+  bool first_ = true;
+  glm::vec3 centre_{0.0f};
+  float radius_ = 0.0f;
+};
+
+}  // namespace
+
+struct FrameOutput::Impl {
+  ImageOptions options;
+  // A device of our own where the backend has none (the CPU reference), with a bird buffer.
+  std::unique_ptr<gpu::Device> own_device;
+  std::unique_ptr<gpu::Buffer> own_birds;
+  const gpu::Device* device = nullptr;
+  std::unique_ptr<render::Renderer> renderer;
+  std::unique_ptr<render::Offscreen> target;
+  std::unique_ptr<gpu::Submitter> submitter;
+  AutoCamera camera;
+  FILE* video = nullptr;
+
+  Impl(const ImageOptions& o, Backend& backend) : options(o) {
+    if (!options.png.empty()) {
+      const fs::path dir = fs::path(options.png).parent_path();
+      check_writable_dir(dir.empty() ? "." : dir, "--png");
+    }
+    if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
+    if (!options.video.empty()) {
+      if (!has_program("ffmpeg"))
+        throw std::runtime_error("--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
+      const fs::path dir = fs::path(options.video).parent_path();
+      check_writable_dir(dir.empty() ? "." : dir, "--video");
+    }
+    device = backend.gpu_device();
+    if (!device) {
+      gpu::DeviceOptions d = gpu::headless(-1, false);
+      d.graphics = true;
+      own_device = std::make_unique<gpu::Device>(d);
+      device = own_device.get();
+      own_birds = std::make_unique<gpu::Buffer>(
+          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird), gpu::Memory::host);
+    }
+    const VkExtent2D size{options.width, options.height};
+    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    target = std::make_unique<render::Offscreen>(*device, size);
+    submitter = std::make_unique<gpu::Submitter>(*device, 1);
+    if (!options.video.empty()) {
+      const std::string command = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
+                                  std::to_string(options.width) + "x" + std::to_string(options.height) +
+                                  " -r 40 -i - -pix_fmt yuv420p '" + options.video + "'";
+      video = popen(command.c_str(), "w");
+      if (!video) throw std::runtime_error("--video: cannot start ffmpeg");
+    }
+  }
+
+  ~Impl() {
+    if (video) pclose(video);
+  }
+
+  std::vector<uint8_t> render(Backend& backend) {
+    const std::vector<BirdState>& birds = backend.birds();  // waits for the frame
+    const gpu::Buffer* bird_buffer = nullptr;
+    uint32_t count = 0;
+    if (gpu::GpuSimulation* sim = backend.gpu_simulation()) {
+      bird_buffer = &sim->bird_buffer();
+      count = sim->bird_count();
+    } else {
+      std::vector<gpu::GpuBird> packed;
+      for (const BirdState& b : birds) packed.push_back(gpu::pack(b));
+      own_birds->upload(std::as_bytes(std::span<const gpu::GpuBird>(packed)));
+      bird_buffer = own_birds.get();
+      count = uint32_t(packed.size());
+    }
+    render::View view;
+    view.camera = camera.update(birds);
+    view.time = float(backend.time());
+    World world = backend.scenario().world;
+    world.move_targets(backend.time());
+    submitter->run([&](VkCommandBuffer cmd) {
+      renderer->record(cmd, target->image(), target->view(), *bird_buffer, count, world, view,
+                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      target->record_copy(cmd);
+    });
+    return target->pixels();
+  }
+};
+
+FrameOutput::FrameOutput(const ImageOptions& options, Backend& backend)
+    : impl_(std::make_unique<Impl>(options, backend)) {}
+
+FrameOutput::~FrameOutput() = default;
+
+void FrameOutput::frame(Backend& backend, uint64_t index) {
+  Impl& o = *impl_;
+  const bool to_dir = !o.options.frames_dir.empty() && index % o.options.every == 0;
+  if (!to_dir && !o.video) return;
+  const std::vector<uint8_t> pixels = o.render(backend);
+  if (to_dir) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(index / o.options.every));
+    write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
+  }
+  if (o.video && std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())
+    throw std::runtime_error("--video: ffmpeg stopped taking frames");
+}
+
+void FrameOutput::finish(Backend& backend) {
+  Impl& o = *impl_;
+  if (!o.options.png.empty())
+    write_png(o.options.png, o.options.width, o.options.height, o.render(backend));
+  if (o.video) {
+    const int status = pclose(o.video);
+    o.video = nullptr;
+    if (status != 0) throw std::runtime_error("--video: ffmpeg failed writing " + o.options.video);
+  }
+}
+
+}  // namespace aeroflock

@@ -1,0 +1,38 @@
+// Images of a run without a window: the last frame as a PNG, every K-th frame into a directory,
+// or a video through ffmpeg. Rendered offscreen from the birds' state.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "backend.h"
+
+namespace aeroflock {
+
+struct ImageOptions {
+  std::string png;         // the last frame
+  std::string frames_dir;  // every `every`-th frame as frame_000000.png, ...
+  uint32_t every = 1;
+  std::string video;       // FILE.mp4, through ffmpeg
+  uint32_t width = 1280, height = 720;
+  bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
+};
+
+class FrameOutput {
+ public:
+  // Checks that every output can be written (and that ffmpeg exists for a video) before the run.
+  FrameOutput(const ImageOptions& options, Backend& backend);
+  ~FrameOutput();
+  // After frame `index` (0-based) of the run.
+  void frame(Backend& backend, uint64_t index);
+  // After the last frame: writes --png and closes the video.
+  void finish(Backend& backend);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace aeroflock
