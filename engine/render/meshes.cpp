@@ -11,16 +11,17 @@ namespace {
 
 using glm::vec3;
 
-// A flat-shaded triangle of part `part`.
-void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part) {
+// A flat-shaded triangle of part `part`; `detail` triangles are left out of distant birds.
+void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part, bool detail = false) {
   vec3 n = glm::cross(b - a, c - a);
   n = glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0, 1, 0);
-  for (const vec3& p : {a, b, c}) out.push_back({glm::vec4(p, part), glm::vec4(n, 0.0f)});
+  for (const vec3& p : {a, b, c}) out.push_back({glm::vec4(p, part), glm::vec4(n, detail ? 1.0f : 0.0f)});
 }
 
+// Two triangles; the second is detail (a distant wing is one triangle).
 void quad(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, vec3 d, float part) {
   triangle(out, a, b, c, part);
-  triangle(out, a, c, d, part);
+  triangle(out, a, c, d, part, true);
 }
 
 }  // namespace
@@ -32,8 +33,8 @@ std::vector<MeshVertex> bird_mesh() {
       right(0.1f, 0, 0.5f), left(0.1f, 0, -0.5f);
   for (const auto& [a, b] : std::array<std::pair<vec3, vec3>, 4>{
            {{top, right}, {right, bottom}, {bottom, left}, {left, top}}}) {
-    triangle(v, head, a, b, 0.0f);
-    triangle(v, tail, b, a, 0.0f);
+    triangle(v, head, a, b, 0.0f, true);
+    triangle(v, tail, b, a, 0.0f, true);
   }
   for (float side : {0.0f, 4.0f}) {
     // Arm: a rectangle. Hand: tapering to a point at the tip, swept back.
@@ -42,7 +43,7 @@ std::vector<MeshVertex> bird_mesh() {
   }
   // Tail: a fan of four slices, radius fraction 0..1, angle fraction -0.5..0.5.
   for (int i = 0; i < 4; ++i)
-    triangle(v, {0, 0, 0}, {1, 0, -0.5f + 0.25f * i}, {1, 0, -0.25f + 0.25f * i}, 3.0f);
+    triangle(v, {0, 0, 0}, {1, 0, -0.5f + 0.25f * i}, {1, 0, -0.25f + 0.25f * i}, 3.0f, true);
   return v;
 }
 

@@ -10,7 +10,7 @@ namespace aeroflock::render {
 
 struct MeshVertex {
   glm::vec4 position;  // xyz, w: the bird part (see bird.vert) as a float
-  glm::vec4 normal;    // xyz
+  glm::vec4 normal;    // xyz, w: 1 for detail left out of distant birds
 };
 
 // Body (a unit double pyramid, scaled to a x b x b), arm and hand (span 0..1 along z, chord

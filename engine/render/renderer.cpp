@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <vector>
@@ -8,6 +9,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "gpu/compute.h"
 #include "gpu/error.h"
 #include "gpu/layout.h"
 #include "gpu/shaders.h"
@@ -20,9 +22,12 @@ using gpu::Buffer;
 using gpu::check;
 using gpu::Memory;
 
-constexpr uint32_t kBindings = 7;  // birds, species, targets, routes, route targets, branches, mesh
+// birds, species, targets, poses (the routes' binding in the compute shaders), -, branches, mesh
+constexpr uint32_t kBindings = 7;
+constexpr uint32_t kPoseBytes = 19 * 16;  // shaders/render/pose.comp: struct Pose
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr float kDetailPixels = 16.0f;  // narrower birds are drawn with four triangles
 
 // The push constants of shaders/render/frame.glsl.
 struct FrameConstants {
@@ -30,7 +35,8 @@ struct FrameConstants {
   glm::vec4 eye;        // xyz, w time
   glm::vec4 sun;        // xyz towards the sun, w fog density
   glm::vec4 fog_color;  // rgb, w ground height
-  uint32_t instance_offset = 0, pad0 = 0, pad1 = 0, pad2 = 0;
+  float lod_scale = 0.0f;  // birds narrower than kDetailPixels on screen lose their detail
+  uint32_t pad0 = 0, pad1 = 0, pad2 = 0;
 };
 static_assert(sizeof(FrameConstants) == 128);
 
@@ -71,6 +77,11 @@ struct Renderer::Impl {
   Buffer species, targets, branches, unused, bird_mesh, sphere, box;
   uint32_t bird_vertices, sphere_vertices, box_vertices, target_count, branch_count;
   float ground_height;
+  // Each bird's pose for drawing, computed once a frame by pose.comp.
+  std::unique_ptr<Buffer> poses;
+  uint32_t pose_capacity = 0;
+  gpu::ComputePipeline pose_pipeline;
+  std::map<VkBuffer, VkDescriptorSet> pose_sets;  // by bird buffer
   VkImage depth_image = VK_NULL_HANDLE;
   VkDeviceMemory depth_memory = VK_NULL_HANDLE;
   VkImageView depth_view = VK_NULL_HANDLE;
@@ -102,7 +113,8 @@ struct Renderer::Impl {
         box_vertices(uint32_t(box_mesh().size())),
         target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
         branch_count(uint32_t(scenario.world.branches.size())),
-        ground_height(float(scenario.world.ground_height)) {
+        ground_height(float(scenario.world.ground_height)),
+        pose_pipeline(d, gpu::shader_spirv("pose"), kBindings, sizeof(uint32_t), 16) {
     create_depth();
     create_layouts();
   }
@@ -334,6 +346,23 @@ struct Renderer::Impl {
     return framebuffers[key] = fb;
   }
 
+  // Makes room for `count` poses; the descriptor sets that name the old buffer go.
+  void reserve_poses(uint32_t count) {
+    if (count <= pose_capacity && poses) return;
+    vkDeviceWaitIdle(device.handle());
+    pose_capacity = std::max({count, 2 * pose_capacity, 1024u});
+    poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * kPoseBytes, Memory::device_local);
+    check(vkResetDescriptorPool(device.handle(), pool, 0), "vkResetDescriptorPool");
+    sets.clear();
+    pose_sets.clear();
+  }
+
+  VkDescriptorSet pose_set_for(const Buffer& birds) {
+    if (auto it = pose_sets.find(birds.handle()); it != pose_sets.end()) return it->second;
+    return pose_sets[birds.handle()] =
+               pose_pipeline.make_set({&birds, &species, &targets, &unused, &unused, &branches, poses.get()});
+  }
+
   const std::array<VkDescriptorSet, 3>& sets_for(const Buffer& birds) {
     if (auto it = sets.find(birds.handle()); it != sets.end()) return it->second;
     std::array<VkDescriptorSet, 3> result{};
@@ -344,7 +373,7 @@ struct Renderer::Impl {
       alloc.descriptorSetCount = 1;
       alloc.pSetLayouts = &set_layout;
       check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
-      const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, &unused,
+      const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, poses.get(),
                                                             &unused, &branches, meshes[m]};
       std::array<VkDescriptorBufferInfo, kBindings> infos{};
       std::array<VkWriteDescriptorSet, kBindings> writes{};
@@ -376,8 +405,15 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
                       const gpu::Buffer& birds, uint32_t bird_count, const World& world,
                       const View& view, VkImageLayout final_layout) {
   Impl& r = *impl_;
+  r.reserve_poses(bird_count);
   const auto& pipelines = r.pipelines_for(final_layout);
   const auto& sets = r.sets_for(birds);
+
+  // Each bird's pose, once (after the simulation's writes to the birds).
+  gpu::barrier_to_compute(cmd);
+  if (bird_count > 0)
+    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, 64), &bird_count,
+                             sizeof bird_count);
 
   // The targets where they are now, written in the command stream (no host race with frames in
   // flight); then every earlier write (compute, transfer) before the vertex shaders read.
@@ -417,6 +453,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   frame.eye = glm::vec4(view.camera.eye, view.time);
   frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);
   frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
+  const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * view.camera.fov_y);
+  frame.lod_scale = focal_pixels / kDetailPixels;
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof frame, &frame);
   auto draw = [&](VkPipeline pipeline, VkDescriptorSet set, uint32_t vertices, uint32_t instances) {

@@ -5,14 +5,12 @@
 
 #include "frame.glsl"
 
-layout(location = 0) in vec2 in_ndc;
+layout(location = 0) in vec3 in_ray;
 layout(location = 0) out vec4 out_color;
 
 
 void main() {
-  mat4 inverse_vp = inverse(frame.view_projection);
-  vec4 far_point = inverse_vp * vec4(in_ndc, 1.0, 1.0);
-  vec3 ray = normalize(far_point.xyz / far_point.w - frame.eye.xyz);
+  vec3 ray = normalize(in_ray);
   float height = frame.eye.y - frame.fog_color.w;  // fog_color.w: ground height
   if (ray.y < 0.0 && height > 0.0) {
     float t = height / -ray.y;

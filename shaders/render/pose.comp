@@ -1,0 +1,83 @@
+#version 450
+// Each bird's pose for drawing, once per frame rather than once per vertex: the world transform
+// of its body, right arm, right hand and tail (the left wing is the right one mirrored in the
+// body frame), from its wingbeat phase, amplitude, tail and attitude.
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 64) in;
+
+#define BIRDS_ACCESS readonly
+#include "../compute/layout.glsl"
+
+// Six affine transforms (body, right arm, right hand, tail, left arm, left hand) of three rows
+// each, part-local to world, and the tail's opening (x).
+struct Pose {
+  vec4 rows[18];
+  vec4 tail;
+};
+layout(std430, set = 0, binding = 6) writeonly buffer Poses { Pose poses[]; };
+layout(push_constant) uniform Count { uint bird_count; } pc;
+
+vec3 rotate(vec4 q, vec3 v) {
+  vec3 t = 2.0 * cross(q.xyz, v);
+  return v + q.w * t + cross(q.xyz, t);
+}
+mat3 rot_x(float a) { float c = cos(a), s = sin(a); return mat3(1, 0, 0, 0, c, s, 0, -s, c); }
+mat3 rot_y(float a) { float c = cos(a), s = sin(a); return mat3(c, 0, -s, 0, 1, 0, s, 0, c); }
+mat3 rot_z(float a) { float c = cos(a), s = sin(a); return mat3(c, s, 0, -s, c, 0, 0, 0, 1); }
+
+void store(uint i, uint part, mat3 m, vec3 t) {
+  // Rows of the 3x4 matrix [m | t].
+  poses[i].rows[3 * part + 0] = vec4(m[0][0], m[1][0], m[2][0], t.x);
+  poses[i].rows[3 * part + 1] = vec4(m[0][1], m[1][1], m[2][1], t.y);
+  poses[i].rows[3 * part + 2] = vec4(m[0][2], m[1][2], m[2][2], t.z);
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.bird_count) return;
+  GpuBird b = birds[i];
+  Species s = species[b.ids.x >> 16];
+  uint mode = b.ids.x & 0xffu;
+  bool folded = mode == kPerched || mode == kStanding;
+  float phase = b.position_phase.w, amp = folded ? 0.0 : b.omega_amplitude.w;
+
+  vec4 q = b.attitude;
+  mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
+  vec3 position = b.position_phase.xyz;
+
+  // Body: the box a x b x b.
+  store(i, 0u, attitude * mat3(-2.0 * s.tail_hinge_x, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
+
+  // Wings: the model's joints (wingbeat.cpp), folded along the body when perched.
+  float hand_phase = phase - s.lag_hand;
+  float flap_arm = amp * s.A_arm * cos(phase) + s.flap_bias;
+  float flap_hand = amp * s.A_hand * cos(hand_phase);
+  float feather_arm = s.B_arm * sin(phase) - s.twist_bias;
+  float feather_hand = s.B_hand * sin(hand_phase);
+  float leadlag = s.C_leadlag * sin(phase);
+  if (folded) {
+    flap_arm = 0.0; flap_hand = 0.0; feather_arm = 0.0; feather_hand = 0.0; leadlag = -1.3;
+  }
+  mat3 shoulder = rot_y(leadlag) * rot_x(-flap_arm);
+  vec3 shoulder_at = vec3(s.shoulder_x, 0.0, s.shoulder_z);
+  // Segment meshes span z in 0..1 and chord x in -0.5..0.5: scale by length and mean chord.
+  mat3 arm_scale = mat3(s.arm_area / s.arm_length, 0, 0, 0, 1, 0, 0, 0, s.arm_length);
+  mat3 hand_scale = mat3(s.hand_area / s.hand_length, 0, 0, 0, 1, 0, 0, 0, s.hand_length);
+  mat3 arm = shoulder * rot_z(-feather_arm);
+  mat3 hand = shoulder * rot_x(-flap_hand) * rot_z(-(feather_arm + feather_hand));
+  vec3 wrist = shoulder_at + shoulder * vec3(0.0, 0.0, s.arm_length);
+  store(i, 1u, attitude * arm * arm_scale, position + attitude * shoulder_at);
+  store(i, 2u, attitude * hand * hand_scale, position + attitude * wrist);
+  // The left wing: the right one mirrored through the body's x-y plane.
+  mat3 mirror = mat3(1, 0, 0, 0, 1, 0, 0, 0, -1);
+  store(i, 4u, attitude * mirror * arm * arm_scale, position + attitude * (mirror * shoulder_at));
+  store(i, 5u, attitude * mirror * hand * hand_scale, position + attitude * (mirror * wrist));
+
+  // Tail: hinged at x = -a/2, bent up by incidence + bend, twisted about x; scaled by lr.
+  float lr = sqrt(2.0 * s.tail_area_per_radian);
+  mat3 tail = rot_x(b.tail_times.y) * rot_z(-(s.tail_incidence + b.tail_times.x));
+  store(i, 3u, attitude * tail * lr, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
+  poses[i].tail = vec4(s.Ct * max(abs(b.tail_times.x), abs(b.tail_times.y)) + s.tail_min,
+                       uintBitsToFloat(b.ids.x >> 16), 0.0, 0.0);
+}
