@@ -47,6 +47,13 @@ std::vector<MeshVertex> bird_mesh() {
   return v;
 }
 
+std::vector<MeshVertex> distant_bird_mesh() {
+  std::vector<MeshVertex> out;
+  for (const MeshVertex& v : bird_mesh())
+    if (v.normal.w == 0.0f) out.push_back(v);
+  return out;
+}
+
 std::vector<MeshVertex> sphere_mesh() {
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
   const std::array<vec3, 12> p = {vec3(-1, t, 0), vec3(1, t, 0), vec3(-1, -t, 0), vec3(1, -t, 0),

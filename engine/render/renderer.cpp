@@ -22,8 +22,11 @@ using gpu::Buffer;
 using gpu::check;
 using gpu::Memory;
 
-// birds, species, targets, poses (the routes' binding in the compute shaders), -, branches, mesh
+// birds, species, targets, poses (the routes' binding in the compute shaders), the detailed and
+// distant bird lists, branches, mesh
 constexpr uint32_t kBindings = 7;
+// pose.comp: the same first six, then poses, lists and the two draws' arguments.
+constexpr uint32_t kPoseBindings = 9;
 constexpr uint32_t kPoseBytes = 19 * 16;  // shaders/render/pose.comp: struct Pose
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
@@ -35,10 +38,18 @@ struct FrameConstants {
   glm::vec4 eye;        // xyz, w time
   glm::vec4 sun;        // xyz towards the sun, w fog density
   glm::vec4 fog_color;  // rgb, w ground height
-  float lod_scale = 0.0f;  // birds narrower than kDetailPixels on screen lose their detail
+  uint32_t list_offset = 0;  // where the draw's birds start in the lists
   uint32_t pad0 = 0, pad1 = 0, pad2 = 0;
 };
 static_assert(sizeof(FrameConstants) == 128);
+
+// The push constants of shaders/render/pose.comp.
+struct PoseConstants {
+  glm::vec4 eye;
+  uint32_t bird_count, capacity;
+  float lod_scale;  // a bird farther than its span times this is distant
+  uint32_t pad = 0;
+};
 
 template <class T>
 Buffer buffer_of(const gpu::Device& device, const std::vector<T>& items) {
@@ -75,10 +86,10 @@ struct Renderer::Impl {
   // Buffers the renderer owns (species, targets now, branches, meshes) and a stand-in for the
   // routing tables the render shaders declare but do not read.
   Buffer species, targets, branches, unused, bird_mesh, sphere, box;
-  uint32_t bird_vertices, sphere_vertices, box_vertices, target_count, branch_count;
+  uint32_t bird_vertices, distant_vertices, sphere_vertices, box_vertices, target_count, branch_count;
   float ground_height;
   // Each bird's pose for drawing, computed once a frame by pose.comp.
-  std::unique_ptr<Buffer> poses;
+  std::unique_ptr<Buffer> poses, lists, draws;
   uint32_t pose_capacity = 0;
   gpu::ComputePipeline pose_pipeline;
   std::map<VkBuffer, VkDescriptorSet> pose_sets;  // by bird buffer
@@ -105,16 +116,21 @@ struct Renderer::Impl {
         targets(d, kMaxTargets * sizeof(gpu::GpuTarget), Memory::device_local),
         branches(buffer_of(d, gpu::pack(scenario.world).branches)),
         unused(d, 16, Memory::device_local),
-        bird_mesh(buffer_of(d, render::bird_mesh())),
+        bird_mesh(buffer_of(d, [] {
+          std::vector<MeshVertex> both = render::bird_mesh(), distant = distant_bird_mesh();
+          both.insert(both.end(), distant.begin(), distant.end());
+          return both;
+        }())),
         sphere(buffer_of(d, sphere_mesh())),
         box(buffer_of(d, box_mesh())),
         bird_vertices(uint32_t(render::bird_mesh().size())),
+        distant_vertices(uint32_t(distant_bird_mesh().size())),
         sphere_vertices(uint32_t(sphere_mesh().size())),
         box_vertices(uint32_t(box_mesh().size())),
         target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
         branch_count(uint32_t(scenario.world.branches.size())),
         ground_height(float(scenario.world.ground_height)),
-        pose_pipeline(d, gpu::shader_spirv("pose"), kBindings, sizeof(uint32_t), 16) {
+        pose_pipeline(d, gpu::shader_spirv("pose"), kPoseBindings, sizeof(PoseConstants), 16) {
     create_depth();
     create_layouts();
   }
@@ -352,6 +368,8 @@ struct Renderer::Impl {
     vkDeviceWaitIdle(device.handle());
     pose_capacity = std::max({count, 2 * pose_capacity, 1024u});
     poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * kPoseBytes, Memory::device_local);
+    lists = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * 2 * sizeof(uint32_t), Memory::device_local);
+    draws = std::make_unique<Buffer>(device, 2 * sizeof(VkDrawIndirectCommand), Memory::device_local);
     check(vkResetDescriptorPool(device.handle(), pool, 0), "vkResetDescriptorPool");
     sets.clear();
     pose_sets.clear();
@@ -360,7 +378,8 @@ struct Renderer::Impl {
   VkDescriptorSet pose_set_for(const Buffer& birds) {
     if (auto it = pose_sets.find(birds.handle()); it != pose_sets.end()) return it->second;
     return pose_sets[birds.handle()] =
-               pose_pipeline.make_set({&birds, &species, &targets, &unused, &unused, &branches, poses.get()});
+               pose_pipeline.make_set({&birds, &species, &targets, &unused, &unused, &branches,
+                                       poses.get(), lists.get(), draws.get()});
   }
 
   const std::array<VkDescriptorSet, 3>& sets_for(const Buffer& birds) {
@@ -374,7 +393,7 @@ struct Renderer::Impl {
       alloc.pSetLayouts = &set_layout;
       check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
       const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, poses.get(),
-                                                            &unused, &branches, meshes[m]};
+                                                            lists.get(), &branches, meshes[m]};
       std::array<VkDescriptorBufferInfo, kBindings> infos{};
       std::array<VkWriteDescriptorSet, kBindings> writes{};
       for (uint32_t i = 0; i < kBindings; ++i) {
@@ -409,11 +428,19 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   const auto& pipelines = r.pipelines_for(final_layout);
   const auto& sets = r.sets_for(birds);
 
-  // Each bird's pose, once (after the simulation's writes to the birds).
+  // Each bird's pose, once, and into the detailed or the distant draw by its size on screen
+  // (after the simulation's writes to the birds).
+  const std::array<VkDrawIndirectCommand, 2> empty_draws = {
+      VkDrawIndirectCommand{r.bird_vertices, 0, 0, 0},
+      VkDrawIndirectCommand{r.distant_vertices, 0, r.bird_vertices, 0}};
+  vkCmdUpdateBuffer(cmd, r.draws->handle(), 0, sizeof empty_draws, empty_draws.data());
   gpu::barrier_to_compute(cmd);
+  const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * view.camera.fov_y);
+  const PoseConstants pose{glm::vec4(view.camera.eye, 0.0f), bird_count, r.pose_capacity,
+                           focal_pixels / kDetailPixels};
   if (bird_count > 0)
-    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, 64), &bird_count,
-                             sizeof bird_count);
+    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, 64), &pose,
+                             sizeof pose);
 
   // The targets where they are now, written in the command stream (no host race with frames in
   // flight); then every earlier write (compute, transfer) before the vertex shaders read.
@@ -429,9 +456,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   }
   VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+  barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                        0, 1, &barrier, 0, nullptr, 0, nullptr);
 
   VkClearValue clears[2] = {};
@@ -453,8 +481,6 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   frame.eye = glm::vec4(view.camera.eye, view.time);
   frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);
   frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
-  const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * view.camera.fov_y);
-  frame.lod_scale = focal_pixels / kDetailPixels;
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof frame, &frame);
   auto draw = [&](VkPipeline pipeline, VkDescriptorSet set, uint32_t vertices, uint32_t instances) {
@@ -464,7 +490,17 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     vkCmdDraw(cmd, vertices, instances, 0, 0);
   };
   draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
-  draw(pipelines[1], sets[0], r.bird_vertices, bird_count);        // the flock
+  // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
+  if (bird_count > 0) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[1]);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets[0], 0, nullptr);
+    for (uint32_t list = 0; list < 2; ++list) {
+      frame.list_offset = list * r.pose_capacity;
+      vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                         sizeof frame, &frame);
+      vkCmdDrawIndirect(cmd, r.draws->handle(), list * sizeof(VkDrawIndirectCommand), 1, 0);
+    }
+  }
   draw(pipelines[2], sets[2], r.box_vertices, r.branch_count);     // branches
   if (view.show_targets) draw(pipelines[3], sets[1], r.sphere_vertices, r.target_count);
   vkCmdEndRenderPass(cmd);

@@ -4,7 +4,7 @@ layout(push_constant) uniform Frame {
   vec4 eye;        // xyz camera position (cm), w time (s)
   vec4 sun;        // xyz direction towards the sun, w fog density (1/cm)
   vec4 fog_color;  // rgb, w unused
-  float lod_scale;  // pixels across per cm at 1 cm distance / the smallest detailed bird (px)
+  uint list_offset;  // where the draw's birds start in the lists (bird.vert)
   uint pad0, pad1, pad2;
 } frame;
 

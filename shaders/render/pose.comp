@@ -16,7 +16,19 @@ struct Pose {
   vec4 tail;
 };
 layout(std430, set = 0, binding = 6) writeonly buffer Poses { Pose poses[]; };
-layout(push_constant) uniform Count { uint bird_count; } pc;
+// Two draws (detailed, distant), each drawing the birds of its list.
+struct DrawCommand {
+  uint vertex_count, instance_count, first_vertex, first_instance;
+};
+layout(std430, set = 0, binding = 7) writeonly buffer Lists { uint lists[]; };
+layout(std430, set = 0, binding = 8) buffer Draws { DrawCommand draws[2]; };
+layout(push_constant) uniform Constants {
+  vec4 eye;          // xyz camera position
+  uint bird_count;
+  uint capacity;     // of each list
+  float lod_scale;   // a bird farther than span * lod_scale is distant
+  uint pad;
+} pc;
 
 vec3 rotate(vec4 q, vec3 v) {
   vec3 t = 2.0 * cross(q.xyz, v);
@@ -78,6 +90,11 @@ void main() {
   float lr = sqrt(2.0 * s.tail_area_per_radian);
   mat3 tail = rot_x(b.tail_times.y) * rot_z(-(s.tail_incidence + b.tail_times.x));
   store(i, 3u, attitude * tail * lr, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
+  // Detailed or distant: how wide the bird is on screen (its span about three body lengths).
+  float span = 3.0 * -2.0 * s.tail_hinge_x;
+  uint list = distance(position, pc.eye.xyz) > span * pc.lod_scale ? 1u : 0u;
+  lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
+
   poses[i].tail = vec4(s.Ct * max(abs(b.tail_times.x), abs(b.tail_times.y)) + s.tail_min,
                        uintBitsToFloat(b.ids.x >> 16), 0.0, 0.0);
 }
