@@ -1,4 +1,4 @@
-// aeroflock: list the built-in scenarios, or run one and summarise it.
+// aeroflock: list the built-in scenarios, run one and summarise it, or watch it in a window.
 #include <omp.h>
 #include <unistd.h>
 
@@ -19,6 +19,7 @@
 #include "frame_output.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
+#include "render/viewer.h"
 
 namespace aeroflock {
 namespace {
@@ -34,6 +35,11 @@ struct RunOptions {
   std::string summary;
   int threads = 0;
   ImageOptions images;
+};
+
+struct ViewOptions {
+  std::string scenario = "default";
+  render::ViewerOptions viewer;
 };
 
 int list_scenarios() {
@@ -157,6 +163,27 @@ int run(const RunOptions& opt) {
   return 0;
 }
 
+int view(const ViewOptions& opt) {
+  Scenario scenario = load_scenario(opt.scenario);
+  std::cout << render::viewer_keys() << std::endl;
+  return render::run_viewer(std::move(scenario), opt.viewer);
+}
+
+// --size WxH into `width` and `height`.
+void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const char* what) {
+  app->add_option_function<std::string>(
+      "--size",
+      [&width, &height](const std::string& text) {
+        unsigned w = 0, h = 0;
+        char x = 0;
+        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 8192 || h > 8192)
+          throw CLI::ValidationError("--size", "expected WxH between 16x16 and 8192x8192, got " + text);
+        width = w;
+        height = h;
+      },
+      what);
+}
+
 }  // namespace
 }  // namespace aeroflock
 
@@ -188,17 +215,19 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
-  run_cmd->add_option_function<std::string>(
-      "--size",
-      [&](const std::string& text) {
-        unsigned w = 0, h = 0;
-        char x = 0;
-        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 8192 || h > 8192)
-          throw CLI::ValidationError("--size", "expected WxH between 16x16 and 8192x8192, got " + text);
-        opt.images.width = w;
-        opt.images.height = h;
-      },
-      "Image size WxH (default 1280x720)");
+  add_size_option(run_cmd, opt.images.width, opt.images.height, "Image size WxH (default 1280x720)");
+
+  ViewOptions view_opt;
+  CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
+  view_cmd->add_option("scenario", view_opt.scenario, "A built-in scenario name or a FILE.toml")
+      ->capture_default_str();
+  view_cmd->add_option("--device", view_opt.viewer.device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(CLI::NonNegativeNumber);
+  view_cmd->add_option("--birds", view_opt.viewer.birds, "Birds in all, shared over the flocks in proportion")
+      ->check(kPositive);
+  add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height, "Window size WxH (default 1280x720)");
+  view_cmd->add_option("--frames", view_opt.viewer.frames, "Close the window after N frames (for tests)")
+      ->check(kPositive);
 
   try {
     app.parse(argc, argv);
@@ -211,6 +240,7 @@ int main(int argc, char** argv) {
       for (const std::string& line : vulkan_devices()) std::cout << line << "\n";
       return 0;
     }
+    if (view_cmd->parsed()) return view(view_opt);
     return run(opt);
   } catch (const ScenarioError& e) {
     std::cerr << e.what() << "\n";  // already "FILE:LINE:COLUMN: error: ..."

@@ -1,0 +1,304 @@
+#include "render/viewer.h"
+
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "gpu/gpu_simulation.h"
+#include "render/camera_control.h"
+#include "render/frame_ring.h"
+#include "render/renderer.h"
+#include "render/swapchain.h"
+#include "render/window.h"
+
+namespace aeroflock::render {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_between(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+// What the cameras need of the flock, from a readback now and then.
+struct FlockSnapshot {
+  glm::dvec3 centroid{0.0}, mean_velocity{0.0};  // of the finite birds
+  float radius = 0.0f;                           // rms distance from the centroid, cm
+  glm::dvec3 bird{0.0}, bird_velocity{0.0};      // the followed bird
+  double time = 0.0;                             // simulated time of the readback
+
+  // The centroid and the followed bird at simulated time `t`, carried on at their velocities.
+  glm::vec3 centroid_at(double t) const { return glm::vec3(centroid + mean_velocity * (t - time)); }
+  glm::vec3 bird_at(double t) const { return glm::vec3(bird + bird_velocity * (t - time)); }
+};
+
+FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, double time) {
+  FlockSnapshot s;
+  s.time = time;
+  glm::dvec3 sum(0.0), velocity(0.0);
+  size_t n = 0;
+  auto finite = [](const glm::dvec3& v) { return std::isfinite(v.x + v.y + v.z); };
+  auto usable = [&](const BirdState& b) { return finite(b.position) && finite(b.velocity); };
+  for (const BirdState& b : birds)
+    if (usable(b)) sum += b.position, velocity += b.velocity, ++n;
+  if (n == 0) return s;
+  const glm::dvec3 centroid = sum / double(n);
+  double spread = 0.0;
+  for (const BirdState& b : birds)
+    if (usable(b)) spread += glm::dot(b.position - centroid, b.position - centroid);
+  s.centroid = centroid;
+  s.mean_velocity = velocity / double(n);
+  s.radius = float(std::sqrt(spread / double(n)));
+  const BirdState& bird = birds.at(followed);
+  if (usable(bird)) {
+    s.bird = bird.position;
+    s.bird_velocity = bird.velocity;
+  } else {
+    s.bird = centroid;
+  }
+  return s;
+}
+
+// This frame's shader reads (the bird buffer, the renderer's targets) before the next frame
+// writes them: its compute step and the renderer's buffer updates.
+void barrier_reads_to_next_writes(VkCommandBuffer cmd) {
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 0, nullptr);
+}
+
+gpu::DeviceOptions window_device(const Window& window, int index) {
+  gpu::DeviceOptions o;
+  o.index = index;
+  o.graphics = true;
+  o.instance_extensions = window.instance_extensions();
+  o.surface = [&window](VkInstance instance) { return window.create_surface(instance); };
+  return o;
+}
+
+class Viewer {
+ public:
+  Viewer(Window& window, const gpu::Device& device, Scenario scenario,
+         const ViewerOptions& options);
+  void run();
+
+ private:
+  void handle(const Input& input, float seconds);
+  void read_flock();
+  void step_simulation();
+  void draw();
+  void recreate_swapchain();
+  void update_title(Clock::time_point now);
+
+  Window& window_;
+  const gpu::Device& device_;
+  ViewerOptions options_;
+  gpu::GpuSimulation sim_;
+  Swapchain swapchain_;
+  std::unique_ptr<Renderer> renderer_;
+  FrameRing frames_;  // after the renderer: waits for the device before anything is destroyed
+  CameraControl camera_;
+  View view_;
+
+  FlockSnapshot flock_;
+  uint32_t followed_ = 0;       // the bird the follow camera follows
+  uint64_t last_readback_ = 0;  // frame of the last readback
+  bool paused_ = false;
+  double speed_ = 1.0;          // scenario frames of steps per drawn frame
+  double pending_steps_ = 0.0;  // fractional steps carried to the next frame (slow motion)
+  bool swapchain_stale_ = false;
+
+  uint64_t frames_drawn_ = 0;
+  Clock::time_point title_time_;  // the title's last update, and what it counted since
+  uint64_t title_frames_ = 0;
+  double step_ms_sum_ = 0.0;
+  int step_ms_count_ = 0;
+  double step_ms_ = -1.0;
+};
+
+Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
+               const ViewerOptions& options)
+    : window_(window),
+      device_(device),
+      options_(options),
+      sim_(device, std::move(scenario), options.birds),
+      swapchain_(device, window.framebuffer_size()),
+      renderer_(std::make_unique<Renderer>(device, sim_.scenario(), swapchain_.format(),
+                                           swapchain_.extent())),
+      frames_(device) {
+  read_flock();
+  camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
+}
+
+void Viewer::run() {
+  const Clock::time_point start = Clock::now();
+  Clock::time_point last = start;
+  title_time_ = start;
+  while (!window_.should_close()) {
+    const Input input = window_.poll();
+    const Clock::time_point now = Clock::now();
+    const float seconds = float(seconds_between(last, now));
+    last = now;
+    handle(input, seconds);
+    if (input.resized) swapchain_stale_ = true;
+    window_.wait_while_minimised();
+    if (window_.should_close()) break;
+    if (swapchain_stale_) recreate_swapchain();
+
+    frames_.begin();
+    if (frames_.step_ms()) step_ms_sum_ += *frames_.step_ms(), ++step_ms_count_;
+    // Every few frames (large flocks: fewer), before this frame's step: waits for the last one.
+    const uint64_t every = sim_.bird_count() > 100000 ? 32 : 4;
+    if (frames_drawn_ - last_readback_ >= every) read_flock();
+    step_simulation();
+    view_.camera = camera_.update(seconds, flock_.centroid_at(sim_.time()), flock_.bird_at(sim_.time()),
+                                  glm::vec3(flock_.bird_velocity));
+    view_.time = float(sim_.time());
+    draw();
+    update_title(Clock::now());
+    if (options_.frames > 0 && frames_drawn_ >= options_.frames) window_.close();
+  }
+  const double wall = seconds_between(start, Clock::now());
+  std::printf("%llu frames in %.2f s (%.1f frames/s), %.2f s simulated\n",
+              (unsigned long long)frames_drawn_, wall, wall > 0 ? frames_drawn_ / wall : 0.0,
+              sim_.time());
+}
+
+void Viewer::handle(const Input& input, float seconds) {
+  using Mode = CameraControl::Mode;
+  for (size_t i = 0; i < input.pressed.size(); ++i) {
+    const bool shift = input.mods[i] & GLFW_MOD_SHIFT;
+    switch (input.pressed[i]) {
+      case GLFW_KEY_ESCAPE: window_.close(); break;
+      case GLFW_KEY_SPACE: paused_ = !paused_; break;
+      case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: case GLFW_KEY_RIGHT_BRACKET:
+        speed_ = std::min(speed_ * 2.0, 64.0);
+        break;
+      case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: case GLFW_KEY_LEFT_BRACKET:
+        speed_ = std::max(speed_ / 2.0, 1.0 / 64.0);
+        break;
+      case GLFW_KEY_T: view_.show_targets = !view_.show_targets; break;
+      case GLFW_KEY_F: {  // follow bird 0, then the next (Shift: the previous) one
+        const uint32_t n = sim_.bird_count();
+        if (camera_.mode() == Mode::follow) followed_ = (followed_ + (shift ? n - 1 : 1)) % n;
+        camera_.set_mode(Mode::follow);
+        read_flock();
+        break;
+      }
+      case GLFW_KEY_C:
+        camera_.set_mode(camera_.mode() == Mode::free ? Mode::orbit : Mode::free);
+        break;
+      case GLFW_KEY_O: camera_.set_mode(Mode::orbit); break;
+      case GLFW_KEY_R:
+        read_flock();
+        camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
+        break;
+      default: break;
+    }
+  }
+  if (input.drag_x != 0.0 || input.drag_y != 0.0)
+    camera_.drag(float(input.drag_x), float(input.drag_y));
+  if (input.scroll != 0.0) camera_.zoom(float(input.scroll));
+  auto axis = [&](int plus, int minus) {
+    return float(window_.key_down(plus)) - float(window_.key_down(minus));
+  };
+  const glm::vec3 move(axis(GLFW_KEY_D, GLFW_KEY_A), axis(GLFW_KEY_E, GLFW_KEY_Q),
+                       axis(GLFW_KEY_W, GLFW_KEY_S));
+  if (move != glm::vec3(0.0f))
+    camera_.move(move, seconds,
+                 window_.key_down(GLFW_KEY_LEFT_SHIFT) || window_.key_down(GLFW_KEY_RIGHT_SHIFT));
+}
+
+void Viewer::read_flock() {
+  flock_ = snapshot(sim_.birds(), followed_, sim_.time());
+  last_readback_ = frames_drawn_;
+}
+
+void Viewer::step_simulation() {
+  if (paused_) return;
+  pending_steps_ += sim_.scenario().steps_per_frame * speed_;
+  const auto steps = static_cast<uint32_t>(pending_steps_);
+  if (steps == 0) return;
+  pending_steps_ -= steps;
+  frames_.stamp_step_start();
+  sim_.step(steps);
+}
+
+void Viewer::draw() {
+  uint32_t image = 0;
+  if (!swapchain_.acquire(frames_.acquired(), image)) {
+    swapchain_stale_ = true;
+    return;
+  }
+  VkCommandBuffer cmd = frames_.begin_draw();
+  renderer_->record(cmd, swapchain_.image(image), swapchain_.view(image), sim_.bird_buffer(),
+                    sim_.bird_count(), sim_.world(), view_, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);
+  barrier_reads_to_next_writes(cmd);
+  frames_.submit_draw(swapchain_.render_finished(image));
+  if (!swapchain_.present(image)) swapchain_stale_ = true;
+  ++frames_drawn_;
+}
+
+void Viewer::recreate_swapchain() {
+  swapchain_.recreate(window_.framebuffer_size());  // waits for the device to be idle
+  renderer_.reset();
+  renderer_ = std::make_unique<Renderer>(device_, sim_.scenario(), swapchain_.format(),
+                                         swapchain_.extent());
+  swapchain_stale_ = false;
+}
+
+void Viewer::update_title(Clock::time_point now) {
+  ++title_frames_;
+  const double elapsed = seconds_between(title_time_, now);
+  if (elapsed < 0.5) return;
+  if (step_ms_count_ > 0) step_ms_ = step_ms_sum_ / step_ms_count_;
+  char text[256];
+  const char* camera = camera_.mode() == CameraControl::Mode::orbit    ? "orbit"
+                       : camera_.mode() == CameraControl::Mode::follow ? "follow bird "
+                                                                       : "free camera";
+  const std::string follow =
+      camera_.mode() == CameraControl::Mode::follow ? std::to_string(followed_) : "";
+  char step[32] = "-";
+  if (step_ms_ >= 0) std::snprintf(step, sizeof step, "%.2f ms", step_ms_);
+  std::snprintf(text, sizeof text,
+                "aeroflock  %s  |  %u bird%s  |  t = %.1f s  |  %.1f fps  |  step %s  |  x%g%s  |  "
+                "%s%s",
+                sim_.scenario().name.c_str(), sim_.bird_count(), sim_.bird_count() == 1 ? "" : "s", sim_.time(),
+                title_frames_ / elapsed, step, speed_,
+                paused_ ? " paused" : "", camera, follow.c_str());
+  window_.set_title(text);
+  title_time_ = now;
+  title_frames_ = 0;
+  step_ms_sum_ = 0.0;
+  step_ms_count_ = 0;
+}
+
+}  // namespace
+
+const char* viewer_keys() {
+  return "left drag: turn the camera, wheel: zoom, F: follow a bird (again: the next one), "
+         "C: free camera (WASD, Q/E down/up, Shift faster), O: orbit, R: reset the camera,\n"
+         "Space: pause, + / -: faster / slower, T: targets on/off, Esc: quit";
+}
+
+int run_viewer(Scenario scenario, const ViewerOptions& options) {
+  Window window("aeroflock  " + scenario.name, int(options.width), int(options.height));
+  gpu::Device device(window_device(window, options.device));
+  {
+    Viewer viewer(window, device, std::move(scenario), options);
+    viewer.run();
+  }  // everything on the device is destroyed here, after the device has gone idle
+  if (device.validation() && device.validation_errors() > 0) {
+    std::fprintf(stderr, "aeroflock view: %d Vulkan validation errors\n",
+                 device.validation_errors());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace aeroflock::render
