@@ -9,8 +9,8 @@ namespace aeroflock::render {
 namespace {
 
 constexpr float kRadiansPerPixel = 0.005f;
-constexpr float kMaxPitch = 1.5f;     // rad, short of straight up or down
-constexpr float kGlideRate = 3.0f;    // 1/s: how fast the cameras catch up with what they follow
+constexpr float kMaxPitch = 1.5f;   // rad, short of straight up or down
+constexpr float kGlideRate = 3.0f;  // 1/s: how fast the cameras catch up with what they follow
 constexpr float kZoomPerClick = 0.9f;
 constexpr float kPi = 3.14159265f;
 
@@ -44,8 +44,9 @@ void CameraControl::set_mode(Mode mode) {
 
 void CameraControl::drag(float dx, float dy) {
   float& yaw = mode_ == Mode::orbit ? yaw_ : mode_ == Mode::follow ? follow_yaw_ : free_yaw_;
-  float& pitch =
-      mode_ == Mode::orbit ? pitch_ : mode_ == Mode::follow ? follow_pitch_ : free_pitch_;
+  float& pitch = mode_ == Mode::orbit    ? pitch_
+                 : mode_ == Mode::follow ? follow_pitch_
+                                         : free_pitch_;
   // Orbit and follow turn the scene with the mouse; the free camera looks where the mouse goes.
   const float sign = mode_ == Mode::free ? 1.0f : -1.0f;
   yaw += sign * kRadiansPerPixel * dx;
@@ -55,7 +56,8 @@ void CameraControl::drag(float dx, float dy) {
 void CameraControl::zoom(float clicks) {
   const float factor = std::pow(kZoomPerClick, clicks);
   if (mode_ == Mode::orbit) distance_ = std::clamp(distance_ * factor, 100.0f, 1.0e6f);
-  if (mode_ == Mode::follow) follow_distance_ = std::clamp(follow_distance_ * factor, 50.0f, 1.0e5f);
+  if (mode_ == Mode::follow)
+    follow_distance_ = std::clamp(follow_distance_ * factor, 50.0f, 1.0e5f);
   if (mode_ == Mode::free) free_speed_ = std::clamp(free_speed_ / factor, 10.0f, 1.0e6f);
 }
 

@@ -41,9 +41,9 @@ class CameraControl {
   float follow_yaw_ = 0.0f;   // rad: around the bird, 0 straight behind it
   float follow_pitch_ = 0.3f;
   float follow_distance_ = 800.0f;
-  float follow_heading_ = 0.0f;   // rad: the bird's last horizontal heading
+  float follow_heading_ = 0.0f;    // rad: the bird's last horizontal heading
   glm::vec3 follow_offset_{0.0f};  // eye - bird, gliding towards behind and above the bird
-  float free_yaw_ = 0.0f;  // rad: the free camera's view direction
+  float free_yaw_ = 0.0f;          // rad: the free camera's view direction
   float free_pitch_ = 0.0f;
   float free_speed_ = 1000.0f;  // cm/s
 };

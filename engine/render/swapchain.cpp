@@ -14,9 +14,9 @@ VkSurfaceFormatKHR choose_format(const gpu::Device& device) {
   check(vkGetPhysicalDeviceSurfaceFormatsKHR(device.physical(), device.surface(), &n, nullptr),
         "vkGetPhysicalDeviceSurfaceFormatsKHR");
   std::vector<VkSurfaceFormatKHR> formats(n);
-  check(vkGetPhysicalDeviceSurfaceFormatsKHR(device.physical(), device.surface(), &n,
-                                             formats.data()),
-        "vkGetPhysicalDeviceSurfaceFormatsKHR");
+  check(
+      vkGetPhysicalDeviceSurfaceFormatsKHR(device.physical(), device.surface(), &n, formats.data()),
+      "vkGetPhysicalDeviceSurfaceFormatsKHR");
   if (formats.empty()) throw gpu::Error("the window's surface offers no image format");
   // UNORM first: the render shaders write display colours, as into the PNGs' R8G8B8A8_UNORM.
   for (VkFormat wanted : {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM,
@@ -92,8 +92,8 @@ void Swapchain::create(VkExtent2D wanted, VkSwapchainKHR old) {
   info.imageArrayLayers = 1;
   // Transfer too, where allowed, for renderers that clear or copy into the image.
   info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
-                    (caps.supportedUsageFlags & (VK_IMAGE_USAGE_TRANSFER_DST_BIT |
-                                                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
+                    (caps.supportedUsageFlags &
+                     (VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT));
   info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.preTransform = caps.currentTransform;
   info.compositeAlpha = choose_alpha(caps.supportedCompositeAlpha);

@@ -67,7 +67,8 @@ FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, d
 // This frame's shader reads (the bird buffer, the renderer's targets) before the next frame
 // writes them: its compute step and the renderer's buffer updates.
 void barrier_reads_to_next_writes(VkCommandBuffer cmd) {
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+  vkCmdPipelineBarrier(cmd,
+                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                        nullptr, 0, nullptr, 0, nullptr);
 }
@@ -156,8 +157,8 @@ void Viewer::run() {
     const uint64_t every = sim_.bird_count() > 100000 ? 32 : 4;
     if (frames_drawn_ - last_readback_ >= every) read_flock();
     step_simulation();
-    view_.camera = camera_.update(seconds, flock_.centroid_at(sim_.time()), flock_.bird_at(sim_.time()),
-                                  glm::vec3(flock_.bird_velocity));
+    view_.camera = camera_.update(seconds, flock_.centroid_at(sim_.time()),
+                                  flock_.bird_at(sim_.time()), glm::vec3(flock_.bird_velocity));
     view_.time = float(sim_.time());
     draw();
     update_title(Clock::now());
@@ -174,15 +175,25 @@ void Viewer::handle(const Input& input, float seconds) {
   for (size_t i = 0; i < input.pressed.size(); ++i) {
     const bool shift = input.mods[i] & GLFW_MOD_SHIFT;
     switch (input.pressed[i]) {
-      case GLFW_KEY_ESCAPE: window_.close(); break;
-      case GLFW_KEY_SPACE: paused_ = !paused_; break;
-      case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD: case GLFW_KEY_RIGHT_BRACKET:
+      case GLFW_KEY_ESCAPE:
+        window_.close();
+        break;
+      case GLFW_KEY_SPACE:
+        paused_ = !paused_;
+        break;
+      case GLFW_KEY_EQUAL:
+      case GLFW_KEY_KP_ADD:
+      case GLFW_KEY_RIGHT_BRACKET:
         speed_ = std::min(speed_ * 2.0, 64.0);
         break;
-      case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT: case GLFW_KEY_LEFT_BRACKET:
+      case GLFW_KEY_MINUS:
+      case GLFW_KEY_KP_SUBTRACT:
+      case GLFW_KEY_LEFT_BRACKET:
         speed_ = std::max(speed_ / 2.0, 1.0 / 64.0);
         break;
-      case GLFW_KEY_T: view_.show_targets = !view_.show_targets; break;
+      case GLFW_KEY_T:
+        view_.show_targets = !view_.show_targets;
+        break;
       case GLFW_KEY_F: {  // follow bird 0, then the next (Shift: the previous) one
         const uint32_t n = sim_.bird_count();
         if (camera_.mode() == Mode::follow) followed_ = (followed_ + (shift ? n - 1 : 1)) % n;
@@ -193,12 +204,15 @@ void Viewer::handle(const Input& input, float seconds) {
       case GLFW_KEY_C:
         camera_.set_mode(camera_.mode() == Mode::free ? Mode::orbit : Mode::free);
         break;
-      case GLFW_KEY_O: camera_.set_mode(Mode::orbit); break;
+      case GLFW_KEY_O:
+        camera_.set_mode(Mode::orbit);
+        break;
       case GLFW_KEY_R:
         read_flock();
         camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
         break;
-      default: break;
+      default:
+        break;
     }
   }
   if (input.drag_x != 0.0 || input.drag_y != 0.0)
@@ -268,9 +282,9 @@ void Viewer::update_title(Clock::time_point now) {
   std::snprintf(text, sizeof text,
                 "aeroflock  %s  |  %u bird%s  |  t = %.1f s  |  %.1f fps  |  step %s  |  x%g%s  |  "
                 "%s%s",
-                sim_.scenario().name.c_str(), sim_.bird_count(), sim_.bird_count() == 1 ? "" : "s", sim_.time(),
-                title_frames_ / elapsed, step, speed_,
-                paused_ ? " paused" : "", camera, follow.c_str());
+                sim_.scenario().name.c_str(), sim_.bird_count(), sim_.bird_count() == 1 ? "" : "s",
+                sim_.time(), title_frames_ / elapsed, step, speed_, paused_ ? " paused" : "",
+                camera, follow.c_str());
   window_.set_title(text);
   title_time_ = now;
   title_frames_ = 0;

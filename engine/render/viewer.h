@@ -8,9 +8,9 @@
 namespace aeroflock::render {
 
 struct ViewerOptions {
-  int device = -1;       // Vulkan device index (< 0: the preferred one)
-  uint32_t birds = 0;    // > 0: override the scenario's flock sizes
-  uint64_t frames = 0;   // > 0: close the window after that many frames
+  int device = -1;      // Vulkan device index (< 0: the preferred one)
+  uint32_t birds = 0;   // > 0: override the scenario's flock sizes
+  uint64_t frames = 0;  // > 0: close the window after that many frames
   uint32_t width = 1280;
   uint32_t height = 720;
 };

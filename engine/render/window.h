@@ -22,8 +22,8 @@ struct Input {
   std::vector<int> mods;     // GLFW_MOD_* of each of `pressed`
   double drag_x = 0.0;       // cursor movement with the left button held, pixels
   double drag_y = 0.0;
-  double scroll = 0.0;       // wheel clicks, away from the user > 0
-  bool resized = false;      // the framebuffer changed size
+  double scroll = 0.0;   // wheel clicks, away from the user > 0
+  bool resized = false;  // the framebuffer changed size
 };
 
 class Window {
