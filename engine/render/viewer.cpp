@@ -64,11 +64,12 @@ FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, d
   return s;
 }
 
-// This frame's shader reads (the bird buffer, the renderer's targets) before the next frame
-// writes them: its compute step and the renderer's buffer updates.
+// This frame's reads (the bird buffer, the renderer's targets, poses and indirect draws) before
+// the next frame writes them: its compute step and the renderer's updates and pose pass.
 void barrier_reads_to_next_writes(VkCommandBuffer cmd) {
   vkCmdPipelineBarrier(cmd,
-                       VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                        nullptr, 0, nullptr, 0, nullptr);
 }
