@@ -226,6 +226,7 @@ int main(int argc, char** argv) {
   view_cmd->add_option("--birds", view_opt.viewer.birds, "Birds in all, shared over the flocks in proportion")
       ->check(kPositive);
   add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height, "Window size WxH (default 1280x720)");
+  view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
   view_cmd->add_option("--frames", view_opt.viewer.frames, "Close the window after N frames (for tests)")
       ->check(kPositive);
 

@@ -30,7 +30,7 @@ constexpr uint32_t kPoseBindings = 9;
 constexpr uint32_t kPoseBytes = 19 * 16;  // shaders/render/pose.comp: struct Pose
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
-constexpr float kDetailPixels = 16.0f;  // narrower birds are drawn with four triangles
+constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with four triangles
 
 // The push constants of shaders/render/frame.glsl.
 struct FrameConstants {
@@ -428,6 +428,12 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   const auto& pipelines = r.pipelines_for(final_layout);
   const auto& sets = r.sets_for(birds);
 
+  // The previous frame's reads of the buffers written below are done before they are written.
+  vkCmdPipelineBarrier(cmd,
+                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 0, nullptr);
   // Each bird's pose, once, and into the detailed or the distant draw by its size on screen
   // (after the simulation's writes to the birds).
   const std::array<VkDrawIndirectCommand, 2> empty_draws = {

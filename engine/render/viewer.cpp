@@ -110,7 +110,7 @@ class Viewer {
   FlockSnapshot flock_;
   uint32_t followed_ = 0;       // the bird the follow camera follows
   uint64_t last_readback_ = 0;  // frame of the last readback
-  bool paused_ = false;
+  bool paused_;
   double speed_ = 1.0;          // scenario frames of steps per drawn frame
   double pending_steps_ = 0.0;  // fractional steps carried to the next frame (slow motion)
   bool swapchain_stale_ = false;
@@ -132,7 +132,8 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
       swapchain_(device, window.framebuffer_size()),
       renderer_(std::make_unique<Renderer>(device, sim_.scenario(), swapchain_.format(),
                                            swapchain_.extent())),
-      frames_(device) {
+      frames_(device),
+      paused_(options.paused) {
   read_flock();
   camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
 }

@@ -11,6 +11,7 @@ struct ViewerOptions {
   int device = -1;      // Vulkan device index (< 0: the preferred one)
   uint32_t birds = 0;   // > 0: override the scenario's flock sizes
   uint64_t frames = 0;  // > 0: close the window after that many frames
+  bool paused = false;  // start with the simulation paused (Space resumes)
   uint32_t width = 1280;
   uint32_t height = 720;
 };

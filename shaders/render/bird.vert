@@ -17,9 +17,13 @@ struct Pose {
 layout(std430, set = 0, binding = 3) readonly buffer Poses { Pose poses[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Lists { uint lists[]; };
 
-layout(location = 0) out vec3 out_normal;
-layout(location = 1) out vec3 out_world;
-layout(location = 2) flat out uint out_species;
+// Shaded per vertex (the faces are flat anyway): the fragment shader only writes the colour.
+layout(location = 0) flat out vec3 out_color;
+
+const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),   // eagle: brown
+                                vec3(0.10, 0.10, 0.13),   // starling: glossy black
+                                vec3(0.55, 0.55, 0.60),
+                                vec3(0.60, 0.35, 0.20));
 
 
 void main() {
@@ -37,8 +41,7 @@ void main() {
   vec4 r2 = poses[bird].rows[3u * transform + 2u];
   vec4 h = vec4(p, 1.0);
   vec3 world = vec3(dot(r0, h), dot(r1, h), dot(r2, h));
-  out_normal = vec3(dot(r0.xyz, n), dot(r1.xyz, n), dot(r2.xyz, n));
-  out_world = world;
-  out_species = floatBitsToUint(poses[bird].tail.y);
+  vec3 normal = vec3(dot(r0.xyz, n), dot(r1.xyz, n), dot(r2.xyz, n));
+  out_color = shade(kPlumage[floatBitsToUint(poses[bird].tail.y) % 4u], normal, world);
   gl_Position = frame.view_projection * vec4(world, 1.0);
 }
