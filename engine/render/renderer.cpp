@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
 #include "gpu/compute.h"
@@ -75,7 +76,18 @@ struct PipelineSpec {
   bool depth_write = true;
   VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
   bool blend = false;
+  VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
 };
+
+// The routes as pairs of target indices: one line from each target to the next.
+std::vector<glm::uvec2> route_segments(const World& world) {
+  std::vector<glm::uvec2> out;
+  for (const Route& r : world.routes) {
+    for (size_t i = 1; i < r.targets.size(); ++i) out.push_back({r.targets[i - 1], r.targets[i]});
+    if (r.loop && r.targets.size() > 2) out.push_back({r.targets.back(), r.targets.front()});
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -85,8 +97,9 @@ struct Renderer::Impl {
   VkExtent2D extent;
   // Buffers the renderer owns (species, targets now, branches, meshes) and a stand-in for the
   // routing tables the render shaders declare but do not read.
-  Buffer species, targets, branches, unused, bird_mesh, sphere, box;
-  uint32_t bird_vertices, distant_vertices, sphere_vertices, box_vertices, target_count, branch_count;
+  Buffer species, targets, branches, unused, bird_mesh, sphere, box, segments;
+  uint32_t bird_vertices, distant_vertices, sphere_vertices, box_vertices, target_count, branch_count,
+      segment_count;
   float ground_height;
   // Each bird's pose for drawing, computed once a frame by pose.comp.
   std::unique_ptr<Buffer> poses, lists, draws;
@@ -100,9 +113,9 @@ struct Renderer::Impl {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   std::map<VkImageLayout, VkRenderPass> passes;  // by final layout
-  std::map<VkImageLayout, std::array<VkPipeline, 4>> pipelines;  // sky, birds, branches, targets
+  std::map<VkImageLayout, std::array<VkPipeline, 5>> pipelines;  // sky, birds, branches, targets, routes
   std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
-  std::map<VkBuffer, std::array<VkDescriptorSet, 3>> sets;  // by bird buffer: bird, sphere, box mesh
+  std::map<VkBuffer, std::array<VkDescriptorSet, 4>> sets;  // by bird buffer: birds, spheres, boxes, routes
 
   Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e)
       : device(d),
@@ -123,12 +136,14 @@ struct Renderer::Impl {
         }())),
         sphere(buffer_of(d, sphere_mesh())),
         box(buffer_of(d, box_mesh())),
+        segments(buffer_of(d, route_segments(scenario.world))),
         bird_vertices(uint32_t(render::bird_mesh().size())),
         distant_vertices(uint32_t(distant_bird_mesh().size())),
         sphere_vertices(uint32_t(sphere_mesh().size())),
         box_vertices(uint32_t(box_mesh().size())),
         target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
         branch_count(uint32_t(scenario.world.branches.size())),
+        segment_count(uint32_t(route_segments(scenario.world).size())),
         ground_height(float(scenario.world.ground_height)),
         pose_pipeline(d, gpu::shader_spirv("pose"), kPoseBindings, sizeof(PoseConstants), 16) {
     create_depth();
@@ -199,9 +214,9 @@ struct Renderer::Impl {
     info.pushConstantRangeCount = 1;
     info.pPushConstantRanges = &push;
     check(vkCreatePipelineLayout(dev, &info, nullptr, &layout), "vkCreatePipelineLayout");
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3 * 8 * kBindings};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * 8 * kBindings};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = 3 * 8;
+    pool_info.maxSets = 4 * 8;
     pool_info.poolSizeCount = 1;
     pool_info.pPoolSizes = &size;
     check(vkCreateDescriptorPool(dev, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
@@ -279,7 +294,7 @@ struct Renderer::Impl {
     stages[1].pName = "main";
     VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    assembly.topology = spec.topology;
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     viewport.viewportCount = 1;
     viewport.scissorCount = 1;
@@ -334,14 +349,16 @@ struct Renderer::Impl {
     return pipeline;
   }
 
-  const std::array<VkPipeline, 4>& pipelines_for(VkImageLayout final_layout) {
+  const std::array<VkPipeline, 5>& pipelines_for(VkImageLayout final_layout) {
     if (auto it = pipelines.find(final_layout); it != pipelines.end()) return it->second;
     VkRenderPass rp = pass(final_layout);
-    std::array<VkPipeline, 4> list = {
+    std::array<VkPipeline, 5> list = {
         make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false}),
         make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false}),
         make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false}),
         make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true,
+                           VK_PRIMITIVE_TOPOLOGY_LINE_LIST}),
     };
     return pipelines[final_layout] = list;
   }
@@ -382,18 +399,19 @@ struct Renderer::Impl {
                                        poses.get(), lists.get(), draws.get()});
   }
 
-  const std::array<VkDescriptorSet, 3>& sets_for(const Buffer& birds) {
+  const std::array<VkDescriptorSet, 4>& sets_for(const Buffer& birds) {
     if (auto it = sets.find(birds.handle()); it != sets.end()) return it->second;
-    std::array<VkDescriptorSet, 3> result{};
-    const std::array<const Buffer*, 3> meshes = {&bird_mesh, &sphere, &box};
-    for (size_t m = 0; m < 3; ++m) {
+    std::array<VkDescriptorSet, 4> result{};
+    const std::array<const Buffer*, 4> meshes = {&bird_mesh, &sphere, &box, &box};
+    for (size_t m = 0; m < 4; ++m) {
       VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
       alloc.descriptorPool = pool;
       alloc.descriptorSetCount = 1;
       alloc.pSetLayouts = &set_layout;
       check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
+      const Buffer* fourth = m == 3 ? &segments : lists.get();  // route lines read segments
       const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, poses.get(),
-                                                            lists.get(), &branches, meshes[m]};
+                                                            fourth, &branches, meshes[m]};
       std::array<VkDescriptorBufferInfo, kBindings> infos{};
       std::array<VkWriteDescriptorSet, kBindings> writes{};
       for (uint32_t i = 0; i < kBindings; ++i) {
@@ -508,7 +526,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     }
   }
   draw(pipelines[2], sets[2], r.box_vertices, r.branch_count);     // branches
-  if (view.show_targets) draw(pipelines[3], sets[1], r.sphere_vertices, r.target_count);
+  if (view.show_targets) {
+    draw(pipelines[4], sets[3], 2, r.segment_count);  // routes
+    draw(pipelines[3], sets[1], r.sphere_vertices, r.target_count);
+  }
   vkCmdEndRenderPass(cmd);
 }
 

@@ -17,14 +17,21 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_world;
 layout(location = 2) flat out uint out_kind;
 
-layout(constant_id = 0) const uint kKind = 0u;  // 0 target spheres, 1 branches
+layout(constant_id = 0) const uint kKind = 0u;  // 0 target spheres, 1 branches, 2 route lines
+// Route lines: pairs of target indices (kind 2 reads these instead of a mesh).
+layout(std430, set = 0, binding = 4) readonly buffer Segments { uvec2 segments[]; };
 
 void main() {
-  vec3 in_position = mesh[gl_VertexIndex].position.xyz, in_normal = mesh[gl_VertexIndex].normal.xyz;
+  uint vertex = kKind == 2u ? 0u : uint(gl_VertexIndex);
+  vec3 in_position = mesh[vertex].position.xyz, in_normal = mesh[vertex].normal.xyz;
   vec3 world, normal = in_normal;
   if (kKind == 0u) {
     vec4 cr = targets[gl_InstanceIndex].centre_radius;
     world = cr.xyz + cr.w * in_position;
+  } else if (kKind == 2u) {
+    uvec2 ends = segments[gl_InstanceIndex];
+    world = targets[gl_VertexIndex == 0 ? ends.x : ends.y].centre_radius.xyz;
+    normal = vec3(0.0, 1.0, 0.0);
   } else {
     Branch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
