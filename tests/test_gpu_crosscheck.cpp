@@ -211,3 +211,26 @@ INSTANTIATE_TEST_SUITE_P(All, GpuTrajectory, ::testing::ValuesIn(builtin_names()
 
 }  // namespace
 }  // namespace aeroflock
+
+namespace aeroflock {
+namespace {
+
+// The frame before the last one can be read while the last one runs: it is the state after that
+// frame, at that frame's time.
+TEST(GpuReadback, PreviousFrameIsTheStateOneFrameBack) {
+  DEVICE_OR_SKIP(device);
+  const Scenario scenario = load_scenario("fig16-circling-eagle");
+  gpu::GpuSimulation sim(*device, scenario, 1);
+  const double frame = scenario.dt * scenario.steps_per_frame;
+  sim.step_frame();
+  sim.step_frame();
+  const BirdState after_two = sim.birds()[0];
+  sim.step_frame();
+  EXPECT_NEAR(sim.previous_time(), 2 * frame, 1e-12);
+  EXPECT_EQ(sim.previous_birds()[0].position, after_two.position);
+  EXPECT_NE(sim.birds()[0].position, after_two.position);
+  EXPECT_EQ(device->validation_errors(), 0);
+}
+
+}  // namespace
+}  // namespace aeroflock

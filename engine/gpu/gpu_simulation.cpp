@@ -118,6 +118,9 @@ void GpuSimulation::step(uint32_t steps) {
   host_current_ = false;
   steps_ += steps;
   time_ = steps_ * scenario_.dt;
+  slot_fence_[slot] = last_frame_;
+  slot_time_[slot] = time_;
+  ++frames_in_row_;
 }
 
 std::vector<ProbeForces> GpuSimulation::step_probe() {
@@ -131,12 +134,27 @@ std::vector<ProbeForces> GpuSimulation::step_probe() {
   });
   last_frame_ = VK_NULL_HANDLE;
   last_slot_ = 0;
+  frames_in_row_ = 0;
   host_current_ = false;
   ++steps_;
   time_ = steps_ * scenario_.dt;
   std::vector<ProbeForces> out(count_);
   std::memcpy(out.data(), probes_.mapped(), count_ * sizeof(ProbeForces));
   return out;
+}
+
+const std::vector<BirdState>& GpuSimulation::previous_birds() {
+  if (frames_in_row_ < 2) return birds();
+  const uint32_t slot = 1 - last_slot_;
+  submitter_.wait(slot_fence_[slot]);
+  const auto* gpu = reinterpret_cast<const GpuBird*>(readback_[slot].mapped());
+  previous_birds_.resize(count_);
+  for (uint32_t i = 0; i < count_; ++i) previous_birds_[i] = unpack(gpu[i]);
+  return previous_birds_;
+}
+
+double GpuSimulation::previous_time() const {
+  return frames_in_row_ < 2 ? time_ : slot_time_[1 - last_slot_];
 }
 
 const std::vector<BirdState>& GpuSimulation::birds() {

@@ -39,6 +39,11 @@ class GpuSimulation {
   std::vector<ProbeForces> step_probe();
   // The state after the last submitted frame (waits for that frame only).
   const std::vector<BirdState>& birds();
+  // The state after the frame before the last submitted one, and its time. That frame is done or
+  // nearly (the last one is queued behind it), so reading it leaves the device busy: exporters
+  // read this. Before two frames have been submitted, the state now.
+  const std::vector<BirdState>& previous_birds();
+  double previous_time() const;
 
   const Scenario& scenario() const { return scenario_; }
   // The world, its targets where the birds see them now (moved at each frame's start).
@@ -66,6 +71,10 @@ class GpuSimulation {
   std::vector<BirdState> host_birds_;
   VkFence last_frame_ = VK_NULL_HANDLE;
   uint32_t last_slot_ = 0;
+  VkFence slot_fence_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // each slot's last frame
+  double slot_time_[2] = {0.0, 0.0};                          // and its time at the end
+  uint64_t frames_in_row_ = 0;  // frames submitted since the last probe or start
+  std::vector<BirdState> previous_birds_;
   bool host_current_ = true;
   double time_ = 0.0;
   uint64_t steps_ = 0;
