@@ -8,6 +8,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/device.h"
+#include "gpu/image.h"
 
 namespace aeroflock::render {
 
@@ -16,12 +17,11 @@ class Offscreen {
   static constexpr VkFormat kFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
   Offscreen(const gpu::Device& device, VkExtent2D extent);
-  ~Offscreen();
   Offscreen(const Offscreen&) = delete;
   Offscreen& operator=(const Offscreen&) = delete;
 
-  VkImage image() const { return image_; }
-  VkImageView view() const { return view_; }
+  VkImage image() const { return image_.handle(); }
+  VkImageView view() const { return image_.view(); }
   VkExtent2D extent() const { return extent_; }
   // Copies the image (in TRANSFER_SRC_OPTIMAL, as the renderer leaves it when asked) to host
   // memory; pixels() holds it once the command buffer's fence has signalled.
@@ -30,11 +30,8 @@ class Offscreen {
   std::vector<uint8_t> pixels() const;
 
  private:
-  const gpu::Device& device_;
   VkExtent2D extent_;
-  VkImage image_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkImageView view_ = VK_NULL_HANDLE;
+  gpu::Image image_;
   gpu::Buffer readback_;
 };
 

@@ -12,6 +12,7 @@
 
 #include "gpu/compute.h"
 #include "gpu/error.h"
+#include "gpu/image.h"
 #include "gpu/layout.h"
 #include "gpu/shaders.h"
 #include "render/meshes.h"
@@ -106,9 +107,7 @@ struct Renderer::Impl {
   uint32_t pose_capacity = 0;
   gpu::ComputePipeline pose_pipeline;
   std::map<VkBuffer, VkDescriptorSet> pose_sets;  // by bird buffer
-  VkImage depth_image = VK_NULL_HANDLE;
-  VkDeviceMemory depth_memory = VK_NULL_HANDLE;
-  VkImageView depth_view = VK_NULL_HANDLE;
+  gpu::Image depth;
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
@@ -145,8 +144,8 @@ struct Renderer::Impl {
         branch_count(uint32_t(scenario.world.branches.size())),
         segment_count(uint32_t(route_segments(scenario.world).size())),
         ground_height(float(scenario.world.ground_height)),
-        pose_pipeline(d, gpu::shader_spirv("pose"), kPoseBindings, sizeof(PoseConstants), 16) {
-    create_depth();
+        pose_pipeline(d, gpu::shader_spirv("pose"), kPoseBindings, sizeof(PoseConstants), 16),
+        depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT) {
     create_layouts();
   }
 
@@ -160,37 +159,6 @@ struct Renderer::Impl {
     vkDestroyDescriptorPool(dev, pool, nullptr);
     vkDestroyPipelineLayout(dev, layout, nullptr);
     vkDestroyDescriptorSetLayout(dev, set_layout, nullptr);
-    vkDestroyImageView(dev, depth_view, nullptr);
-    vkDestroyImage(dev, depth_image, nullptr);
-    vkFreeMemory(dev, depth_memory, nullptr);
-  }
-
-  void create_depth() {
-    VkDevice dev = device.handle();
-    VkImageCreateInfo image{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    image.imageType = VK_IMAGE_TYPE_2D;
-    image.format = kDepthFormat;
-    image.extent = {extent.width, extent.height, 1};
-    image.mipLevels = 1;
-    image.arrayLayers = 1;
-    image.samples = VK_SAMPLE_COUNT_1_BIT;
-    image.tiling = VK_IMAGE_TILING_OPTIMAL;
-    image.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-    check(vkCreateImage(dev, &image, nullptr, &depth_image), "vkCreateImage (depth)");
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(dev, depth_image, &req);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (alloc.memoryTypeIndex == UINT32_MAX) alloc.memoryTypeIndex = device.memory_type(req.memoryTypeBits, 0);
-    check(vkAllocateMemory(dev, &alloc, nullptr, &depth_memory), "vkAllocateMemory (depth)");
-    check(vkBindImageMemory(dev, depth_image, depth_memory, 0), "vkBindImageMemory");
-    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view.image = depth_image;
-    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view.format = kDepthFormat;
-    view.subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
-    check(vkCreateImageView(dev, &view, nullptr, &depth_view), "vkCreateImageView (depth)");
   }
 
   void create_layouts() {
@@ -366,7 +334,7 @@ struct Renderer::Impl {
   VkFramebuffer framebuffer(VkImageView view, VkImageLayout final_layout) {
     const auto key = std::make_pair(view, final_layout);
     if (auto it = framebuffers.find(key); it != framebuffers.end()) return it->second;
-    const std::array<VkImageView, 2> views = {view, depth_view};
+    const std::array<VkImageView, 2> views = {view, depth.view()};
     VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     info.renderPass = pass(final_layout);
     info.attachmentCount = 2;
