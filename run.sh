@@ -7,9 +7,12 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 tools/install-deps.sh
 cmake --preset release
 cmake --build --preset release
-build/release/aeroflock run default --summary out/default/summary.json "$@"
+build/release/aeroflock run default --summary out/default/summary.json \
+  --png out/default/last_frame.png "$@"
 
 echo
 echo "outputs:"
 echo "  program:  build/release/aeroflock (try: build/release/aeroflock scenarios)"
 echo "  summary:  out/default/summary.json"
+echo "  image:    out/default/last_frame.png (the last frame, rendered headless)"
+echo "  watch it: build/release/aeroflock view   (under xvfb-run without a display)"
