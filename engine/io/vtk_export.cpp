@@ -1,0 +1,501 @@
+#include "io/vtk_export.h"
+
+#include <glm/geometric.hpp>
+#include <vtkCallbackCommand.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkUnsignedIntArray.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "model/body.h"
+#include "model/constants.h"
+#include "model/step.h"
+#include "model/tail.h"
+
+namespace aeroflock {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+// The trajectories are rewritten at most this often while the run goes on.
+constexpr auto kTrajectoryInterval = std::chrono::seconds(2);
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+// A whole non-negative decimal number, or throws naming `what`.
+uint64_t parse_count(std::string_view text, std::string_view selection, const char* what) {
+  const std::string_view t = trim(text);
+  uint64_t value = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (t.empty() || ec != std::errc() || end != t.data() + t.size())
+    throw std::invalid_argument("bird selection '" + std::string(selection) + "': expected " +
+                                what + ", got '" + std::string(t) + "'");
+  return value;
+}
+
+std::string frame_name(size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "flock_%06zu.vtp", index);
+  return name;
+}
+
+fs::path temporary(const fs::path& path) {
+  fs::path t = path;
+  t += ".tmp";
+  return t;
+}
+
+void rename_into_place(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  fs::rename(from, to, ec);
+  if (ec) throw std::runtime_error("cannot rename " + from.string() + " to " + to.string() + ": " +
+                                   ec.message());
+}
+
+// Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
+// exception.
+void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
+  std::string message;
+  vtkNew<vtkCallbackCommand> on_error;
+  on_error->SetClientData(&message);
+  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+    auto* text = static_cast<std::string*>(client);
+    if (text->empty() && call) *text = static_cast<const char*>(call);
+  });
+  const fs::path tmp = temporary(path);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->AddObserver(vtkCommand::ErrorEvent, on_error);
+  writer->AddObserver(vtkCommand::WarningEvent, on_error);
+  writer->SetFileName(tmp.c_str());
+  writer->SetInputData(data);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();  // raw binary, not base64
+  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
+  switch (compression) {
+    case VtkOptions::Compression::none: writer->SetCompressorTypeToNone(); break;
+    case VtkOptions::Compression::lz4: writer->SetCompressorTypeToLZ4(); break;
+    case VtkOptions::Compression::zlib: writer->SetCompressorTypeToZLib(); break;
+  }
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    if (message.empty()) message = std::strerror(errno);
+    // VTK's messages start with the source location and object: keep their last line.
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
+    throw std::runtime_error("cannot write " + path.string() + ": " + message);
+  }
+  rename_into_place(tmp, path);
+}
+
+template <typename Array>
+vtkSmartPointer<Array> make_array(const char* name, int components, vtkIdType tuples) {
+  auto a = vtkSmartPointer<Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+}  // namespace
+
+VtkOptions::Compression parse_vtk_compression(std::string_view name) {
+  if (name == "none") return VtkOptions::Compression::none;
+  if (name == "lz4") return VtkOptions::Compression::lz4;
+  if (name == "zlib") return VtkOptions::Compression::zlib;
+  throw std::invalid_argument("VTK compression: expected none, lz4 or zlib, got '" +
+                              std::string(name) + "'");
+}
+
+std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count) {
+  const std::string_view s = trim(selection);
+  std::vector<uint32_t> ids;
+  if (s == "all") {
+    ids.resize(bird_count);
+    for (size_t i = 0; i < bird_count; ++i) ids[i] = static_cast<uint32_t>(i);
+    return ids;
+  }
+  if (s.starts_with("every:")) {
+    const uint64_t n = parse_count(s.substr(6), selection, "every:N with N >= 1");
+    if (n == 0)
+      throw std::invalid_argument("bird selection '" + std::string(selection) +
+                                  "': every:N needs N >= 1");
+    for (uint64_t i = 0; i < bird_count; i += n) ids.push_back(static_cast<uint32_t>(i));
+    return ids;
+  }
+  std::string_view list = s;
+  if (list.starts_with("ids:")) list.remove_prefix(4);
+  if (trim(list).empty())
+    throw std::invalid_argument("bird selection '" + std::string(selection) +
+                                "': expected all, every:N or a list of bird ids like 3,7,12");
+  std::vector<bool> seen(bird_count, false);
+  while (true) {
+    const size_t comma = list.find(',');
+    const std::string_view item = list.substr(0, comma);
+    if (trim(item).empty() || !std::isdigit(static_cast<unsigned char>(trim(item).front())))
+      throw std::invalid_argument(
+          "bird selection '" + std::string(selection) +
+          "': expected all, every:N or a list of bird ids like 3,7,12, got '" +
+          std::string(trim(item)) + "'");
+    const uint64_t id = parse_count(item, selection, "a bird id");
+    if (id >= bird_count)
+      throw std::invalid_argument("bird selection '" + std::string(selection) + "': bird " +
+                                  std::to_string(id) + " is out of range (the flock has " +
+                                  std::to_string(bird_count) + (bird_count == 1 ? " bird: 0 to " : " birds: 0 to ") +
+                                  std::to_string(bird_count == 0 ? 0 : bird_count - 1) + ")");
+    if (seen[id])
+      throw std::invalid_argument("bird selection '" + std::string(selection) + "': bird " +
+                                  std::to_string(id) + " is listed twice");
+    seen[id] = true;
+    ids.push_back(static_cast<uint32_t>(id));
+    if (comma == std::string_view::npos) break;
+    list.remove_prefix(comma + 1);
+  }
+  return ids;
+}
+
+struct VtkExporter::Writer {
+  struct Frame {
+    double time = 0.0;
+    std::vector<BirdState> birds;  // the selected birds, in the order of `ids`
+  };
+
+  // Fixed at construction.
+  fs::path dir;
+  VtkOptions::Compression compression;
+  std::vector<uint32_t> ids;
+  std::vector<Species> species;
+  World world;
+  double dt;
+
+  // Shared with the simulation's thread.
+  std::mutex mutex;
+  std::condition_variable wake;
+  std::deque<Frame> queue;
+  bool stop = false;
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+
+  // The writer thread's own.
+  std::vector<std::pair<double, std::string>> collection;  // time, file relative to dir
+  std::vector<double> saved_times;
+  std::vector<glm::dvec3> saved_positions;  // frame-major: frame * ids.size() + bird
+  std::vector<double> saved_speeds;
+  bool trajectories_stale = false;
+  Clock::time_point trajectories_written{};  // long ago: the first frame writes them at once
+
+  std::thread thread;
+
+  void run() {
+    while (true) {
+      Frame frame;
+      bool have = false;
+      {
+        std::unique_lock lock(mutex);
+        auto ready = [&] { return stop || !queue.empty(); };
+        if (trajectories_stale)
+          wake.wait_until(lock, trajectories_written + kTrajectoryInterval, ready);
+        else
+          wake.wait(lock, ready);
+        if (!queue.empty()) {
+          frame = std::move(queue.front());
+          queue.pop_front();
+          have = true;
+        } else if (stop) {
+          break;
+        }
+      }
+      if (failed) continue;  // drain and drop
+      try {
+        if (have) write_frame(frame);
+        if (trajectories_stale && Clock::now() - trajectories_written >= kTrajectoryInterval)
+          write_trajectories();
+      } catch (...) {
+        fail(std::current_exception());
+      }
+    }
+    // The final trajectories, also after an error (what was saved until then), best effort.
+    try {
+      if (trajectories_stale) write_trajectories();
+    } catch (...) {
+      fail(std::current_exception());
+    }
+  }
+
+  void fail(std::exception_ptr e) {
+    std::lock_guard lock(mutex);
+    if (!error) error = e;
+    failed = true;
+  }
+
+  void write_frame(const Frame& frame) {
+    const vtkIdType n = static_cast<vtkIdType>(frame.birds.size());
+    world.move_targets(frame.time);
+
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(n);
+    auto bird_id = make_array<vtkUnsignedIntArray>("bird_id", 1, n);
+    auto species_id = make_array<vtkIntArray>("species", 1, n);
+    auto time = make_array<vtkDoubleArray>("time", 1, n);
+    auto velocity = make_array<vtkDoubleArray>("velocity", 3, n);
+    auto speed = make_array<vtkDoubleArray>("speed", 1, n);
+    auto attitude = make_array<vtkDoubleArray>("attitude", 4, n);
+    auto hpb = make_array<vtkDoubleArray>("heading_pitch_bank", 3, n);
+    auto phase = make_array<vtkDoubleArray>("wingbeat_phase", 1, n);
+    auto frequency = make_array<vtkDoubleArray>("frequency", 1, n);
+    auto amplitude = make_array<vtkDoubleArray>("amplitude", 1, n);
+    auto tail_bend = make_array<vtkDoubleArray>("tail_bend", 1, n);
+    auto tail_twist = make_array<vtkDoubleArray>("tail_twist", 1, n);
+    auto tail_open = make_array<vtkDoubleArray>("tail_opening", 1, n);
+    auto aero_force = make_array<vtkDoubleArray>("aero_force", 3, n);
+    auto tail_force = make_array<vtkDoubleArray>("tail_force", 3, n);
+    auto flight_state = make_array<vtkIntArray>("flight_state", 1, n);
+    auto target = make_array<vtkIntArray>("target", 1, n);
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfTuples(n + 1);
+    connectivity->SetNumberOfTuples(n);
+    std::vector<glm::dvec3> positions(static_cast<size_t>(n));
+    std::vector<double> speeds(static_cast<size_t>(n));
+
+    for (vtkIdType i = 0; i < n; ++i) {
+      const BirdState& b = frame.birds[static_cast<size_t>(i)];
+      const Species& sp = species[b.species];
+      // The forces of the step the simulation takes next from this state.
+      BirdState copy = b;
+      StepForces f;
+      step_bird(copy, sp, world, frame.time, dt, &f);
+      const glm::dvec3 aero = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail;
+      const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
+      const double opening =
+          b.mode == FlightMode::landing ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
+                                        : tail_opening(sp, b.tail_bend, b.tail_twist);
+
+      points->SetPoint(i, b.position.x, b.position.y, b.position.z);
+      bird_id->SetValue(i, ids[static_cast<size_t>(i)]);
+      species_id->SetValue(i, static_cast<int>(b.species));
+      time->SetValue(i, frame.time);
+      velocity->SetTuple3(i, b.velocity.x, b.velocity.y, b.velocity.z);
+      speed->SetValue(i, glm::length(b.velocity));
+      const double q[4] = {b.attitude.w, b.attitude.x, b.attitude.y, b.attitude.z};
+      attitude->SetTypedTuple(i, q);
+      hpb->SetTuple3(i, degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(b.attitude)),
+                     degrees(bank_angle(b.attitude)));
+      phase->SetValue(i, b.phase);
+      frequency->SetValue(i, b.frequency);
+      amplitude->SetValue(i, b.amplitude);
+      tail_bend->SetValue(i, degrees(b.tail_bend));
+      tail_twist->SetValue(i, degrees(b.tail_twist));
+      tail_open->SetValue(i, degrees(opening));
+      aero_force->SetTuple3(i, aero.x, aero.y, aero.z);
+      tail_force->SetTuple3(i, f.tail.x, f.tail.y, f.tail.z);
+      flight_state->SetValue(i, static_cast<int>(b.mode));
+      target->SetValue(i, static_cast<int>(b.target));
+      offsets->SetValue(i, i);
+      connectivity->SetValue(i, i);
+
+      positions[static_cast<size_t>(i)] = b.position;
+      speeds[static_cast<size_t>(i)] = glm::length(b.velocity);
+    }
+    offsets->SetValue(n, n);
+
+    vtkNew<vtkCellArray> verts;
+    verts->SetData(offsets, connectivity);
+    vtkNew<vtkPolyData> data;
+    data->SetPoints(points);
+    data->SetVerts(verts);
+    vtkPointData* pd = data->GetPointData();
+    for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{
+             bird_id, species_id, time, velocity, speed, attitude, hpb, phase, frequency,
+             amplitude, tail_bend, tail_twist, tail_open, aero_force, tail_force, flight_state,
+             target})
+      pd->AddArray(a);
+    pd->SetActiveVectors("velocity");
+
+    const std::string name = "frames/" + frame_name(collection.size());
+    write_polydata(data, dir / name, compression);
+    // Only frames written in full reach the collection and the trajectories.
+    saved_times.push_back(frame.time);
+    saved_positions.insert(saved_positions.end(), positions.begin(), positions.end());
+    saved_speeds.insert(saved_speeds.end(), speeds.begin(), speeds.end());
+    collection.emplace_back(frame.time, name);
+    write_collection();
+    trajectories_stale = true;
+  }
+
+  // flock.pvd: every frame file written so far with its time.
+  void write_collection() {
+    const fs::path path = dir / "flock.pvd";
+    const fs::path tmp = temporary(path);
+    {
+      std::ofstream out(tmp, std::ios::trunc);
+      out << "<?xml version=\"1.0\"?>\n"
+             "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+             "  <Collection>\n";
+      char line[512];
+      for (const auto& [t, file] : collection) {
+        std::snprintf(line, sizeof line,
+                      "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
+                      file.c_str());
+        out << line;
+      }
+      out << "  </Collection>\n</VTKFile>\n";
+      out.close();
+      if (!out)
+        throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
+    }
+    rename_into_place(tmp, path);
+  }
+
+  // trajectories.vtp: one polyline per bird through its saved positions (a single saved frame:
+  // one vertex per bird, a polyline needing two points).
+  void write_trajectories() {
+    const size_t birds = ids.size();
+    const size_t frames = saved_times.size();
+    const vtkIdType n = static_cast<vtkIdType>(birds * frames);
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(n);
+    auto time = make_array<vtkDoubleArray>("time", 1, n);
+    auto speed = make_array<vtkDoubleArray>("speed", 1, n);
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    const vtkIdType cells = frames > 0 ? static_cast<vtkIdType>(birds) : 0;
+    offsets->SetNumberOfTuples(cells + 1);
+    offsets->SetValue(0, 0);
+    connectivity->SetNumberOfTuples(n);
+    auto bird_id = make_array<vtkUnsignedIntArray>("bird_id", 1, cells);
+    for (size_t b = 0; b < birds && frames > 0; ++b) {
+      for (size_t f = 0; f < frames; ++f) {
+        const vtkIdType p = static_cast<vtkIdType>(b * frames + f);
+        const glm::dvec3& x = saved_positions[f * birds + b];
+        points->SetPoint(p, x.x, x.y, x.z);
+        time->SetValue(p, saved_times[f]);
+        speed->SetValue(p, saved_speeds[f * birds + b]);
+        connectivity->SetValue(p, p);
+      }
+      offsets->SetValue(static_cast<vtkIdType>(b + 1), static_cast<vtkIdType>((b + 1) * frames));
+      bird_id->SetValue(static_cast<vtkIdType>(b), ids[b]);
+    }
+    vtkNew<vtkCellArray> cell_array;
+    cell_array->SetData(offsets, connectivity);
+    vtkNew<vtkPolyData> data;
+    data->SetPoints(points);
+    if (frames >= 2)
+      data->SetLines(cell_array);
+    else
+      data->SetVerts(cell_array);
+    data->GetPointData()->AddArray(time);
+    data->GetPointData()->AddArray(speed);
+    data->GetCellData()->AddArray(bird_id);
+    write_polydata(data, dir / "trajectories.vtp", compression);
+    trajectories_stale = false;
+    trajectories_written = Clock::now();
+  }
+};
+
+VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, size_t bird_count)
+    : dir_(options.dir), every_(options.every), bird_count_(bird_count) {
+  if (options.every == 0) throw std::invalid_argument("VTK export: every must be >= 1");
+  selected_ = select_birds(options.birds, bird_count);
+  if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");
+
+  // Create and probe the directory before the run.
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error("VTK export directory " + dir_.string() + ": " + why);
+  };
+  std::error_code ec;
+  fs::create_directories(dir_ / "frames", ec);
+  if (ec) fail("cannot create it: " + ec.message());
+  for (const fs::path& probe : {dir_ / ".aeroflock-probe", dir_ / "frames" / ".aeroflock-probe"}) {
+    errno = 0;
+    std::ofstream out(probe);
+    out << "probe\n";
+    out.close();
+    const int err = errno;
+    fs::remove(probe, ec);
+    if (!out) fail(std::string("cannot write there: ") + std::strerror(err ? err : EIO));
+  }
+
+  writer_ = std::make_unique<Writer>();
+  Writer& w = *writer_;
+  w.dir = dir_;
+  w.compression = options.compression;
+  w.ids = selected_;
+  w.species = scenario.species;
+  w.world = scenario.world;
+  w.dt = scenario.dt;
+  w.thread = std::thread([&w] { w.run(); });
+}
+
+VtkExporter::~VtkExporter() {
+  try {
+    finish();
+  } catch (...) {
+    // Reported by finish() when the caller asks; a destructor must not throw.
+  }
+}
+
+void VtkExporter::add_frame(double time, const std::vector<BirdState>& birds) {
+  if (finished_) throw std::logic_error("VtkExporter::add_frame after finish()");
+  if (birds.size() != bird_count_)
+    throw std::invalid_argument("VtkExporter::add_frame: expected " + std::to_string(bird_count_) +
+                                " birds, got " + std::to_string(birds.size()));
+  if (writer_->failed) return;
+  Writer::Frame frame;
+  frame.time = time;
+  frame.birds.reserve(selected_.size());
+  for (uint32_t id : selected_) frame.birds.push_back(birds[id]);
+  {
+    std::lock_guard lock(writer_->mutex);
+    writer_->queue.push_back(std::move(frame));
+  }
+  writer_->wake.notify_one();
+  ++frames_added_;
+}
+
+bool VtkExporter::failed() const { return writer_->failed; }
+
+void VtkExporter::finish() {
+  if (finished_) return;
+  finished_ = true;
+  {
+    std::lock_guard lock(writer_->mutex);
+    writer_->stop = true;
+  }
+  writer_->wake.notify_one();
+  writer_->thread.join();
+  if (writer_->error) std::rethrow_exception(writer_->error);
+}
+
+}  // namespace aeroflock

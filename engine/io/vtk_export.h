@@ -1,0 +1,100 @@
+// VTK export of a run for ParaView and Python's vtk: a time series of XML PolyData files (one
+// vertex per bird, its state and forces as point data), a ParaView collection (.pvd) listing them
+// with their simulated times, and one polyline per bird through its saved positions.
+//
+// DIR/frames/flock_000000.vtp, ...  one file per saved frame. Points: the birds' positions, cm.
+//   Point data, one tuple per bird:
+//     bird_id (uint32)        the bird's index in the flock
+//     species (int)           index into the scenario's species
+//     time (double)           simulated time of the frame, s
+//     velocity (3)            cm/s, world frame (y up)
+//     speed                   |velocity|, cm/s
+//     attitude (4)            body-to-world quaternion, components w x y z
+//     heading_pitch_bank (3)  degrees: heading from +x towards +z; pitch of the head above the
+//                             horizon; bank, right wing down > 0
+//     wingbeat_phase          psi, rad in [0, 2 pi)
+//     frequency               wingbeat frequency, Hz
+//     amplitude               wingbeat amplitude
+//     tail_bend, tail_twist, tail_opening   degrees (bend up > 0, twist right side down > 0)
+//     aero_force (3)          the aerodynamic force of the next step: four wing parts + tail, dyn
+//     tail_force (3)          the tail's part of it, dyn
+//     flight_state (int)      0 flying, 1 standing, 2 taking off, 3 landing, 4 perched
+//     target (int)            index of the current target in the bird's route
+// DIR/flock.pvd        the collection of the frame files with timestep = simulated time.
+// DIR/trajectories.vtp one polyline per exported bird through its saved positions; point data
+//                      time and speed, cell data bird_id.
+//
+// Files are written by a thread of the exporter, so the simulation never waits for the disk. The
+// .pvd and the trajectories are written to a temporary name and renamed: at every moment they are
+// complete and readable (the trajectories at most about 2 s of wall time behind).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "model/bird.h"
+#include "model/scenario.h"
+
+namespace aeroflock {
+
+struct VtkOptions {
+  std::filesystem::path dir;
+  uint32_t every = 1;         // export after every `every`-th frame (see VtkExporter::due)
+  std::string birds = "all";  // see select_birds
+  enum class Compression { none, lz4, zlib } compression = Compression::lz4;
+};
+
+// "none", "lz4" or "zlib"; throws std::invalid_argument otherwise.
+VtkOptions::Compression parse_vtk_compression(std::string_view name);
+
+// The birds to export, in the order given: "all"; "every:N" (birds 0, N, 2N, ...); or a list of
+// ids "3,7,12" (or "ids:3,7,12"). Throws std::invalid_argument for bad syntax, an id out of
+// range or listed twice.
+std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count);
+
+class VtkExporter {
+ public:
+  // Parses the selection and creates and checks the directory (std::runtime_error naming it when
+  // it cannot be created or written), before the run starts. Starts the writer thread.
+  VtkExporter(const VtkOptions& options, const Scenario& scenario, size_t bird_count);
+  // Finishes (drains the queue) if finish() was not called; errors are then dropped.
+  ~VtkExporter();
+  VtkExporter(const VtkExporter&) = delete;
+  VtkExporter& operator=(const VtkExporter&) = delete;
+
+  // Whether the frame with 0-based index `frame` (just stepped) is one to export: every
+  // `options.every`-th, i.e. frames every-1, 2 every-1, ...
+  bool due(uint64_t frame) const { return (frame + 1) % every_ == 0; }
+
+  // Copies the selected birds' states and queues them for the writer; returns at once. `time` is
+  // the simulated time of the state. Does nothing after the writer has failed (see failed()).
+  void add_frame(double time, const std::vector<BirdState>& birds);
+
+  // Waits for every queued frame, writes the final .pvd and trajectories and stops the writer.
+  // Rethrows the writer's error, if any (std::runtime_error). Calling it again does nothing.
+  void finish();
+
+  // The writer has hit an error (finish() will throw it): the run may as well stop.
+  bool failed() const;
+
+  size_t frames_added() const { return frames_added_; }
+  const std::vector<uint32_t>& selected() const { return selected_; }
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  struct Writer;
+  std::filesystem::path dir_;
+  uint32_t every_ = 1;
+  std::vector<uint32_t> selected_;
+  size_t bird_count_ = 0;
+  size_t frames_added_ = 0;
+  bool finished_ = false;
+  std::unique_ptr<Writer> writer_;
+};
+
+}  // namespace aeroflock
