@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include "frame_output.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
+#include "io/vtk_export.h"
 #include "render/viewer.h"
 
 namespace aeroflock {
@@ -35,7 +37,16 @@ struct RunOptions {
   std::string summary;
   int threads = 0;
   ImageOptions images;
+  std::string vtk_dir;
+  uint32_t vtk_every = 1;
+  std::string vtk_birds = "all";
+  std::string vtk_compression = "lz4";
 };
+
+// Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130.
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_sigint(int) { g_interrupted = 1; }
+constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
 
 struct ViewOptions {
   std::string scenario = "default";
@@ -99,7 +110,8 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-void print_summary(const RunSummary& r, const std::string& summary_path) {
+void print_summary(const RunSummary& r, const std::string& summary_path, const VtkExporter* vtk,
+                   bool interrupted) {
   const FlockStatistics& s = r.stats;
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
   std::printf("scenario         %s\n", r.scenario.c_str());
@@ -115,9 +127,18 @@ void print_summary(const RunSummary& r, const std::string& summary_path) {
   std::printf("mean speed       %.2f m/s\n", s.mean_speed / 100);
   std::printf("targets reached  %llu\n", (unsigned long long)s.targets_reached);
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
+  if (vtk)
+    std::printf("vtk              %s (%zu frames of %zu birds: flock.pvd, trajectories.vtp)\n",
+                vtk->dir().c_str(), vtk->frames_added(), vtk->selected().size());
+  if (interrupted) std::printf("interrupted      at t = %.3f s (Ctrl-C)\n", r.sim_seconds);
 }
 
 int run(const RunOptions& opt) {
+  g_interrupted = 0;
+  struct sigaction action {};
+  action.sa_handler = on_sigint;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
   if (!opt.summary.empty()) check_output_path(opt.summary);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
@@ -140,27 +161,50 @@ int run(const RunOptions& opt) {
 
   Progress progress;
   const size_t birds = backend->birds().size();
+  // Before the run: a directory that cannot be written fails now.
+  std::unique_ptr<VtkExporter> vtk;
+  if (!opt.vtk_dir.empty()) {
+    VtkOptions vo;
+    vo.dir = opt.vtk_dir;
+    vo.every = opt.vtk_every;
+    vo.birds = opt.vtk_birds;
+    vo.compression = parse_vtk_compression(opt.vtk_compression);
+    try {
+      vtk = std::make_unique<VtkExporter>(vo, backend->scenario(), birds);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
+  bool interrupted = false;
   for (uint64_t frame = 0; frame < frames; ++frame) {
+    if (g_interrupted || (vtk && vtk->failed())) {
+      interrupted = g_interrupted;
+      break;
+    }
     backend->step_frame();
     if (images) images->frame(*backend, frame);
+    // birds() waits for the frame on the Vulkan backend; the exporter writes on its own thread.
+    if (vtk && vtk->due(frame)) vtk->add_frame(backend->time(), backend->birds());
     const double w = wall();
     progress.update(backend->time(), seconds, birds,
                     w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
   }
   progress.finish();
+  interrupted = interrupted || g_interrupted;
 
   summary.wall_seconds = wall();
   summary.steps = backend->steps();
   summary.sim_seconds = backend->time();
   summary.stats = flock_statistics(backend->birds());
   if (images) images->finish(*backend);
+  if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
-  print_summary(summary, opt.summary);
-  return 0;
+  print_summary(summary, opt.summary, vtk.get(), interrupted);
+  return interrupted ? kInterruptedStatus : 0;
 }
 
 int view(const ViewOptions& opt) {
@@ -216,6 +260,17 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
   add_size_option(run_cmd, opt.images.width, opt.images.height, "Image size WxH (default 1280x720)");
+  run_cmd->add_option("--vtk", opt.vtk_dir,
+                      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp");
+  run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame (default 1)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--vtk-birds", opt.vtk_birds,
+                      "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")
+      ->capture_default_str();
+  run_cmd->add_option("--vtk-compression", opt.vtk_compression,
+                      "With --vtk: none, lz4 or zlib (default lz4)")
+      ->check(CLI::IsMember({"none", "lz4", "zlib"}))
+      ->capture_default_str();
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
