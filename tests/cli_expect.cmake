@@ -1,6 +1,6 @@
 # Runs the aeroflock program and checks what it did.
-#   -DAEROFLOCK=exe -DARGS="run;x.toml" -DEXPECT_RC=0|nonzero
-#   [-DEXPECT_STDERR=regex] [-DSUMMARY=file.json: must exist with every summary key]
+#   -DAEROFLOCK=exe -DARGS="run;x.toml" -DEXPECT_RC=0|nonzero|N
+#   [-DEXPECT_STDERR=regex] [-DEXPECT_STDOUT=regex] [-DCLEAN_DIR=dir: removed before the run] [-DSUMMARY=file.json: must exist with every summary key]
 #   [-DPNG=file.png -DPNG_SIZE=WxH: must exist, a PNG of that size]
 string(REPLACE "," ";" args "${ARGS}")
 if(SUMMARY)
@@ -9,6 +9,9 @@ endif()
 if(PNG)
   file(REMOVE "${PNG}")
 endif()
+if(CLEAN_DIR)
+  file(REMOVE_RECURSE "${CLEAN_DIR}")
+endif()
 execute_process(COMMAND "${AEROFLOCK}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                 ERROR_VARIABLE err)
 message("rc: ${rc}\nstdout:\n${out}\nstderr:\n${err}")
@@ -16,6 +19,11 @@ if(EXPECT_RC STREQUAL "0" AND NOT rc EQUAL 0)
   message(FATAL_ERROR "expected exit status 0")
 elseif(EXPECT_RC STREQUAL "nonzero" AND (rc EQUAL 0 OR NOT rc MATCHES "^[0-9]+$"))
   message(FATAL_ERROR "expected a non-zero exit status (and no crash)")
+elseif(EXPECT_RC MATCHES "^[1-9][0-9]*$" AND NOT rc STREQUAL EXPECT_RC)
+  message(FATAL_ERROR "expected exit status ${EXPECT_RC}")
+endif()
+if(DEFINED EXPECT_STDOUT AND NOT out MATCHES "${EXPECT_STDOUT}")
+  message(FATAL_ERROR "stdout does not match: ${EXPECT_STDOUT}")
 endif()
 if(DEFINED EXPECT_STDERR AND NOT err MATCHES "${EXPECT_STDERR}")
   message(FATAL_ERROR "stderr does not match: ${EXPECT_STDERR}")

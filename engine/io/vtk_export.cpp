@@ -6,6 +6,7 @@
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDoubleArray.h>
+#include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -97,6 +98,7 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
   vtkNew<vtkXMLPolyDataWriter> writer;
   writer->AddObserver(vtkCommand::ErrorEvent, on_error);
   writer->AddObserver(vtkCommand::WarningEvent, on_error);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
   writer->SetFileName(tmp.c_str());
   writer->SetInputData(data);
   writer->SetDataModeToAppended();
@@ -107,13 +109,17 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
     case VtkOptions::Compression::lz4: writer->SetCompressorTypeToLZ4(); break;
     case VtkOptions::Compression::zlib: writer->SetCompressorTypeToZLib(); break;
   }
+  errno = 0;
   if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+    const int err = errno;
     std::error_code ec;
     fs::remove(tmp, ec);
-    if (message.empty()) message = std::strerror(errno);
-    // VTK's messages start with the source location and object: keep their last line.
+    // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
     while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
     if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
+    if (const size_t colon = message.find("): "); message.starts_with("vtk") && colon != std::string::npos)
+      message.erase(0, colon + 3);
+    if (err != 0) message += (message.empty() ? "" : ": ") + std::string(std::strerror(err));
     throw std::runtime_error("cannot write " + path.string() + ": " + message);
   }
   rename_into_place(tmp, path);
@@ -245,9 +251,11 @@ struct VtkExporter::Writer {
         fail(std::current_exception());
       }
     }
-    // The final trajectories, also after an error (what was saved until then), best effort.
+    // The final collection (even empty) and trajectories, the latter also after an error (what
+    // was saved until then).
     try {
-      if (trajectories_stale) write_trajectories();
+      if (!failed) write_collection();
+      if (trajectories_stale || trajectories_written == Clock::time_point{}) write_trajectories();
     } catch (...) {
       fail(std::current_exception());
     }

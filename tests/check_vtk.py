@@ -1,0 +1,124 @@
+#!/usr/bin/python3
+"""Checks an `aeroflock run --vtk DIR` export with Python's VTK (Debian's python3-vtk9).
+
+usage: /usr/bin/python3 tests/check_vtk.py DIR [--birds N] [--frames N] [--min-frames N]
+
+Parses DIR/flock.pvd as XML, checks that every file it lists exists and that the times rise
+strictly, opens each file with vtkXMLPolyDataReader and checks its point count and arrays, and
+opens DIR/trajectories.vtp (one polyline per bird, one point per saved frame). Exits 0 when all
+is well, 1 with the reasons otherwise, and 77 (skipped) when `import vtk` fails.
+"""
+import argparse
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+try:
+    import vtk  # noqa: E402
+except ImportError as e:  # python3-vtk9 missing
+    print(f"SKIPPED: cannot import vtk: {e}")
+    sys.exit(77)
+
+# Point arrays of a frame file and their numbers of components.
+FRAME_ARRAYS = {
+    "bird_id": 1, "species": 1, "time": 1, "velocity": 3, "speed": 1, "attitude": 4,
+    "heading_pitch_bank": 3, "wingbeat_phase": 1, "frequency": 1, "amplitude": 1,
+    "tail_bend": 1, "tail_twist": 1, "tail_opening": 1, "aero_force": 3, "tail_force": 3,
+    "flight_state": 1, "target": 1,
+}
+
+errors = []
+
+
+def check(condition, message):
+    if not condition:
+        errors.append(message)
+    return condition
+
+
+def read(path):
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    check(reader.GetErrorCode() == 0, f"{path}: VTK read error {reader.GetErrorCode()}")
+    return reader.GetOutput()
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("dir")
+    parser.add_argument("--birds", type=int, help="birds expected in every frame")
+    parser.add_argument("--frames", type=int, help="frames expected in the collection")
+    parser.add_argument("--min-frames", type=int, default=1, help="at least this many frames")
+    args = parser.parse_args()
+
+    pvd = os.path.join(args.dir, "flock.pvd")
+    root = ET.parse(pvd).getroot()
+    check(root.tag == "VTKFile" and root.get("type") == "Collection", f"{pvd}: not a collection")
+    datasets = root.findall("./Collection/DataSet")
+    check(len(datasets) >= args.min_frames, f"{pvd}: {len(datasets)} frames, expected at least {args.min_frames}")
+    if args.frames is not None:
+        check(len(datasets) == args.frames, f"{pvd}: {len(datasets)} frames, expected {args.frames}")
+
+    times = []
+    birds = args.birds
+    for ds in datasets:
+        t = float(ds.get("timestep"))
+        path = os.path.join(args.dir, ds.get("file"))
+        if times:
+            check(t > times[-1], f"{pvd}: time {t} after {times[-1]} does not rise")
+        times.append(t)
+        if not check(os.path.isfile(path), f"{path}: listed in {pvd} but missing"):
+            continue
+        data = read(path)
+        n = data.GetNumberOfPoints()
+        if birds is None:
+            birds = n
+        check(n == birds, f"{path}: {n} points, expected {birds}")
+        check(data.GetNumberOfVerts() == n, f"{path}: {data.GetNumberOfVerts()} vertices for {n} points")
+        pd = data.GetPointData()
+        for name, components in FRAME_ARRAYS.items():
+            a = pd.GetArray(name)
+            if not check(a is not None, f"{path}: no point array {name}"):
+                continue
+            check(a.GetNumberOfComponents() == components,
+                  f"{path}: {name} has {a.GetNumberOfComponents()} components, expected {components}")
+            check(a.GetNumberOfTuples() == n, f"{path}: {name} has {a.GetNumberOfTuples()} tuples")
+        if pd.GetArray("time") is not None and n > 0:
+            check(abs(pd.GetArray("time").GetValue(0) - t) <= 1e-12 * max(1.0, abs(t)),
+                  f"{path}: time {pd.GetArray('time').GetValue(0)} but the collection says {t}")
+        if pd.GetArray("speed") is not None:
+            lo, hi = pd.GetArray("speed").GetRange()
+            check(0 <= lo <= hi < 1e5, f"{path}: speeds {lo}..{hi} cm/s out of range")
+
+    traj_path = os.path.join(args.dir, "trajectories.vtp")
+    if check(os.path.isfile(traj_path), f"{traj_path}: missing"):
+        traj = read(traj_path)
+        frames = len(times)
+        cells = traj.GetNumberOfCells()
+        check(cells == (birds or 0), f"{traj_path}: {cells} cells, expected one per bird ({birds})")
+        check(traj.GetNumberOfPoints() == (birds or 0) * frames,
+              f"{traj_path}: {traj.GetNumberOfPoints()} points, expected {birds} x {frames}")
+        if frames >= 2:
+            check(traj.GetNumberOfLines() == cells, f"{traj_path}: cells are not polylines")
+        for name in ("time", "speed"):
+            check(traj.GetPointData().GetArray(name) is not None, f"{traj_path}: no point array {name}")
+        check(traj.GetCellData().GetArray("bird_id") is not None, f"{traj_path}: no cell array bird_id")
+        ids = vtk.vtkIdList()
+        for c in range(min(cells, 3)):
+            traj.GetCellPoints(c, ids)
+            check(ids.GetNumberOfIds() == frames, f"{traj_path}: bird {c} has {ids.GetNumberOfIds()} points")
+
+    leftovers = [f for _, _, files in os.walk(args.dir) for f in files if f.endswith(".tmp")]
+    check(not leftovers, f"{args.dir}: temporary files left: {leftovers}")
+
+    if errors:
+        print("\n".join(errors))
+        return 1
+    print(f"ok: {len(times)} frames of {birds} birds, t = {times[0] if times else '-'} .. "
+          f"{times[-1] if times else '-'} s, trajectories ok")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

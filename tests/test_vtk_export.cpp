@@ -1,0 +1,384 @@
+// VTK export: a short CPU run exported every 2nd frame, read back with VTK's own readers and
+// compared with the simulation's state; bird selections; directories that cannot be written.
+#include <gtest/gtest.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "io/scenario_file.h"
+#include "io/vtk_export.h"
+#include "model/body.h"
+#include "model/constants.h"
+#include "model/simulation.h"
+#include "model/step.h"
+#include "model/tail.h"
+
+namespace aeroflock {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("aeroflock_test_vtk_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct PvdEntry {
+  double time;
+  std::string file;
+};
+
+// The .pvd's DataSet entries, parsed as plain XML text (no ParaView reader in VTK itself).
+std::vector<PvdEntry> read_pvd(const fs::path& path) {
+  const std::string text = read_text(path);
+  EXPECT_NE(text.find("<VTKFile type=\"Collection\""), std::string::npos);
+  EXPECT_NE(text.find("</VTKFile>"), std::string::npos);
+  std::vector<PvdEntry> entries;
+  const std::regex dataset(R"re(<DataSet\s+timestep="([^"]+)"[^>]*\sfile="([^"]+)"\s*/>)re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset);
+       it != std::sregex_iterator(); ++it)
+    entries.push_back({std::stod((*it)[1].str()), (*it)[2].str()});
+  return entries;
+}
+
+vtkSmartPointer<vtkPolyData> read_vtp(const fs::path& path) {
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  EXPECT_EQ(reader->GetErrorCode(), 0u) << path;
+  vtkSmartPointer<vtkPolyData> data = reader->GetOutput();
+  return data;
+}
+
+// The array `name` with `components` components, or a failed expectation and nullptr.
+vtkDataArray* array(vtkPolyData* data, const char* name, int components) {
+  vtkDataArray* a = data->GetPointData()->GetArray(name);
+  EXPECT_NE(a, nullptr) << "no point array " << name;
+  if (a) {
+    EXPECT_EQ(a->GetNumberOfComponents(), components) << name;
+    EXPECT_EQ(a->GetNumberOfTuples(), data->GetNumberOfPoints()) << name;
+  }
+  return a;
+}
+
+void expect_vec(vtkDataArray* a, vtkIdType i, const glm::dvec3& v, const char* what) {
+  ASSERT_NE(a, nullptr);
+  EXPECT_DOUBLE_EQ(a->GetComponent(i, 0), v.x) << what << " of point " << i;
+  EXPECT_DOUBLE_EQ(a->GetComponent(i, 1), v.y) << what << " of point " << i;
+  EXPECT_DOUBLE_EQ(a->GetComponent(i, 2), v.z) << what << " of point " << i;
+}
+
+struct Saved {
+  double time;
+  std::vector<BirdState> birds;
+};
+
+// A CPU run of fig21-moving-target with 5 birds for `frames` frames, exported as `options` says.
+std::vector<Saved> run_and_export(const VtkOptions& options, uint32_t frames, Scenario* out) {
+  Scenario scenario = load_scenario("fig21-moving-target");
+  Simulation sim(scenario, 5);
+  VtkExporter exporter(options, sim.scenario(), sim.birds().size());
+  std::vector<Saved> saved;
+  for (uint32_t frame = 0; frame < frames; ++frame) {
+    sim.step_frame();
+    if (exporter.due(frame)) {
+      exporter.add_frame(sim.time(), sim.birds());
+      saved.push_back({sim.time(), sim.birds()});
+    }
+  }
+  exporter.finish();
+  *out = sim.scenario();
+  return saved;
+}
+
+TEST(VtkExport, FramesMatchTheSimulation) {
+  VtkOptions options;
+  options.dir = fresh_dir("frames");
+  options.every = 2;
+  Scenario scenario;
+  const std::vector<Saved> saved = run_and_export(options, 9, &scenario);
+  ASSERT_EQ(saved.size(), 4u);  // frames 1, 3, 5, 7 (0-based)
+
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), saved.size());
+  for (size_t k = 0; k < pvd.size(); ++k) {
+    SCOPED_TRACE("saved frame " + std::to_string(k));
+    EXPECT_EQ(pvd[k].time, saved[k].time);  // %.17g: exact
+    if (k > 0) {
+      EXPECT_GT(pvd[k].time, pvd[k - 1].time);
+    }
+    const fs::path file = options.dir / pvd[k].file;
+    ASSERT_TRUE(fs::exists(file)) << file;
+    EXPECT_NE(read_text(file).find("compressor=\"vtkLZ4DataCompressor\""), std::string::npos);
+    EXPECT_NE(read_text(file).find("header_type=\"UInt64\""), std::string::npos);
+
+    vtkSmartPointer<vtkPolyData> data = read_vtp(file);
+    const std::vector<BirdState>& birds = saved[k].birds;
+    ASSERT_EQ(data->GetNumberOfPoints(), 5);
+    EXPECT_EQ(data->GetNumberOfVerts(), 5);
+    EXPECT_EQ(data->GetNumberOfCells(), 5);
+
+    vtkDataArray* id = array(data, "bird_id", 1);
+    vtkDataArray* species = array(data, "species", 1);
+    vtkDataArray* time = array(data, "time", 1);
+    vtkDataArray* velocity = array(data, "velocity", 3);
+    vtkDataArray* speed = array(data, "speed", 1);
+    vtkDataArray* attitude = array(data, "attitude", 4);
+    vtkDataArray* hpb = array(data, "heading_pitch_bank", 3);
+    vtkDataArray* phase = array(data, "wingbeat_phase", 1);
+    vtkDataArray* frequency = array(data, "frequency", 1);
+    vtkDataArray* amplitude = array(data, "amplitude", 1);
+    vtkDataArray* bend = array(data, "tail_bend", 1);
+    vtkDataArray* twist = array(data, "tail_twist", 1);
+    vtkDataArray* opening = array(data, "tail_opening", 1);
+    vtkDataArray* aero = array(data, "aero_force", 3);
+    vtkDataArray* tail = array(data, "tail_force", 3);
+    vtkDataArray* state = array(data, "flight_state", 1);
+    vtkDataArray* target = array(data, "target", 1);
+    ASSERT_FALSE(HasFailure());
+    EXPECT_EQ(data->GetPointData()->GetNumberOfArrays(), 17);
+
+    World world = scenario.world;
+    world.move_targets(saved[k].time);
+    for (vtkIdType i = 0; i < 5; ++i) {
+      const BirdState& b = birds[static_cast<size_t>(i)];
+      const Species& sp = scenario.species[b.species];
+      double x[3];
+      data->GetPoint(i, x);
+      expect_vec(velocity, i, b.velocity, "velocity");
+      EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position) << "position of bird " << i;
+      EXPECT_EQ(id->GetComponent(i, 0), double(i));
+      EXPECT_EQ(species->GetComponent(i, 0), double(b.species));
+      EXPECT_EQ(time->GetComponent(i, 0), saved[k].time);
+      EXPECT_DOUBLE_EQ(speed->GetComponent(i, 0), glm::length(b.velocity));
+      EXPECT_EQ(attitude->GetComponent(i, 0), b.attitude.w);
+      EXPECT_EQ(attitude->GetComponent(i, 1), b.attitude.x);
+      EXPECT_EQ(attitude->GetComponent(i, 2), b.attitude.y);
+      EXPECT_EQ(attitude->GetComponent(i, 3), b.attitude.z);
+      const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
+      EXPECT_NEAR(hpb->GetComponent(i, 0), degrees(std::atan2(head.z, head.x)), 1e-9);
+      EXPECT_NEAR(hpb->GetComponent(i, 1), degrees(pitch_angle(b.attitude)), 1e-9);
+      EXPECT_NEAR(hpb->GetComponent(i, 2), degrees(bank_angle(b.attitude)), 1e-9);
+      EXPECT_EQ(phase->GetComponent(i, 0), b.phase);
+      EXPECT_EQ(frequency->GetComponent(i, 0), b.frequency);
+      EXPECT_EQ(amplitude->GetComponent(i, 0), b.amplitude);
+      EXPECT_DOUBLE_EQ(bend->GetComponent(i, 0), degrees(b.tail_bend));
+      EXPECT_DOUBLE_EQ(twist->GetComponent(i, 0), degrees(b.tail_twist));
+      ASSERT_EQ(b.mode, FlightMode::flying);
+      EXPECT_DOUBLE_EQ(opening->GetComponent(i, 0),
+                       degrees(tail_opening(sp, b.tail_bend, b.tail_twist)));
+      EXPECT_EQ(state->GetComponent(i, 0), double(b.mode));
+      EXPECT_EQ(target->GetComponent(i, 0), double(b.target));
+      // The forces of the next step from this state, as step_bird gives them.
+      BirdState copy = b;
+      StepForces f;
+      step_bird(copy, sp, world, saved[k].time, scenario.dt, &f);
+      expect_vec(aero, i, f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail, "aero_force");
+      expect_vec(tail, i, f.tail, "tail_force");
+      EXPECT_GT(glm::length(f.tail), 0.0);
+    }
+  }
+
+  // Trajectories: one polyline per bird, one point per saved frame, in time order.
+  vtkSmartPointer<vtkPolyData> traj = read_vtp(options.dir / "trajectories.vtp");
+  ASSERT_EQ(traj->GetNumberOfLines(), 5);
+  EXPECT_EQ(traj->GetNumberOfPoints(), 5 * 4);
+  vtkDataArray* traj_id = traj->GetCellData()->GetArray("bird_id");
+  ASSERT_NE(traj_id, nullptr);
+  vtkDataArray* traj_time = array(traj, "time", 1);
+  vtkDataArray* traj_speed = array(traj, "speed", 1);
+  ASSERT_FALSE(HasFailure());
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < 5; ++c) {
+    traj->GetLines()->GetCellAtId(c, ids);
+    EXPECT_EQ(traj->GetCellType(c), VTK_POLY_LINE);
+    EXPECT_EQ(traj_id->GetComponent(c, 0), double(c));
+    ASSERT_EQ(ids->GetNumberOfIds(), 4);
+    for (vtkIdType f = 0; f < 4; ++f) {
+      const vtkIdType p = ids->GetId(f);
+      const BirdState& b = saved[static_cast<size_t>(f)].birds[static_cast<size_t>(c)];
+      double x[3];
+      traj->GetPoint(p, x);
+      EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position);
+      EXPECT_EQ(traj_time->GetComponent(p, 0), saved[static_cast<size_t>(f)].time);
+      EXPECT_DOUBLE_EQ(traj_speed->GetComponent(p, 0), glm::length(b.velocity));
+    }
+  }
+  // No temporary files are left behind.
+  for (const auto& e : fs::recursive_directory_iterator(options.dir))
+    EXPECT_NE(e.path().extension(), ".tmp") << e.path();
+}
+
+TEST(VtkExport, SelectedBirdsInTheOrderGiven) {
+  VtkOptions options;
+  options.dir = fresh_dir("selected");
+  options.birds = "ids:4,1";
+  options.compression = VtkOptions::Compression::zlib;
+  Scenario scenario;
+  const std::vector<Saved> saved = run_and_export(options, 3, &scenario);
+  ASSERT_EQ(saved.size(), 3u);
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 3u);
+  const fs::path last = options.dir / pvd.back().file;
+  EXPECT_NE(read_text(last).find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  vtkSmartPointer<vtkPolyData> data = read_vtp(last);
+  ASSERT_EQ(data->GetNumberOfPoints(), 2);
+  vtkDataArray* id = array(data, "bird_id", 1);
+  ASSERT_NE(id, nullptr);
+  const uint32_t expected[2] = {4, 1};
+  for (vtkIdType i = 0; i < 2; ++i) {
+    EXPECT_EQ(id->GetComponent(i, 0), double(expected[i]));
+    double x[3];
+    data->GetPoint(i, x);
+    EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), saved.back().birds[expected[i]].position);
+  }
+  vtkSmartPointer<vtkPolyData> traj = read_vtp(options.dir / "trajectories.vtp");
+  EXPECT_EQ(traj->GetNumberOfLines(), 2);
+  EXPECT_EQ(traj->GetNumberOfPoints(), 2 * 3);
+}
+
+TEST(VtkExport, UncompressedAndASingleFrame) {
+  VtkOptions options;
+  options.dir = fresh_dir("single");
+  options.every = 4;
+  options.compression = VtkOptions::Compression::none;
+  Scenario scenario;
+  const std::vector<Saved> saved = run_and_export(options, 5, &scenario);
+  ASSERT_EQ(saved.size(), 1u);
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 1u);
+  const std::string text = read_text(options.dir / pvd[0].file);
+  EXPECT_EQ(text.find("compressor="), std::string::npos);
+  EXPECT_EQ(read_vtp(options.dir / pvd[0].file)->GetNumberOfPoints(), 5);
+  // One saved position per bird is no line yet: one vertex per bird instead.
+  vtkSmartPointer<vtkPolyData> traj = read_vtp(options.dir / "trajectories.vtp");
+  EXPECT_EQ(traj->GetNumberOfPoints(), 5);
+  EXPECT_EQ(traj->GetNumberOfCells(), 5);
+  EXPECT_NE(traj->GetCellData()->GetArray("bird_id"), nullptr);
+}
+
+TEST(VtkExport, NoFramesStillWritesValidFiles) {
+  VtkOptions options;
+  options.dir = fresh_dir("empty");
+  Scenario scenario = load_scenario("fig21-moving-target");
+  { VtkExporter exporter(options, scenario, 1); }  // the destructor finishes
+  ASSERT_TRUE(fs::exists(options.dir / "flock.pvd"));
+  EXPECT_TRUE(read_pvd(options.dir / "flock.pvd").empty());
+  ASSERT_TRUE(fs::exists(options.dir / "trajectories.vtp"));
+  EXPECT_EQ(read_vtp(options.dir / "trajectories.vtp")->GetNumberOfPoints(), 0);
+}
+
+TEST(VtkExport, SelectBirds) {
+  EXPECT_EQ(select_birds("all", 4), (std::vector<uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(select_birds("all", 0), std::vector<uint32_t>{});
+  EXPECT_EQ(select_birds("every:3", 10), (std::vector<uint32_t>{0, 3, 6, 9}));
+  EXPECT_EQ(select_birds("every:1", 3), (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(select_birds("3,7,12", 13), (std::vector<uint32_t>{3, 7, 12}));
+  EXPECT_EQ(select_birds("ids:3,7,12", 13), (std::vector<uint32_t>{3, 7, 12}));
+  EXPECT_EQ(select_birds("ids:5", 6), (std::vector<uint32_t>{5}));
+  EXPECT_EQ(select_birds(" 2, 0 ", 3), (std::vector<uint32_t>{2, 0}));
+
+  auto rejects = [](const char* selection, size_t birds, const char* message) {
+    try {
+      select_birds(selection, birds);
+      ADD_FAILURE() << selection << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos)
+          << selection << ": " << e.what();
+    }
+  };
+  rejects("", 10, "expected all, every:N or a list");
+  rejects("some", 10, "expected all, every:N or a list");
+  rejects("every:0", 10, "every:N needs N >= 1");
+  rejects("every:", 10, "expected every:N");
+  rejects("every:x", 10, "expected every:N");
+  rejects("every:-2", 10, "expected every:N");
+  rejects("3,,7", 10, "got ''");
+  rejects("3,7,", 10, "got ''");
+  rejects("ids:", 10, "expected all, every:N or a list");
+  rejects("-1", 10, "got '-1'");
+  rejects("1.5", 10, "got '1.5'");
+  rejects("3,7,12", 12, "bird 12 is out of range (the flock has 12 birds: 0 to 11)");
+  rejects("3,3", 12, "bird 3 is listed twice");
+  rejects("99999999999999999999", 12, "expected a bird id");
+}
+
+TEST(VtkExport, UnwritableDirectoryFailsBeforeAnything) {
+  const Scenario scenario = load_scenario("fig21-moving-target");
+  VtkOptions options;
+  options.dir = "/proc/aeroflock";
+  try {
+    VtkExporter exporter(options, scenario, 1);
+    FAIL() << "no error for " << options.dir;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/proc/aeroflock"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists("/proc/aeroflock"));
+
+  // Below a regular file.
+  const fs::path file = fresh_dir("file");
+  std::ofstream(file) << "not a directory\n";
+  options.dir = file / "vtk";
+  EXPECT_THROW(VtkExporter(options, scenario, 1), std::runtime_error);
+  fs::remove(file);
+
+  // A bad selection is an error before anything is written, too.
+  options.dir = fresh_dir("badselection");
+  options.birds = "5";
+  EXPECT_THROW(VtkExporter(options, scenario, 1), std::invalid_argument);
+}
+
+TEST(VtkExport, WriterErrorIsReportedByFinish) {
+  Scenario scenario = load_scenario("fig21-moving-target");
+  Simulation sim(scenario, 2);
+  VtkOptions options;
+  options.dir = fresh_dir("error");
+  VtkExporter exporter(options, sim.scenario(), 2);
+  sim.step_frame();
+  exporter.add_frame(sim.time(), sim.birds());
+  // The frames directory turns into a file: the next frame cannot be written.
+  exporter.finish();
+  VtkExporter second(options, sim.scenario(), 2);
+  fs::remove_all(options.dir / "frames");
+  std::ofstream(options.dir / "frames") << "in the way\n";
+  sim.step_frame();
+  second.add_frame(sim.time(), sim.birds());
+  sim.step_frame();
+  second.add_frame(sim.time(), sim.birds());
+  try {
+    second.finish();
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("flock_000000.vtp"), std::string::npos) << e.what();
+    std::cout << "reported: " << e.what() << "\n";
+  }
+  EXPECT_TRUE(second.failed());
+  second.finish();  // once reported, finishing again does nothing
+}
+
+}  // namespace
+}  // namespace aeroflock
