@@ -43,7 +43,8 @@ struct RunOptions {
   std::string vtk_compression = "lz4";
 };
 
-// Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130.
+// Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130. A second
+// Ctrl-C (SA_RESETHAND) ends the program at once.
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_sigint(int) { g_interrupted = 1; }
 constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
@@ -137,6 +138,7 @@ int run(const RunOptions& opt) {
   g_interrupted = 0;
   struct sigaction action {};
   action.sa_handler = on_sigint;
+  action.sa_flags = SA_RESETHAND;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   if (!opt.summary.empty()) check_output_path(opt.summary);
