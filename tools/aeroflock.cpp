@@ -129,8 +129,9 @@ void print_summary(const RunSummary& r, const std::string& summary_path, const V
   std::printf("targets reached  %llu\n", (unsigned long long)s.targets_reached);
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
   if (vtk)
-    std::printf("vtk              %s (%zu frames of %zu birds: flock.pvd, trajectories.vtp)\n",
-                vtk->dir().c_str(), vtk->frames_added(), vtk->selected().size());
+    std::printf("vtk              %s (%zu frame%s of %zu bird%s: flock.pvd, trajectories.vtp)\n",
+                vtk->dir().c_str(), vtk->frames_added(), vtk->frames_added() == 1 ? "" : "s",
+                vtk->selected().size(), vtk->selected().size() == 1 ? "" : "s");
   if (interrupted) std::printf("interrupted      at t = %.3f s (Ctrl-C)\n", r.sim_seconds);
 }
 
