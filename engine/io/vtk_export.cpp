@@ -1,6 +1,5 @@
 #include "io/vtk_export.h"
 
-#include <glm/geometric.hpp>
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -15,6 +14,7 @@
 #include <vtkPolyData.h>
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -80,8 +80,9 @@ fs::path temporary(const fs::path& path) {
 void rename_into_place(const fs::path& from, const fs::path& to) {
   std::error_code ec;
   fs::rename(from, to, ec);
-  if (ec) throw std::runtime_error("cannot rename " + from.string() + " to " + to.string() + ": " +
-                                   ec.message());
+  if (ec)
+    throw std::runtime_error("cannot rename " + from.string() + " to " + to.string() + ": " +
+                             ec.message());
 }
 
 // Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
@@ -105,9 +106,15 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
   writer->EncodeAppendedDataOff();  // raw binary, not base64
   writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
   switch (compression) {
-    case VtkOptions::Compression::none: writer->SetCompressorTypeToNone(); break;
-    case VtkOptions::Compression::lz4: writer->SetCompressorTypeToLZ4(); break;
-    case VtkOptions::Compression::zlib: writer->SetCompressorTypeToZLib(); break;
+    case VtkOptions::Compression::none:
+      writer->SetCompressorTypeToNone();
+      break;
+    case VtkOptions::Compression::lz4:
+      writer->SetCompressorTypeToLZ4();
+      break;
+    case VtkOptions::Compression::zlib:
+      writer->SetCompressorTypeToZLib();
+      break;
   }
   errno = 0;
   if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
@@ -115,9 +122,11 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
     std::error_code ec;
     fs::remove(tmp, ec);
     // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+      message.pop_back();
     if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
-    if (const size_t colon = message.find("): "); message.starts_with("vtk") && colon != std::string::npos)
+    if (const size_t colon = message.find("): ");
+        message.starts_with("vtk") && colon != std::string::npos)
       message.erase(0, colon + 3);
     if (err != 0) message += (message.empty() ? "" : ": ") + std::string(std::strerror(err));
     throw std::runtime_error("cannot write " + path.string() + ": " + message);
@@ -178,7 +187,8 @@ std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count
     if (id >= bird_count)
       throw std::invalid_argument("bird selection '" + std::string(selection) + "': bird " +
                                   std::to_string(id) + " is out of range (the flock has " +
-                                  std::to_string(bird_count) + (bird_count == 1 ? " bird: 0 to " : " birds: 0 to ") +
+                                  std::to_string(bird_count) +
+                                  (bird_count == 1 ? " bird: 0 to " : " birds: 0 to ") +
                                   std::to_string(bird_count == 0 ? 0 : bird_count - 1) + ")");
     if (seen[id])
       throw std::invalid_argument("bird selection '" + std::string(selection) + "': bird " +
@@ -306,9 +316,9 @@ struct VtkExporter::Writer {
       step_bird(copy, sp, world, frame.time, dt, &f);
       const glm::dvec3 aero = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail;
       const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
-      const double opening =
-          b.mode == FlightMode::landing ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
-                                        : tail_opening(sp, b.tail_bend, b.tail_twist);
+      const double opening = b.mode == FlightMode::landing
+                                 ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
+                                 : tail_opening(sp, b.tail_bend, b.tail_twist);
 
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
       bird_id->SetValue(i, ids[static_cast<size_t>(i)]);
@@ -345,9 +355,8 @@ struct VtkExporter::Writer {
     data->SetVerts(verts);
     vtkPointData* pd = data->GetPointData();
     for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{
-             bird_id, species_id, time, velocity, speed, attitude, hpb, phase, frequency,
-             amplitude, tail_bend, tail_twist, tail_open, aero_force, tail_force, flight_state,
-             target})
+             bird_id, species_id, time, velocity, speed, attitude, hpb, phase, frequency, amplitude,
+             tail_bend, tail_twist, tail_open, aero_force, tail_force, flight_state, target})
       pd->AddArray(a);
     pd->SetActiveVectors("velocity");
 
