@@ -183,21 +183,29 @@ int run(const RunOptions& opt) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   bool interrupted = false;
+  uint64_t stepped = 0;  // frames run
   for (uint64_t frame = 0; frame < frames; ++frame) {
     if (g_interrupted || (vtk && vtk->failed())) {
       interrupted = g_interrupted;
       break;
     }
     backend->step_frame();
+    ++stepped;
     if (images) images->frame(*backend, frame);
-    // birds() waits for the frame on the Vulkan backend; the exporter writes on its own thread.
-    if (vtk && vtk->due(frame)) vtk->add_frame(backend->time(), backend->birds());
+    // The exporter writes on its own thread; it takes the frame before the last from a lagging
+    // backend (Vulkan), so that the device never waits for it.
+    if (vtk && backend->lags() && frame > 0 && vtk->due(frame - 1))
+      vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
+    else if (vtk && !backend->lags() && vtk->due(frame))
+      vtk->add_frame(backend->time(), backend->birds());
     const double w = wall();
     progress.update(backend->time(), seconds, birds,
                     w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
+  if (vtk && backend->lags() && stepped > 0 && vtk->due(stepped - 1))
+    vtk->add_frame(backend->time(), backend->birds());  // the last frame, still owed
 
   summary.wall_seconds = wall();
   summary.steps = backend->steps();

@@ -59,6 +59,9 @@ class VulkanBackend final : public Backend {
   uint64_t steps() const override { return simulation_.steps(); }
   const std::vector<BirdState>& birds() override { return simulation_.birds(); }
   const Scenario& scenario() const override { return simulation_.scenario(); }
+  bool lags() const override { return true; }
+  const std::vector<BirdState>& lagged_birds() override { return simulation_.previous_birds(); }
+  double lagged_time() const override { return simulation_.previous_time(); }
   gpu::GpuSimulation* gpu_simulation() override { return &simulation_; }
   const gpu::Device* gpu_device() const override { return &device_; }
 

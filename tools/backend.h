@@ -24,6 +24,12 @@ class Backend {
   virtual uint64_t steps() const = 0;      // steps per bird so far
   virtual const std::vector<BirdState>& birds() = 0;
   virtual const Scenario& scenario() const = 0;
+  // The state one frame back and its time, for exporters: on Vulkan, reading the latest state
+  // waits for the device, reading the one before does not (the latest runs meanwhile). lags()
+  // says whether there is such a lag; the CPU reference has none and returns the latest.
+  virtual bool lags() const { return false; }
+  virtual const std::vector<BirdState>& lagged_birds() { return birds(); }
+  virtual double lagged_time() const { return time(); }
   // The compute backend's simulation (its birds already on the device), or nullptr.
   virtual gpu::GpuSimulation* gpu_simulation() { return nullptr; }
   virtual const gpu::Device* gpu_device() const { return nullptr; }
