@@ -14,9 +14,11 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "backend.h"
+#include "bench.h"
 #include "frame_output.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
@@ -296,6 +298,23 @@ int main(int argc, char** argv) {
   view_cmd->add_option("--frames", view_opt.viewer.frames, "Close the window after N frames (for tests)")
       ->check(kPositive);
 
+  BenchOptions bench_opt;
+  std::string bench_backends = "vulkan,cpu";
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
+  bench_cmd->add_flag("--quick", bench_opt.quick, "A short smoke run: 1000 and 3000 birds, headless only");
+  bench_cmd->add_option("--json", bench_opt.json, "Write the results as JSON (Google Benchmark-like) to FILE");
+  bench_cmd->add_option("--plot", bench_opt.plot, "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)");
+  bench_cmd->add_option("--backends", bench_backends, "Comma-separated backends: vulkan, cpu")
+      ->capture_default_str();
+  bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
+      ->check(kPositive)
+      ->capture_default_str();
+  bench_cmd->add_option("--repetitions", bench_opt.repetitions, "Timed frames per measurement (default 5 quick, 15 full)")
+      ->check(kPositive);
+  bench_cmd->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(CLI::NonNegativeNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -308,6 +327,13 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (view_cmd->parsed()) return view(view_opt);
+    if (bench_cmd->parsed()) {
+      bench_opt.backends.clear();
+      std::string item;
+      for (std::istringstream in(bench_backends); std::getline(in, item, ',');)
+        if (!item.empty()) bench_opt.backends.push_back(item);
+      return run_bench(bench_opt);
+    }
     return run(opt);
   } catch (const ScenarioError& e) {
     std::cerr << e.what() << "\n";  // already "FILE:LINE:COLUMN: error: ..."

@@ -1,0 +1,11 @@
+# cmake -DAEROFLOCK=... -DJSON=... -DCHECK=check_bench_json.py -P bench_quick.cmake
+file(REMOVE "${JSON}")
+execute_process(COMMAND "${AEROFLOCK}" bench --quick --json "${JSON}" RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "aeroflock bench --quick exited ${rc}")
+endif()
+find_program(PYTHON3 python3 REQUIRED)
+execute_process(COMMAND "${PYTHON3}" "${CHECK}" "${JSON}" RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${JSON}: bad shape")
+endif()

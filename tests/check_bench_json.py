@@ -1,0 +1,37 @@
+"""Checks the shape of `aeroflock bench --json` output (not its figures): python3 check_bench_json.py FILE."""
+import json
+import sys
+
+FIELDS = ("name", "backend", "variant", "birds", "iterations", "real_time", "p10", "p90", "time_unit",
+          "bird_steps_per_second")
+
+
+def main(path):
+    with open(path) as f:
+        d = json.load(f)
+    ctx = d["context"]
+    for key in ("date", "cpu_model", "num_cpus", "omp_threads", "git_revision", "build_type", "dt",
+                "steps_per_frame", "budget_ms", "repetitions", "quick", "devices"):
+        assert key in ctx, f"context lacks {key}"
+    bench = d["benchmarks"]
+    assert bench, "no benchmarks"
+    backends = set()
+    for b in bench:
+        for field in FIELDS:
+            assert field in b, f"{b.get('name')}: lacks {field}"
+        assert b["time_unit"] == "ms"
+        assert b["name"] == f"{b['backend']}/{b['variant']}/birds:{b['birds']}", b["name"]
+        assert b["iterations"] > 0 and b["birds"] > 0
+        assert b["p10"] <= b["real_time"] <= b["p90"], b["name"]
+        backends.add(b["backend"])
+    for backend in backends:
+        key = f"{backend}/headless"
+        assert key in d["birds_per_frame"], f"birds_per_frame lacks {key}"
+        assert isinstance(d["birds_per_frame"][key], int)
+        assert backend in d["scaling_exponent"]
+    assert isinstance(d["ratios"], list)
+    print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

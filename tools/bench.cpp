@@ -1,0 +1,591 @@
+#include "bench.h"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "backend.h"
+#include "git_revision.h"
+#include "gpu/compute.h"
+#include "gpu/error.h"
+#include "io/scenario_file.h"
+#include "io/vtk_export.h"
+#include "render/offscreen.h"
+#include "render/renderer.h"
+
+#ifndef AEROFLOCK_BUILD_TYPE
+#define AEROFLOCK_BUILD_TYPE "unknown"
+#endif
+
+namespace aeroflock {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr uint32_t kRenderWidth = 1280, kRenderHeight = 720;
+constexpr uint32_t kVtkEvery = 10;
+// The frame budget: 40 frames per second of wall time, as the paper's real-time figure (a frame of
+// the default scenario is 100 steps of 0.3 ms).
+constexpr double kBudgetMs = 25.0;
+// A sweep stops before a size whose measurement would take longer than this (estimated from the
+// size before it, cost taken as linear in N).
+constexpr double kMaxMeasurementSeconds = 150.0;
+
+struct Settings {
+  double dt = 0;
+  uint32_t steps_per_frame = 0;
+  double budget_ms = 0;  // wall ms per frame
+  int warmup = 0;
+  int repetitions = 0;
+  bool quick = false;
+  int device = -1;
+};
+
+struct Measurement {
+  std::string backend, variant, device;
+  uint32_t birds = 0;
+  int iterations = 0;
+  double median = 0, p10 = 0, p90 = 0;  // ms per frame
+  double bird_steps_per_second = 0;
+};
+
+struct Series {
+  std::string backend, variant;
+  std::vector<Measurement> points;  // the sweep
+  std::string stopped;              // why the sweep stopped early, if it did
+  uint32_t birds_per_frame = 0;
+  bool lower_bound = false;  // every size measured fitted: the real figure may be larger
+  int search_steps = 0;
+  bool skipped = false;  // n/a (the CPU reference with rendering)
+  std::string key() const { return backend + "/" + variant; }
+};
+
+bool has_program(const char* name) {
+  const std::string command = std::string("command -v ") + name + " >/dev/null 2>&1";
+  return std::system(command.c_str()) == 0;
+}
+
+std::string cpu_model() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const size_t colon = line.find(':');
+    if (colon != std::string::npos && colon + 2 <= line.size()) return line.substr(colon + 2);
+  }
+  return "unknown CPU";
+}
+
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "unknown";
+  return name;
+}
+
+std::string now_iso8601() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  char text[64];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S%z", &tm);
+  return text;
+}
+
+// The p-th quantile (0..1), linear between the order statistics.
+double quantile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const double x = p * double(v.size() - 1);
+  const size_t i = size_t(std::floor(x));
+  const size_t j = std::min(i + 1, v.size() - 1);
+  return v[i] + (x - double(i)) * (v[j] - v[i]);
+}
+
+// Makes sure `path` can be written before the benchmark runs.
+void check_output_path(const fs::path& path, const char* option) {
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error(std::string(option) + " " + path.string() + ": " + why);
+  };
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) fail("is a directory");
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  fs::create_directories(dir, ec);
+  if (ec) fail("cannot create directory " + dir.string() + ": " + ec.message());
+  fs::path probe = path;
+  probe += ".tmp";
+  if (!std::ofstream(probe)) fail("cannot write there");
+  fs::remove(probe, ec);
+}
+
+// One "\r" line on stderr when it is a terminal.
+class Progress {
+ public:
+  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
+  void show(const std::string& text) {
+    if (!enabled_) return;
+    std::fprintf(stderr, "\r\033[K  %s", text.c_str());
+    std::fflush(stderr);
+  }
+  void clear() {
+    if (!enabled_) return;
+    std::fputs("\r\033[K", stderr);
+    std::fflush(stderr);
+  }
+
+ private:
+  bool enabled_;
+};
+
+// Renders every frame offscreen at 1280x720 from the birds on the device, as `aeroflock run --png`
+// does (the image is not read back). The camera looks at the whole flock as it is at the start.
+class OffscreenLoad {
+ public:
+  explicit OffscreenLoad(Backend& backend) {
+    const gpu::Device* device = backend.gpu_device();
+    if (!device || !backend.gpu_simulation())
+      throw std::runtime_error("rendering is measured only with the Vulkan backend");
+    const VkExtent2D size{kRenderWidth, kRenderHeight};
+    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    target_ = std::make_unique<render::Offscreen>(*device, size);
+    submitter_ = std::make_unique<gpu::Submitter>(*device, 1);
+    const std::vector<BirdState>& birds = backend.birds();
+    glm::dvec3 centre{0.0};
+    size_t n = 0;
+    for (const BirdState& b : birds)
+      if (std::isfinite(b.position.x)) centre += b.position, ++n;
+    if (n > 0) centre /= double(n);
+    double radius = 0.0;
+    for (const BirdState& b : birds)
+      if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
+    radius = std::clamp(radius, 200.0, 1e5);
+    camera_.target = glm::vec3(centre);
+    camera_.eye = camera_.target + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * float(radius) + 600.0f);
+  }
+
+  void frame(Backend& backend) {
+    gpu::GpuSimulation& sim = *backend.gpu_simulation();
+    render::View view;
+    view.camera = camera_;
+    view.time = float(backend.time());
+    World world = backend.scenario().world;
+    world.move_targets(backend.time());
+    submitter_->run([&](VkCommandBuffer cmd) {
+      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(), world,
+                        view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    });
+  }
+
+ private:
+  std::unique_ptr<render::Renderer> renderer_;
+  std::unique_ptr<render::Offscreen> target_;
+  std::unique_ptr<gpu::Submitter> submitter_;
+  render::Camera camera_;
+};
+
+// Removes a directory on the way out.
+struct TempDir {
+  fs::path path;
+  ~TempDir() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove_all(path, ec);
+  }
+};
+
+// One flock size, one backend, one variant: warm-up frames, then `repetitions` timed frames. Each
+// timed frame is step_frame() then birds() (the frame complete and read back), plus the render or
+// the VTK hand-over. Throws gpu::Error when the device cannot hold the flock.
+Measurement measure(const std::string& backend_name, const std::string& variant, uint32_t birds,
+                    const Settings& s) {
+  const bool rendering = variant == "render";
+  std::unique_ptr<Backend> backend =
+      make_backend({backend_name, birds, s.device, rendering}, load_scenario("default"));
+  std::unique_ptr<OffscreenLoad> render;
+  if (rendering) render = std::make_unique<OffscreenLoad>(*backend);
+  TempDir vtk_dir;
+  std::unique_ptr<VtkExporter> vtk;
+  if (variant == "vtk") {
+    static int counter = 0;
+    vtk_dir.path = fs::temp_directory_path() /
+                   ("aeroflock-bench-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    VtkOptions vo;
+    vo.dir = vtk_dir.path;
+    vo.every = kVtkEvery;
+    vtk = std::make_unique<VtkExporter>(vo, backend->scenario(), backend->birds().size());
+  }
+  uint64_t frame = 0;
+  auto one_frame = [&] {
+    const auto start = Clock::now();
+    backend->step_frame();
+    (void)backend->birds();
+    if (render) render->frame(*backend);
+    if (vtk && backend->lags() && frame > 0 && vtk->due(frame - 1))
+      vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
+    else if (vtk && !backend->lags() && vtk->due(frame))
+      vtk->add_frame(backend->time(), backend->birds());
+    ++frame;
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  for (int i = 0; i < s.warmup; ++i) one_frame();
+  std::vector<double> times;
+  for (int i = 0; i < s.repetitions; ++i) times.push_back(one_frame());
+  if (vtk) vtk->finish();
+
+  Measurement m;
+  m.backend = backend_name;
+  m.variant = variant;
+  m.device = backend->device();
+  m.birds = uint32_t(backend->birds().size());
+  m.iterations = s.repetitions;
+  m.median = quantile(times, 0.5);
+  m.p10 = quantile(times, 0.1);
+  m.p90 = quantile(times, 0.9);
+  m.bird_steps_per_second = m.median > 0 ? m.birds * double(s.steps_per_frame) / (m.median / 1000.0) : 0.0;
+  return m;
+}
+
+void print_header() {
+  std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms", "p10 ms",
+              "p90 ms", "bird-steps/s");
+  std::fflush(stdout);
+}
+
+void print_row(const Measurement& m, double budget_ms) {
+  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(), m.birds,
+              m.median, m.p10, m.p90, m.bird_steps_per_second, m.median <= budget_ms ? "  fits" : "");
+  std::fflush(stdout);
+}
+
+// b of ms = a N^b, least squares on log-log, over sizes >= 3000 (all when fewer than 2 of them).
+std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
+  std::vector<const Measurement*> use;
+  for (const Measurement& m : points)
+    if (m.birds >= 3000 && m.median > 0) use.push_back(&m);
+  if (use.size() < 2) {
+    use.clear();
+    for (const Measurement& m : points)
+      if (m.median > 0) use.push_back(&m);
+  }
+  if (use.size() < 2) return std::nullopt;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = double(use.size());
+  for (const Measurement* m : use) {
+    const double x = std::log(double(m->birds)), y = std::log(m->median);
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  const double d = n * sxx - sx * sx;
+  if (std::abs(d) < 1e-12) return std::nullopt;
+  return (n * sxy - sx * sy) / d;
+}
+
+void write_json_atomically(const fs::path& path, const nlohmann::json& j) {
+  fs::path tmp = path;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error("--json " + path.string() + ": cannot write " + tmp.string());
+    out << j.dump(2) << "\n";
+    if (!out.flush()) throw std::runtime_error("--json " + path.string() + ": write failed");
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("--json " + path.string() + ": " + ec.message());
+}
+
+std::string gnuplot_terminal() {
+  if (std::system("gnuplot -e 'set terminal' 2>&1 | grep -q pngcairo") == 0)
+    return "pngcairo size 1400,560 font 'sans,10'";
+  return "png size 1400,560";
+}
+
+void write_plot(const fs::path& png, const std::vector<Series>& series, double budget_ms) {
+  TempDir dir;
+  dir.path = fs::temp_directory_path() / ("aeroflock-plot-" + std::to_string(::getpid()));
+  fs::create_directories(dir.path);
+  const fs::path data = dir.path / "bench.dat";
+  const fs::path script = dir.path / "bench.gp";
+  std::vector<std::string> titles;
+  {
+    std::ofstream out(data);
+    for (const Series& s : series) {
+      if (s.points.empty()) continue;
+      out << "# " << s.key() << "\n";
+      for (const Measurement& m : s.points)
+        out << m.birds << " " << m.median << " " << m.bird_steps_per_second << "\n";
+      out << "\n\n";
+      titles.push_back(s.key());
+    }
+  }
+  if (titles.empty()) throw std::runtime_error("--plot: nothing was measured");
+  std::ofstream gp(script);
+  gp << "set terminal " << gnuplot_terminal() << "\n";
+  gp << "set output '" << png.string() << "'\n";
+  gp << "set multiplot layout 1,2 title 'aeroflock bench (default scenario)'\n";
+  gp << "set logscale xy\nset grid\nset key top left\nset xlabel 'birds'\n";
+  auto plot = [&](int column) {
+    gp << "plot ";
+    for (size_t i = 0; i < titles.size(); ++i)
+      gp << (i ? ", " : "") << "'" << data.string() << "' index " << i << " using 1:" << column
+         << " with linespoints title '" << titles[i] << "'";
+    if (column == 2) gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
+    gp << "\n";
+  };
+  gp << "set ylabel 'ms per frame (median)'\n";
+  plot(2);
+  gp << "set ylabel 'bird-steps per second'\n";
+  plot(3);
+  gp << "unset multiplot\n";
+  gp.close();
+  const std::string command = "gnuplot '" + script.string() + "'";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& options) {
+  // Everything that can fail before the run fails now.
+  if (options.backends.empty()) throw std::runtime_error("--backends: none given");
+  for (const std::string& b : options.backends)
+    if (b != "vulkan" && b != "cpu") throw std::runtime_error("--backends: unknown backend " + b + " (vulkan, cpu)");
+  if (!options.plot.empty()) {
+    if (!has_program("gnuplot"))
+      throw std::runtime_error("--plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
+    check_output_path(options.plot, "--plot");
+  }
+  if (!options.json.empty()) check_output_path(options.json, "--json");
+
+  const Scenario scenario = load_scenario("default");
+  Settings s;
+  s.dt = scenario.dt;
+  s.steps_per_frame = scenario.steps_per_frame;
+  s.budget_ms = kBudgetMs;
+  s.quick = options.quick;
+  s.warmup = options.quick ? 2 : 5;
+  s.repetitions = options.repetitions > 0 ? options.repetitions : (options.quick ? 5 : 15);
+  s.device = options.device;
+
+  std::vector<uint32_t> sizes = options.quick ? std::vector<uint32_t>{1000, 3000}
+                                              : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
+  std::erase_if(sizes, [&](uint32_t n) { return n > options.max_birds; });
+  if (sizes.empty()) sizes.push_back(options.max_birds);
+  const uint32_t cpu_cap = options.quick ? 3000 : 30000;
+
+  std::printf("aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
+              "%d warm-up + %d timed frames\n\n",
+              s.quick ? " --quick" : "", s.steps_per_frame, s.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms,
+              s.warmup, s.repetitions);
+  print_header();
+
+  Progress progress;
+  std::vector<Series> all;
+  std::map<std::string, std::string> devices;
+  for (const std::string& backend : options.backends) {
+    std::vector<std::string> variants{"headless"};
+    if (!options.quick) variants = {"headless", "render", "vtk"};
+    for (const std::string& variant : variants) {
+      Series series;
+      series.backend = backend;
+      series.variant = variant;
+      if (backend == "cpu" && variant == "render") {
+        series.skipped = true;
+        all.push_back(series);
+        continue;
+      }
+      auto attempt = [&](uint32_t n, const char* phase) {
+        progress.show(backend + "/" + variant + ": " + std::to_string(n) + " birds (" + phase + ")");
+        Measurement m = measure(backend, variant, n, s);
+        progress.clear();
+        devices[backend] = m.device;
+        return m;
+      };
+      // The sweep.
+      for (uint32_t n : sizes) {
+        if (backend == "cpu" && n > cpu_cap) {
+          series.stopped = "the CPU reference is swept up to " + std::to_string(cpu_cap) + " birds";
+          break;
+        }
+        if (!series.points.empty()) {
+          const Measurement& last = series.points.back();
+          const double estimate = last.median * (double(n) / last.birds) * (s.warmup + s.repetitions) / 1000.0;
+          if (estimate > kMaxMeasurementSeconds) {
+            series.stopped = "stopped before " + std::to_string(n) + " birds: would take about " +
+                             std::to_string(int(estimate)) + " s";
+            break;
+          }
+        }
+        try {
+          series.points.push_back(attempt(n, "sweep"));
+          print_row(series.points.back(), s.budget_ms);
+        } catch (const gpu::Error& e) {
+          progress.clear();
+          if (series.points.empty()) throw;  // no device at all, or not even the smallest flock
+          series.stopped = std::string("device limit: ") + e.what();
+          std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n, e.what());
+          break;
+        }
+      }
+      // Birds per frame: bracket from the sweep, then bisect.
+      uint32_t lo = 0, hi = 0;
+      for (const Measurement& m : series.points) {
+        if (m.median <= s.budget_ms) {
+          lo = std::max(lo, m.birds);
+        } else if (hi == 0 || m.birds < hi) {
+          hi = m.birds;
+        }
+      }
+      if (hi != 0 && hi < lo) hi = 0;  // noise: a larger flock fitted after a smaller did not
+      series.lower_bound = hi == 0;
+      if (!options.quick && hi != 0) {
+        while (hi - lo > std::max<uint32_t>(16, lo / 50)) {
+          const uint32_t mid = lo + (hi - lo) / 2;
+          ++series.search_steps;
+          try {
+            const Measurement m = attempt(mid, "search");
+            (m.median <= s.budget_ms ? lo : hi) = mid;
+          } catch (const gpu::Error&) {
+            hi = mid;
+          }
+        }
+      }
+      series.birds_per_frame = lo;
+      all.push_back(series);
+    }
+  }
+  progress.clear();
+
+  // Summary: birds per frame, ratios, exponents.
+  std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
+  for (const Series& series : all) {
+    if (series.skipped) {
+      std::printf("  %-16s n/a\n", series.key().c_str());
+      continue;
+    }
+    std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
+                series.lower_bound && !series.points.empty() ? " (or more: every size measured fitted)" : "");
+    if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
+    std::printf("\n");
+    if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
+  }
+  auto headless = [&](const std::string& backend) -> const Series* {
+    for (const Series& series : all)
+      if (series.backend == backend && series.variant == "headless") return &series;
+    return nullptr;
+  };
+  nlohmann::json ratios = nlohmann::json::array();
+  const Series* vk = headless("vulkan");
+  const Series* cpu = headless("cpu");
+  if (vk && cpu) {
+    std::printf("\nVulkan / CPU reference, bird-steps/s (headless):\n");
+    for (const Measurement& a : vk->points)
+      for (const Measurement& b : cpu->points)
+        if (a.birds == b.birds && b.bird_steps_per_second > 0) {
+          const double r = a.bird_steps_per_second / b.bird_steps_per_second;
+          std::printf("  %9u birds  %8.2fx\n", a.birds, r);
+          ratios.push_back({{"birds", a.birds}, {"vulkan_over_cpu", r}});
+        }
+  }
+  nlohmann::json exponents = nlohmann::json::object();
+  std::printf("\nscaling exponent b of ms per frame = a N^b (headless, sizes >= 3000):\n");
+  for (const std::string& backend : options.backends) {
+    const Series* h = headless(backend);
+    const std::optional<double> b = h ? scaling_exponent(h->points) : std::nullopt;
+    exponents[backend] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
+    if (b)
+      std::printf("  %-8s %.3f\n", backend.c_str(), *b);
+    else
+      std::printf("  %-8s n/a (fewer than 2 sizes)\n", backend.c_str());
+  }
+  std::printf("\n");
+  for (const auto& [backend, device] : devices) std::printf("%-8s %s\n", backend.c_str(), device.c_str());
+
+  if (!options.json.empty()) {
+    nlohmann::json context = {
+        {"date", now_iso8601()},
+        {"host_name", host_name()},
+        {"executable", "aeroflock bench"},
+        {"cpu_model", cpu_model()},
+        {"num_cpus", std::thread::hardware_concurrency()},
+        {"omp_threads", omp_get_max_threads()},
+        {"git_revision", AEROFLOCK_GIT_REVISION},
+        {"library_build_type", AEROFLOCK_BUILD_TYPE},
+        {"build_type", AEROFLOCK_BUILD_TYPE},
+        {"scenario", "default"},
+        {"dt", s.dt},
+        {"steps_per_frame", s.steps_per_frame},
+        {"budget_ms", s.budget_ms},
+        {"warmup_frames", s.warmup},
+        {"repetitions", s.repetitions},
+        {"quick", s.quick},
+        {"max_birds", options.max_birds},
+        {"render_size", std::to_string(kRenderWidth) + "x" + std::to_string(kRenderHeight)},
+        {"vtk_every", kVtkEvery},
+        {"devices", devices},
+    };
+    nlohmann::json benchmarks = nlohmann::json::array();
+    nlohmann::json birds_per_frame = nlohmann::json::object();
+    nlohmann::json sweep_notes = nlohmann::json::object();
+    for (const Series& series : all) {
+      if (series.skipped) {
+        birds_per_frame[series.key()] = "n/a";
+        continue;
+      }
+      birds_per_frame[series.key()] = series.birds_per_frame;
+      if (!series.stopped.empty()) sweep_notes[series.key()] = series.stopped;
+      for (const Measurement& m : series.points)
+        benchmarks.push_back({
+            {"name", m.backend + "/" + m.variant + "/birds:" + std::to_string(m.birds)},
+            {"run_type", "iteration"},
+            {"backend", m.backend},
+            {"variant", m.variant},
+            {"birds", m.birds},
+            {"iterations", m.iterations},
+            {"real_time", m.median},
+            {"p10", m.p10},
+            {"p90", m.p90},
+            {"time_unit", "ms"},
+            {"bird_steps_per_second", m.bird_steps_per_second},
+        });
+    }
+    nlohmann::json lower_bounds = nlohmann::json::object();
+    for (const Series& series : all)
+      if (!series.skipped) lower_bounds[series.key()] = series.lower_bound;
+    const nlohmann::json j = {
+        {"context", context},
+        {"benchmarks", benchmarks},
+        {"birds_per_frame", birds_per_frame},
+        {"birds_per_frame_is_lower_bound", lower_bounds},
+        {"sweep_notes", sweep_notes},
+        {"scaling_exponent", exponents},
+        {"ratios", ratios},
+    };
+    write_json_atomically(options.json, j);
+    std::printf("json     %s\n", options.json.c_str());
+  }
+  if (!options.plot.empty()) {
+    write_plot(options.plot, all, s.budget_ms);
+    std::printf("plot     %s\n", options.plot.c_str());
+  }
+  return 0;
+}
+
+}  // namespace aeroflock
