@@ -305,7 +305,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--quick", bench_opt.quick, "A short smoke run: 1000 and 3000 birds, headless only");
   bench_cmd->add_option("--json", bench_opt.json, "Write the results as JSON (Google Benchmark-like) to FILE");
   bench_cmd->add_option("--plot", bench_opt.plot, "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)");
-  bench_cmd->add_option("--backends", bench_backends, "Comma-separated backends: vulkan, cpu")
+  bench_cmd->add_option("--backends", bench_backends, "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
   bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
       ->check(kPositive)

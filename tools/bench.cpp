@@ -218,8 +218,11 @@ struct TempDir {
 Measurement measure(const std::string& backend_name, const std::string& variant, uint32_t birds,
                     const Settings& s) {
   const bool rendering = variant == "render";
-  std::unique_ptr<Backend> backend =
-      make_backend({backend_name, birds, s.device, rendering}, load_scenario("default"));
+  // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
+  const bool on_device = backend_name.starts_with("vulkan:");
+  const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
+  std::unique_ptr<Backend> backend = make_backend(
+      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, load_scenario("default"));
   std::unique_ptr<OffscreenLoad> render;
   if (rendering) render = std::make_unique<OffscreenLoad>(*backend);
   TempDir vtk_dir;
@@ -366,7 +369,14 @@ int run_bench(const BenchOptions& options) {
   // Everything that can fail before the run fails now.
   if (options.backends.empty()) throw std::runtime_error("--backends: none given");
   for (const std::string& b : options.backends)
-    if (b != "vulkan" && b != "cpu") throw std::runtime_error("--backends: unknown backend " + b + " (vulkan, cpu)");
+    if (b != "vulkan" && b != "cpu" &&
+        !(b.size() > 7 && b.starts_with("vulkan:") &&
+          b.find_first_not_of("0123456789", 7) == std::string::npos && b.size() < 12))
+      throw std::runtime_error("--backends: unknown backend " + b + " (vulkan, vulkan:N for device N, cpu)");
+  for (size_t i = 0; i < options.backends.size(); ++i)
+    if (std::find(options.backends.begin() + i + 1, options.backends.end(), options.backends[i]) !=
+        options.backends.end())
+      throw std::runtime_error("--backends: " + options.backends[i] + " given twice");
   if (!options.plot.empty()) {
     if (!has_program("gnuplot"))
       throw std::runtime_error("--plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
@@ -492,16 +502,17 @@ int run_bench(const BenchOptions& options) {
     return nullptr;
   };
   nlohmann::json ratios = nlohmann::json::array();
-  const Series* vk = headless("vulkan");
   const Series* cpu = headless("cpu");
-  if (vk && cpu) {
-    std::printf("\nVulkan / CPU reference, bird-steps/s (headless):\n");
+  for (const std::string& backend : options.backends) {
+    const Series* vk = backend.starts_with("vulkan") ? headless(backend) : nullptr;
+    if (!vk || !cpu) continue;
+    std::printf("\n%s / CPU reference, bird-steps/s (headless):\n", backend.c_str());
     for (const Measurement& a : vk->points)
       for (const Measurement& b : cpu->points)
         if (a.birds == b.birds && b.bird_steps_per_second > 0) {
           const double r = a.bird_steps_per_second / b.bird_steps_per_second;
           std::printf("  %9u birds  %8.2fx\n", a.birds, r);
-          ratios.push_back({{"birds", a.birds}, {"vulkan_over_cpu", r}});
+          ratios.push_back({{"backend", backend}, {"birds", a.birds}, {"vulkan_over_cpu", r}});
         }
   }
   nlohmann::json exponents = nlohmann::json::object();
