@@ -20,6 +20,7 @@
 #include "backend.h"
 #include "bench.h"
 #include "frame_output.h"
+#include "host.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
 #include "io/vtk_export.h"
@@ -60,23 +61,6 @@ int list_scenarios() {
   for (const BuiltinScenario& s : builtin_scenarios())
     std::cout << s.name << "\n    " << s.description << "\n";
   return 0;
-}
-
-// Makes sure `path` can be written before spending time on the run: creates its directory and
-// a scratch file beside it.
-void check_output_path(const fs::path& path) {
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error("--summary " + path.string() + ": " + why);
-  };
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) fail("is a directory");
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  fs::create_directories(dir, ec);
-  if (ec) fail("cannot create directory " + dir.string() + ": " + ec.message());
-  fs::path probe = path;
-  probe += ".tmp";
-  if (!std::ofstream(probe)) fail(std::string("cannot write there: ") + std::strerror(errno));
-  fs::remove(probe, ec);
 }
 
 // CLI11's own PositiveNumber names the whole double range in its message.
@@ -144,7 +128,7 @@ int run(const RunOptions& opt) {
   action.sa_flags = SA_RESETHAND;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
-  if (!opt.summary.empty()) check_output_path(opt.summary);
+  if (!opt.summary.empty()) check_output_path(opt.summary, "--summary");
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
   Scenario scenario = load_scenario(opt.scenario);

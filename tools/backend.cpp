@@ -6,21 +6,12 @@
 #include <stdexcept>
 
 #include "gpu/device.h"
+#include "host.h"
 #include "gpu/gpu_simulation.h"
 #include "model/simulation.h"
 
 namespace aeroflock {
 namespace {
-
-std::string cpu_model() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  for (std::string line; std::getline(cpuinfo, line);) {
-    if (line.rfind("model name", 0) != 0) continue;
-    const size_t colon = line.find(':');
-    if (colon != std::string::npos && colon + 2 <= line.size()) return line.substr(colon + 2);
-  }
-  return "unknown CPU";
-}
 
 // The CPU reference: aeroflock::Simulation, parallel over birds with OpenMP.
 class CpuBackend final : public Backend {

@@ -26,6 +26,8 @@
 #include <glm/geometric.hpp>
 
 #include "backend.h"
+#include "frame_output.h"
+#include "host.h"
 #include "git_revision.h"
 #include "gpu/compute.h"
 #include "gpu/error.h"
@@ -82,21 +84,6 @@ struct Series {
   std::string key() const { return backend + "/" + variant; }
 };
 
-bool has_program(const char* name) {
-  const std::string command = std::string("command -v ") + name + " >/dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
-}
-
-std::string cpu_model() {
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  for (std::string line; std::getline(cpuinfo, line);) {
-    if (line.rfind("model name", 0) != 0) continue;
-    const size_t colon = line.find(':');
-    if (colon != std::string::npos && colon + 2 <= line.size()) return line.substr(colon + 2);
-  }
-  return "unknown CPU";
-}
-
 std::string host_name() {
   char name[256] = {};
   if (gethostname(name, sizeof name - 1) != 0) return "unknown";
@@ -120,22 +107,6 @@ double quantile(std::vector<double> v, double p) {
   const size_t i = size_t(std::floor(x));
   const size_t j = std::min(i + 1, v.size() - 1);
   return v[i] + (x - double(i)) * (v[j] - v[i]);
-}
-
-// Makes sure `path` can be written before the benchmark runs.
-void check_output_path(const fs::path& path, const char* option) {
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error(std::string(option) + " " + path.string() + ": " + why);
-  };
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) fail("is a directory");
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  fs::create_directories(dir, ec);
-  if (ec) fail("cannot create directory " + dir.string() + ": " + ec.message());
-  fs::path probe = path;
-  probe += ".tmp";
-  if (!std::ofstream(probe)) fail("cannot write there");
-  fs::remove(probe, ec);
 }
 
 // One "\r" line on stderr when it is a terminal.
@@ -169,18 +140,7 @@ class OffscreenLoad {
     renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
     target_ = std::make_unique<render::Offscreen>(*device, size);
     submitter_ = std::make_unique<gpu::Submitter>(*device, 1);
-    const std::vector<BirdState>& birds = backend.birds();
-    glm::dvec3 centre{0.0};
-    size_t n = 0;
-    for (const BirdState& b : birds)
-      if (std::isfinite(b.position.x)) centre += b.position, ++n;
-    if (n > 0) centre /= double(n);
-    double radius = 0.0;
-    for (const BirdState& b : birds)
-      if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
-    radius = std::clamp(radius, 200.0, 1e5);
-    camera_.target = glm::vec3(centre);
-    camera_.eye = camera_.target + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * float(radius) + 600.0f);
+    camera_ = AutoCamera().update(backend.birds());
   }
 
   void frame(Backend& backend) {

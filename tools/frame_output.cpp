@@ -10,6 +10,7 @@
 
 #include "gpu/compute.h"
 #include "gpu/layout.h"
+#include "host.h"
 #include "io/image.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
@@ -18,11 +19,6 @@ namespace aeroflock {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool has_program(const char* name) {
-  const std::string command = std::string("command -v ") + name + " >/dev/null 2>&1";
-  return std::system(command.c_str()) == 0;
-}
 
 void check_writable_dir(const fs::path& dir, const char* option) {
   std::error_code ec;
@@ -35,36 +31,27 @@ void check_writable_dir(const fs::path& dir, const char* option) {
   fs::remove(probe, ec);
 }
 
-// Looks at the flock from behind and above, far enough to see all of it; eases between frames.
-class AutoCamera {
- public:
-  render::Camera update(const std::vector<BirdState>& birds) {
-    glm::dvec3 centre{0.0};
-    size_t n = 0;
-    for (const BirdState& b : birds)
-      if (std::isfinite(b.position.x)) centre += b.position, ++n;
-    if (n > 0) centre /= double(n);
-    double radius = 0.0;
-    for (const BirdState& b : birds)
-      if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
-    radius = std::clamp(radius, 200.0, 1e5);
-    const float ease = first_ ? 1.0f : 0.1f;
-    first_ = false;
-    centre_ = glm::mix(centre_, glm::vec3(centre), ease);
-    radius_ = radius_ + ease * (float(radius) - radius_);
-    render::Camera camera;
-    camera.target = centre_;
-    camera.eye = centre_ + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
-    return camera;
-  }
-
- private:
-  bool first_ = true;
-  glm::vec3 centre_{0.0f};
-  float radius_ = 0.0f;
-};
-
 }  // namespace
+
+render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
+  glm::dvec3 centre{0.0};
+  size_t n = 0;
+  for (const BirdState& b : birds)
+    if (std::isfinite(b.position.x)) centre += b.position, ++n;
+  if (n > 0) centre /= double(n);
+  double radius = 0.0;
+  for (const BirdState& b : birds)
+    if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
+  radius = std::clamp(radius, 200.0, 1e5);
+  const float ease = first_ ? 1.0f : 0.1f;
+  first_ = false;
+  centre_ = glm::mix(centre_, glm::vec3(centre), ease);
+  radius_ = radius_ + ease * (float(radius) - radius_);
+  render::Camera camera;
+  camera.target = centre_;
+  camera.eye = centre_ + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
+  return camera;
+}
 
 struct FrameOutput::Impl {
   ImageOptions options;

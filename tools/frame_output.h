@@ -8,6 +8,7 @@
 #include <string>
 
 #include "backend.h"
+#include "render/camera.h"
 
 namespace aeroflock {
 
@@ -18,6 +19,18 @@ struct ImageOptions {
   std::string video;       // FILE.mp4, through ffmpeg
   uint32_t width = 1280, height = 720;
   bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
+};
+
+// Looks at the flock from behind and above, far enough to see all of it; eases between updates
+// (the first update frames the flock at once).
+class AutoCamera {
+ public:
+  render::Camera update(const std::vector<BirdState>& birds);
+
+ private:
+  bool first_ = true;
+  glm::vec3 centre_{0.0f};
+  float radius_ = 0.0f;
 };
 
 class FrameOutput {
