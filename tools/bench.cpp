@@ -164,6 +164,12 @@ class OffscreenLoad {
 };
 
 // Removes a directory on the way out.
+int frames_per_sample(const std::string& variant) { return variant == "vtk" ? int(kVtkEvery) : 1; }
+// VTK samples are whole export cycles: a third as many of them.
+int samples(const std::string& variant, const Settings& s) {
+  return variant == "vtk" ? std::max(3, (s.repetitions + 2) / 3) : s.repetitions;
+}
+
 struct TempDir {
   fs::path path;
   ~TempDir() {
@@ -209,9 +215,16 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
     ++frame;
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   };
-  for (int i = 0; i < s.warmup; ++i) one_frame();
+  // With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
+  // them handing its state to the writer thread); otherwise one frame.
+  const int cycle = frames_per_sample(variant);
+  for (int i = 0; i < s.warmup * cycle; ++i) one_frame();
   std::vector<double> times;
-  for (int i = 0; i < s.repetitions; ++i) times.push_back(one_frame());
+  for (int i = 0; i < samples(variant, s); ++i) {
+    double sum = 0.0;
+    for (int k = 0; k < cycle; ++k) sum += one_frame();
+    times.push_back(sum / cycle);
+  }
   if (vtk) vtk->finish();
 
   Measurement m;
@@ -219,7 +232,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.variant = variant;
   m.device = backend->device();
   m.birds = uint32_t(backend->birds().size());
-  m.iterations = s.repetitions;
+  m.iterations = int(times.size());
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);
   m.p90 = quantile(times, 0.9);
@@ -264,15 +277,31 @@ std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
 void write_json_atomically(const fs::path& path, const nlohmann::json& j) {
   fs::path tmp = path;
   tmp += ".tmp";
+  std::error_code ec;
+  auto fail = [&](const std::string& why) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("--json " + path.string() + ": " + why);
+  };
   {
     std::ofstream out(tmp);
-    if (!out) throw std::runtime_error("--json " + path.string() + ": cannot write " + tmp.string());
+    if (!out) fail("cannot write " + tmp.string());
     out << j.dump(2) << "\n";
-    if (!out.flush()) throw std::runtime_error("--json " + path.string() + ": write failed");
+    if (!out.flush()) fail("write failed");
   }
-  std::error_code ec;
   fs::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("--json " + path.string() + ": " + ec.message());
+  if (ec) fail(ec.message());
+}
+
+// Quoted for gnuplot ('' is a quote inside '...') and for the shell ('\'' likewise).
+std::string gnuplot_string(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+std::string shell_string(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
 }
 
 std::string gnuplot_terminal() {
@@ -283,8 +312,10 @@ std::string gnuplot_terminal() {
 
 void write_plot(const fs::path& png, const std::vector<Series>& series, double budget_ms) {
   TempDir dir;
-  dir.path = fs::temp_directory_path() / ("aeroflock-plot-" + std::to_string(::getpid()));
-  fs::create_directories(dir.path);
+  std::string pattern = (fs::temp_directory_path() / "aeroflock-plot-XXXXXX").string();
+  if (!::mkdtemp(pattern.data())) throw std::runtime_error("--plot: cannot create a temporary directory");
+  dir.path = pattern;
+  const fs::path image = dir.path / "bench.png";
   const fs::path data = dir.path / "bench.dat";
   const fs::path script = dir.path / "bench.gp";
   std::vector<std::string> titles;
@@ -302,14 +333,14 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   if (titles.empty()) throw std::runtime_error("--plot: nothing was measured");
   std::ofstream gp(script);
   gp << "set terminal " << gnuplot_terminal() << "\n";
-  gp << "set output '" << png.string() << "'\n";
+  gp << "set output " << gnuplot_string(image.string()) << "\n";
   gp << "set multiplot layout 1,2 title 'aeroflock bench (default scenario)'\n";
   gp << "set logscale xy\nset grid\nset key top left\nset xlabel 'birds'\n";
   auto plot = [&](int column) {
     gp << "plot ";
     for (size_t i = 0; i < titles.size(); ++i)
-      gp << (i ? ", " : "") << "'" << data.string() << "' index " << i << " using 1:" << column
-         << " with linespoints title '" << titles[i] << "'";
+      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i << " using 1:" << column
+         << " with linespoints title " << gnuplot_string(titles[i]);
     if (column == 2) gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
     gp << "\n";
   };
@@ -319,8 +350,18 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   plot(3);
   gp << "unset multiplot\n";
   gp.close();
-  const std::string command = "gnuplot '" + script.string() + "'";
+  const std::string command = "gnuplot " + shell_string(script.string());
   if (std::system(command.c_str()) != 0) throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
+  // Copied beside the destination and renamed onto it: never a half-written image.
+  fs::path tmp = png;
+  tmp += ".tmp";
+  std::error_code ec;
+  fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(tmp, png, ec);
+  if (ec) {
+    fs::remove(tmp);
+    throw std::runtime_error("--plot " + png.string() + ": " + ec.message());
+  }
 }
 
 }  // namespace
@@ -389,6 +430,7 @@ int run_bench(const BenchOptions& options) {
         return m;
       };
       // The sweep.
+      uint32_t device_cap = 0;  // the smallest size the device could not hold
       for (uint32_t n : sizes) {
         if (backend == "cpu" && n > cpu_cap) {
           series.stopped = "the CPU reference is swept up to " + std::to_string(cpu_cap) + " birds";
@@ -396,7 +438,8 @@ int run_bench(const BenchOptions& options) {
         }
         if (!series.points.empty()) {
           const Measurement& last = series.points.back();
-          const double estimate = last.median * (double(n) / last.birds) * (s.warmup + s.repetitions) / 1000.0;
+          const double frames = double(frames_per_sample(variant)) * (s.warmup + samples(variant, s));
+          const double estimate = last.median * (double(n) / last.birds) * frames / 1000.0;
           if (estimate > kMaxMeasurementSeconds) {
             series.stopped = "stopped before " + std::to_string(n) + " birds: would take about " +
                              std::to_string(int(estimate)) + " s";
@@ -410,21 +453,19 @@ int run_bench(const BenchOptions& options) {
           progress.clear();
           if (series.points.empty()) throw;  // no device at all, or not even the smallest flock
           series.stopped = std::string("device limit: ") + e.what();
+          device_cap = n;
           std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n, e.what());
           break;
         }
       }
-      // Birds per frame: bracket from the sweep, then bisect.
-      uint32_t lo = 0, hi = 0;
-      for (const Measurement& m : series.points) {
-        if (m.median <= s.budget_ms) {
-          lo = std::max(lo, m.birds);
-        } else if (hi == 0 || m.birds < hi) {
-          hi = m.birds;
-        }
-      }
-      if (hi != 0 && hi < lo) hi = 0;  // noise: a larger flock fitted after a smaller did not
-      series.lower_bound = hi == 0;
+      // Birds per frame: bracket from the sweep (the largest size that fitted, the smallest larger
+      // one that did not or that the device cannot hold), then bisect.
+      uint32_t lo = 0, hi = device_cap;
+      for (const Measurement& m : series.points)
+        if (m.median <= s.budget_ms) lo = std::max(lo, m.birds);
+      for (const Measurement& m : series.points)
+        if (m.median > s.budget_ms && m.birds > lo && (hi == 0 || m.birds < hi)) hi = m.birds;
+      series.lower_bound = hi == 0 || options.quick;  // --quick does not bisect
       if (!options.quick && hi != 0) {
         while (hi - lo > std::max<uint32_t>(16, lo / 50)) {
           const uint32_t mid = lo + (hi - lo) / 2;
@@ -451,7 +492,9 @@ int run_bench(const BenchOptions& options) {
       continue;
     }
     std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
-                series.lower_bound && !series.points.empty() ? " (or more: every size measured fitted)" : "");
+                !series.lower_bound || series.points.empty() ? ""
+                : options.quick ? " (or more: --quick does not search)"
+                                : " (or more: every size measured fitted)");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
@@ -476,7 +519,7 @@ int run_bench(const BenchOptions& options) {
         }
   }
   nlohmann::json exponents = nlohmann::json::object();
-  std::printf("\nscaling exponent b of ms per frame = a N^b (headless, sizes >= 3000):\n");
+  std::printf("\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were measured):\n");
   for (const std::string& backend : options.backends) {
     const Series* h = headless(backend);
     const std::optional<double> b = h ? scaling_exponent(h->points) : std::nullopt;
