@@ -378,6 +378,13 @@ int run_bench(const BenchOptions& options) {
     if (std::find(options.backends.begin() + i + 1, options.backends.end(), options.backends[i]) !=
         options.backends.end())
       throw std::runtime_error("--backends: " + options.backends[i] + " given twice");
+  for (const std::string& b : options.backends)
+    if (b.starts_with("vulkan:")) {
+      const size_t count = vulkan_devices().size();
+      if (std::stoul(b.substr(7)) >= count)
+        throw std::runtime_error("--backends " + b + ": no such device (" + std::to_string(count) +
+                                 " Vulkan device(s); see `aeroflock devices`)");
+    }
   if (!options.plot.empty()) {
     if (!has_program("gnuplot"))
       throw std::runtime_error("--plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
@@ -410,6 +417,7 @@ int run_bench(const BenchOptions& options) {
   Progress progress;
   std::vector<Series> all;
   std::map<std::string, std::string> devices;
+  std::vector<std::string> failed;  // series that failed after others had been measured
   for (const std::string& backend : options.backends) {
     std::vector<std::string> variants{"headless"};
     if (!options.quick) variants = {"headless", "render", "vtk"};
@@ -428,6 +436,11 @@ int run_bench(const BenchOptions& options) {
         progress.clear();
         devices[backend] = m.device;
         return m;
+      };
+      auto failure = [&](const std::exception& e) {
+        series.stopped = std::string("failed: ") + e.what();
+        failed.push_back(series.key() + ": " + e.what());
+        std::printf("%-8s %-9s   failed: %s\n", backend.c_str(), variant.c_str(), e.what());
       };
       // The sweep.
       uint32_t device_cap = 0;  // the smallest size the device could not hold
@@ -451,10 +464,19 @@ int run_bench(const BenchOptions& options) {
           print_row(series.points.back(), s.budget_ms);
         } catch (const gpu::Error& e) {
           progress.clear();
-          if (series.points.empty()) throw;  // no device at all, or not even the smallest flock
+          if (series.points.empty()) {
+            if (all.empty()) throw;  // nothing measured yet: fail at once (no device, a bad vulkan:N)
+            failure(e);
+            break;
+          }
           series.stopped = std::string("device limit: ") + e.what();
           device_cap = n;
           std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n, e.what());
+          break;
+        } catch (const std::exception& e) {
+          progress.clear();
+          if (all.empty() && series.points.empty()) throw;
+          failure(e);  // keep what the run has measured so far
           break;
         }
       }
@@ -475,6 +497,10 @@ int run_bench(const BenchOptions& options) {
             (m.median <= s.budget_ms ? lo : hi) = mid;
           } catch (const gpu::Error&) {
             hi = mid;
+          } catch (const std::exception& e) {
+            progress.clear();
+            failure(e);
+            break;
           }
         }
       }
@@ -489,6 +515,10 @@ int run_bench(const BenchOptions& options) {
   for (const Series& series : all) {
     if (series.skipped) {
       std::printf("  %-16s n/a\n", series.key().c_str());
+      continue;
+    }
+    if (series.points.empty()) {
+      std::printf("  %-16s failed\n", series.key().c_str());
       continue;
     }
     std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
@@ -508,7 +538,7 @@ int run_bench(const BenchOptions& options) {
   const Series* cpu = headless("cpu");
   for (const std::string& backend : options.backends) {
     const Series* vk = backend.starts_with("vulkan") ? headless(backend) : nullptr;
-    if (!vk || !cpu) continue;
+    if (!vk || !cpu || vk->points.empty() || cpu->points.empty()) continue;
     std::printf("\n%s / CPU reference, bird-steps/s (headless):\n", backend.c_str());
     for (const Measurement& a : vk->points)
       for (const Measurement& b : cpu->points)
@@ -563,7 +593,8 @@ int run_bench(const BenchOptions& options) {
         birds_per_frame[series.key()] = "n/a";
         continue;
       }
-      birds_per_frame[series.key()] = series.birds_per_frame;
+      birds_per_frame[series.key()] =
+          series.points.empty() ? nlohmann::json(nullptr) : nlohmann::json(series.birds_per_frame);
       if (!series.stopped.empty()) sweep_notes[series.key()] = series.stopped;
       for (const Measurement& m : series.points)
         benchmarks.push_back({
@@ -598,6 +629,10 @@ int run_bench(const BenchOptions& options) {
   if (!options.plot.empty()) {
     write_plot(options.plot, all, s.budget_ms);
     std::printf("plot     %s\n", options.plot.c_str());
+  }
+  if (!failed.empty()) {
+    for (const std::string& f : failed) std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
+    return 1;  // the outputs hold what was measured; the failed series are in sweep_notes
   }
   return 0;
 }
