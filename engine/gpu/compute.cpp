@@ -189,22 +189,12 @@ void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst) 
 
 Submitter::Submitter(const Device& device, uint32_t frames) : device_(device) {
   if (frames == 0) throw Error("Submitter with 0 frames");
-  VkDevice dev = device.handle();
   try {
-    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool.queueFamilyIndex = device.queue_family();
-    check(vkCreateCommandPool(dev, &pool, nullptr, &pool_), "vkCreateCommandPool");
-
+    pool_ = device.create_command_pool();
     slots_.resize(frames);
     for (Slot& s : slots_) {
-      VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-      alloc.commandPool = pool_;
-      alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-      alloc.commandBufferCount = 1;
-      check(vkAllocateCommandBuffers(dev, &alloc, &s.cmd), "vkAllocateCommandBuffers");
-      VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-      check(vkCreateFence(dev, &fence, nullptr, &s.fence), "vkCreateFence");
+      s.cmd = device.allocate_command_buffer(pool_);
+      s.fence = device.create_fence();
     }
     slot_ = frames - 1;  // begin() moves to slot 0
   } catch (...) {
@@ -239,17 +229,11 @@ void Submitter::submit(VkCommandBuffer cmd, VkFence fence) const {
 
 void Submitter::run(const std::function<void(VkCommandBuffer)>& record) {
   VkDevice dev = device_.handle();
-  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  VkCommandBuffer cmd = device_.allocate_command_buffer(pool_);
   VkFence fence = VK_NULL_HANDLE;
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = pool_;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
-  check(vkAllocateCommandBuffers(dev, &alloc, &cmd), "vkAllocateCommandBuffers");
   bool submitted = false;
   try {
-    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    check(vkCreateFence(dev, &fence_info, nullptr, &fence), "vkCreateFence");
+    fence = device_.create_fence();
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");

@@ -311,6 +311,33 @@ void Device::destroy() {
   }
 }
 
+VkCommandPool Device::create_command_pool() const {
+  VkCommandPoolCreateInfo info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  info.queueFamilyIndex = queue_family_;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  check(vkCreateCommandPool(device_, &info, nullptr, &pool), "vkCreateCommandPool");
+  return pool;
+}
+
+VkCommandBuffer Device::allocate_command_buffer(VkCommandPool pool) const {
+  VkCommandBufferAllocateInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  info.commandPool = pool;
+  info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  info.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  check(vkAllocateCommandBuffers(device_, &info, &cmd), "vkAllocateCommandBuffers");
+  return cmd;
+}
+
+VkFence Device::create_fence(bool signaled) const {
+  VkFenceCreateInfo info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  if (signaled) info.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+  VkFence fence = VK_NULL_HANDLE;
+  check(vkCreateFence(device_, &info, nullptr, &fence), "vkCreateFence");
+  return fence;
+}
+
 uint32_t Device::memory_type(uint32_t type_bits, VkMemoryPropertyFlags required,
                              VkMemoryPropertyFlags preferred) const {
   uint32_t fallback = UINT32_MAX;

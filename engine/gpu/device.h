@@ -81,6 +81,12 @@ class Device {
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags required,
                        VkMemoryPropertyFlags preferred = 0) const;
 
+  // Command pools, command buffers and fences on this device's queue (the caller destroys them;
+  // destroying the pool frees its command buffers). Error on failure.
+  VkCommandPool create_command_pool() const;
+  VkCommandBuffer allocate_command_buffer(VkCommandPool pool) const;
+  VkFence create_fence(bool signaled = false) const;
+
   bool validation() const { return messenger_ != VK_NULL_HANDLE; }
   // Messages of the validation layer so far (each is also printed to stderr).
   int validation_errors() const { return errors_.load(); }

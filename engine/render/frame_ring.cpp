@@ -11,10 +11,7 @@ using gpu::check;
 FrameRing::FrameRing(const gpu::Device& device) : device_(device) {
   VkDevice dev = device.handle();
   try {
-    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool.queueFamilyIndex = device.queue_family();
-    check(vkCreateCommandPool(dev, &pool, nullptr, &pool_), "vkCreateCommandPool");
+    pool_ = device.create_command_pool();
 
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device.physical(), &n, nullptr);
@@ -30,17 +27,11 @@ FrameRing::FrameRing(const gpu::Device& device) : device_(device) {
     }
 
     for (Slot& s : slots_) {
-      VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-      alloc.commandPool = pool_;
-      alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-      alloc.commandBufferCount = 1;
-      check(vkAllocateCommandBuffers(dev, &alloc, &s.draw), "vkAllocateCommandBuffers");
-      check(vkAllocateCommandBuffers(dev, &alloc, &s.stamp), "vkAllocateCommandBuffers");
+      s.draw = device.allocate_command_buffer(pool_);
+      s.stamp = device.allocate_command_buffer(pool_);
       VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
       check(vkCreateSemaphore(dev, &semaphore, nullptr, &s.acquired), "vkCreateSemaphore");
-      VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-      fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;  // the first begin() does not wait
-      check(vkCreateFence(dev, &fence, nullptr, &s.done), "vkCreateFence");
+      s.done = device.create_fence(true);  // signalled: the first begin() does not wait
     }
   } catch (...) {
     destroy();
