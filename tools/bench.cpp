@@ -56,8 +56,7 @@ constexpr double kBudgetMs = 25.0;
 constexpr double kMaxMeasurementSeconds = 150.0;
 
 struct Settings {
-  double dt = 0;
-  uint32_t steps_per_frame = 0;
+  Scenario scenario;  // the default scenario, loaded once
   double budget_ms = 0;  // wall ms per frame
   int warmup = 0;
   int repetitions = 0;
@@ -188,7 +187,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   const bool on_device = backend_name.starts_with("vulkan:");
   const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
   std::unique_ptr<Backend> backend = make_backend(
-      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, load_scenario("default"));
+      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, s.scenario);
   std::unique_ptr<OffscreenLoad> render;
   if (rendering) render = std::make_unique<OffscreenLoad>(*backend);
   TempDir vtk_dir;
@@ -236,7 +235,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);
   m.p90 = quantile(times, 0.9);
-  m.bird_steps_per_second = m.median > 0 ? m.birds * double(s.steps_per_frame) / (m.median / 1000.0) : 0.0;
+  m.bird_steps_per_second = m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
   return m;
 }
 
@@ -392,10 +391,8 @@ int run_bench(const BenchOptions& options) {
   }
   if (!options.json.empty()) check_output_path(options.json, "--json");
 
-  const Scenario scenario = load_scenario("default");
   Settings s;
-  s.dt = scenario.dt;
-  s.steps_per_frame = scenario.steps_per_frame;
+  s.scenario = load_scenario("default");
   s.budget_ms = kBudgetMs;
   s.quick = options.quick;
   s.warmup = options.quick ? 2 : 5;
@@ -410,7 +407,7 @@ int run_bench(const BenchOptions& options) {
 
   std::printf("aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
               "%d warm-up + %d timed frames\n\n",
-              s.quick ? " --quick" : "", s.steps_per_frame, s.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms,
+              s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms,
               s.warmup, s.repetitions);
   print_header();
 
@@ -574,8 +571,8 @@ int run_bench(const BenchOptions& options) {
         {"library_build_type", AEROFLOCK_BUILD_TYPE},
         {"build_type", AEROFLOCK_BUILD_TYPE},
         {"scenario", "default"},
-        {"dt", s.dt},
-        {"steps_per_frame", s.steps_per_frame},
+        {"dt", s.scenario.dt},
+        {"steps_per_frame", s.scenario.steps_per_frame},
         {"budget_ms", s.budget_ms},
         {"warmup_frames", s.warmup},
         {"repetitions", s.repetitions},
