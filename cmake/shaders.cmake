@@ -5,7 +5,8 @@
 #   std::span<const uint32_t> aeroflock::gpu::shader_spirv(std::string_view name)
 # (declared in engine/gpu/shaders.h; name = the file stem for compute shaders, e.g. "step", and
 # stem_stage for the others, e.g. "bird_vert"). `#include "x.glsl"`
-# finds the files of shaders/compute; every shader is rebuilt when any *.glsl there changes.
+# finds the files of shaders/compute, then of engine/ (host_device.h, the model's .def lists); every
+# shader is rebuilt when any of them changes.
 # Call it once per target.
 
 find_program(GLSLANG_VALIDATOR glslangValidator HINTS ${Vulkan_GLSLANG_VALIDATOR_EXECUTABLE})
@@ -16,13 +17,18 @@ endif()
 
 set(AEROFLOCK_SHADER_DIR ${CMAKE_CURRENT_LIST_DIR}/../shaders/compute)
 cmake_path(NORMAL_PATH AEROFLOCK_SHADER_DIR)
+# What the shaders share with C++: `#include "gpu/host_device.h"`, "model/species.def", ...
+set(AEROFLOCK_ENGINE_DIR ${CMAKE_CURRENT_LIST_DIR}/../engine)
+cmake_path(NORMAL_PATH AEROFLOCK_ENGINE_DIR)
 
 function(aeroflock_add_shaders)
   cmake_parse_arguments(ARG "" "TARGET" "SOURCES" ${ARGN})
   if(NOT ARG_TARGET OR NOT ARG_SOURCES)
     message(FATAL_ERROR "aeroflock_add_shaders(TARGET tgt SOURCES a.comp ...)")
   endif()
-  file(GLOB includes CONFIGURE_DEPENDS ${AEROFLOCK_SHADER_DIR}/*.glsl ${AEROFLOCK_SHADER_DIR}/../render/*.glsl)
+  file(GLOB includes CONFIGURE_DEPENDS ${AEROFLOCK_SHADER_DIR}/*.glsl ${AEROFLOCK_SHADER_DIR}/../render/*.glsl
+       ${AEROFLOCK_ENGINE_DIR}/gpu/host_device.h ${AEROFLOCK_ENGINE_DIR}/model/*.def
+       ${AEROFLOCK_ENGINE_DIR}/model/constants.h)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/spirv)
   set(headers "")
   set(includes_code "")
@@ -41,7 +47,7 @@ function(aeroflock_add_shaders)
     set(header ${out_dir}/${name}.spv.h)
     add_custom_command(
       OUTPUT ${header}
-      COMMAND ${GLSLANG_VALIDATOR} --target-env vulkan1.2 -V --quiet -I${AEROFLOCK_SHADER_DIR}
+      COMMAND ${GLSLANG_VALIDATOR} --target-env vulkan1.2 -V --quiet -I${AEROFLOCK_SHADER_DIR} -I${AEROFLOCK_ENGINE_DIR}
               --vn ${name}_spirv -o ${header} ${src}
       DEPENDS ${src} ${includes}
       COMMENT "SPIR-V ${name}"

@@ -26,7 +26,7 @@ namespace {
 using glm::dvec3;
 
 // Runs `sim` for `seconds`, calling `each_frame` after every frame.
-void run(Flight& sim, double seconds, const std::function<void(Flight&)>& each_frame) {
+void run(Simulation& sim, double seconds, const std::function<void(Simulation&)>& each_frame) {
   while (sim.time() < seconds - 1e-9) {
     sim.step_frame();
     each_frame(sim);
@@ -34,9 +34,9 @@ void run(Flight& sim, double seconds, const std::function<void(Flight&)>& each_f
 }
 
 // Runs `sim` step by step until `seconds`, calling `each_step` after every step.
-void run_steps(Flight& sim, double seconds, const std::function<void(Flight&)>& each_step) {
+void run_steps(Simulation& sim, double seconds, const std::function<void(Simulation&)>& each_step) {
   while (sim.time() < seconds - 1e-9) {
-    sim.step_once();
+    sim.step(1);
     each_step(sim);
   }
 }
@@ -71,7 +71,7 @@ random_phase = false
   return parse_scenario(toml, "straight.toml");
 }
 
-const Species& species_of(Flight& sim, const BirdState& b) {
+const Species& species_of(Simulation& sim, const BirdState& b) {
   return sim.scenario().species[b.species];
 }
 
@@ -83,11 +83,11 @@ class Cruise : public ::testing::TestWithParam<std::string> {};
 TEST_P(Cruise, HoldsHeightWithFrequencyAndAmplitudeInside) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const auto flight = make_flight(straight_flight(GetParam(), 1e6, 0.0));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const Species& sp = sim.scenario().species[sim.birds()[0].species];
   double y_lo = 1e9, y_hi = -1e9, f_lo = 1e9, f_hi = -1e9, a_lo = 1e9, a_hi = -1e9;
   int frames = 0, closed = 0;
-  run(sim, 30.0, [&](Flight& s) {
+  run(sim, 30.0, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() < 2.0) return;
     y_lo = std::min(y_lo, b.position.y), y_hi = std::max(y_hi, b.position.y);
@@ -122,13 +122,13 @@ TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5)
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const VerticalCase c = GetParam();
   const auto flight = make_flight(straight_flight(c.species, 10000.0, c.above));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const BirdState start = sim.birds()[0];
   const Species& sp = species_of(sim, start);
   const Target& goal = sim.world().targets[0];
   double reached_at = -1.0;
   BirdState at_half_second;
-  run(sim, 20.0, [&](Flight& s) {
+  run(sim, 20.0, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() <= 0.5) at_half_second = b;
     if (reached_at < 0 && glm::distance(b.position, goal.centre) <= goal.radius) reached_at = s.time();
@@ -149,13 +149,13 @@ class Circling : public ::testing::TestWithParam<std::string> {};
 TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const auto flight = make_flight(load_scenario(GetParam()));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const bool tail_model = sim.world().turning == TurningModel::tail;
   const Species& sp = species_of(sim, sim.birds()[0]);
   double r_lo = 1e9, r_hi = 0, y_lo = 1e9, y_hi = -1e9;
   int frames = 0, banked_in = 0, turning = 0, twisted_in = 0, open_in_turn = 0;
   uint32_t reached_at_10s = 0;
-  run(sim, 60.0, [&](Flight& s) {
+  run(sim, 60.0, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() < 10.0) {
       reached_at_10s = b.targets_reached;
@@ -201,15 +201,15 @@ TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
   Scenario scenario = straight_flight("starling", -1e5, 0.0);  // the target far behind
   scenario.world.turning = TurningModel::fixed_rate;
   const auto flight = make_flight(scenario);
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const Species& sp = species_of(sim, sim.birds()[0]);
   auto heading = [&] {
     const dvec3 head = sim.birds()[0].attitude * dvec3{1.0, 0.0, 0.0};
     return std::atan2(head.z, head.x);
   };
-  run(sim, 1.0, [](Flight&) {});  // banked into the turn by now
+  run(sim, 1.0, [](Simulation&) {});  // banked into the turn by now
   const double before = heading(), bank = bank_angle(sim.birds()[0].attitude);
-  run(sim, 1.5, [](Flight&) {});
+  run(sim, 1.5, [](Simulation&) {});
   const double turned = std::remainder(heading() - before, 2.0 * kPi);
   RecordProperty("bank_deg", std::to_string(degrees(bank)));
   EXPECT_GT(std::fabs(bank), radians(20.0));
@@ -223,9 +223,9 @@ TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
 // below y = 0 with k = 10, and does without ground effect.
 double lowest_height(const std::string& scenario) {
   const auto flight = make_flight(load_scenario(scenario));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   double lowest = 1e9;
-  run_steps(sim, sim.scenario().duration, [&](Flight& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
+  run_steps(sim, sim.scenario().duration, [&](Simulation& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
   return lowest;
 }
 
@@ -245,11 +245,11 @@ struct Heights {
 };
 Heights takeoff_heights(const std::string& scenario) {
   const auto flight = make_flight(load_scenario(scenario));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   Heights h;
-  run_steps(sim, 0.3, [](Flight&) {});
+  run_steps(sim, 0.3, [](Simulation&) {});
   h.at_03 = sim.birds()[0].position.y;
-  run_steps(sim, 0.7, [](Flight&) {});
+  run_steps(sim, 0.7, [](Simulation&) {});
   h.at_07 = sim.birds()[0].position.y;
   return h;
 }
@@ -267,10 +267,10 @@ TEST(TakeOff, LegForceGivesAQuickerAscent) {
 TEST(TakeOff, CrouchesBeforeThePush) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const auto flight = make_flight(load_scenario("fig20-takeoff-legs"));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const Species& sp = species_of(sim, sim.birds()[0]);
   const double standing = sim.birds()[0].position.y;
-  run_steps(sim, 0.95 * sp.crouch_time, [](Flight&) {});
+  run_steps(sim, 0.95 * sp.crouch_time, [](Simulation&) {});
   EXPECT_NEAR(sim.birds()[0].position.y, standing - 0.95 * sp.crouch_depth, 0.01 * sp.crouch_depth);
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
@@ -284,11 +284,11 @@ struct Landing {
 };
 Landing land(const std::string& scenario) {
   const auto flight = make_flight(load_scenario(scenario));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const Branch& branch = sim.world().branches[0];
   std::vector<dvec3> track;
   Landing result;
-  run(sim, sim.scenario().duration, [&](Flight& s) {
+  run(sim, sim.scenario().duration, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (b.mode != FlightMode::perched) track.push_back(b.position);
     result.perched = b.mode == FlightMode::perched;
@@ -330,10 +330,10 @@ TEST(BranchLanding, LinedUpBirdFliesStraightIn) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   // On the branch's perpendicular (through (4000, 500, 3000) along (1, 0, 1)), heading in.
   const auto flight = make_flight(landing_from(dvec3{4000.0 - 2500.0, 600.0, 3000.0 - 2500.0}, 45.0));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   LandingStage stage = LandingStage::none;
   double lowest_x = 1e9;
-  run(sim, 10.0, [&](Flight& s) {
+  run(sim, 10.0, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (stage == LandingStage::none) stage = b.landing_stage;
     lowest_x = std::min(lowest_x, b.position.x);
@@ -347,9 +347,9 @@ TEST(BranchLanding, OvershootingBirdGoesRoundAndPerches) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   // Past the branch and flying away from it: it must come round (through the gate) to land.
   const auto flight = make_flight(landing_from(dvec3{6000.0, 800.0, 5000.0}, 45.0));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   bool went_to_gate = false;
-  run(sim, 60.0, [&](Flight& s) {
+  run(sim, 60.0, [&](Simulation& s) {
     went_to_gate |= s.birds()[0].landing_stage == LandingStage::gate;
   });
   EXPECT_TRUE(went_to_gate);
@@ -360,10 +360,10 @@ TEST(BranchLanding, OvershootingBirdGoesRoundAndPerches) {
 TEST(MovingTarget, IsCaughtAndTheRouteGoesOn) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const auto flight = make_flight(load_scenario("fig21-moving-target"));
-  Flight& sim = *flight;
+  Simulation& sim = *flight;
   const Target& runner = sim.world().targets[0];
   double entered_at = -1, closest = 1e9;
-  run(sim, sim.scenario().duration, [&](Flight& s) {
+  run(sim, sim.scenario().duration, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     const double d = glm::distance(b.position, target_position(runner, s.time()));
     closest = std::min(closest, d);
@@ -383,8 +383,8 @@ TEST_P(BuiltinScenario, FliesWithoutNaN) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   Scenario scenario = load_scenario(GetParam());
   const auto flight = make_flight(scenario, std::min<uint32_t>(200, static_cast<uint32_t>(spawn_birds(scenario).size())));
-  Flight& sim = *flight;
-  run(sim, scenario.duration, [](Flight&) {});
+  Simulation& sim = *flight;
+  run(sim, scenario.duration, [](Simulation&) {});
   for (const BirdState& b : sim.birds()) ASSERT_TRUE(finite(b));
 }
 

@@ -95,7 +95,7 @@ TEST(GpuDevice, AddsMillionFloats) {
   da.upload(bytes(a));
   db.upload(bytes(b));
 
-  gpu::ComputePipeline add(device, gpu::shader_spirv("selftest_add"), 3, sizeof(uint32_t));
+  gpu::ComputePipeline add(device, gpu::shader_spirv("selftest_add"), {0, 1, 2}, sizeof(uint32_t));
   add.set_buffers({&da, &db, &sum});
   {
     // Synchronous: record, submit, wait.

@@ -100,15 +100,13 @@ struct Saved {
 // A CPU run of fig21-moving-target with 5 birds for `frames` frames, exported as `options` says.
 std::vector<Saved> run_and_export(const VtkOptions& options, uint32_t frames, Scenario* out) {
   Scenario scenario = load_scenario("fig21-moving-target");
-  Simulation sim(scenario, 5);
+  CpuSimulation sim(scenario, 5);
   VtkExporter exporter(options, sim.scenario(), sim.birds().size());
   std::vector<Saved> saved;
   for (uint32_t frame = 0; frame < frames; ++frame) {
-    sim.step_frame();
-    if (exporter.due(frame)) {
-      exporter.add_frame(sim.time(), sim.birds());
-      saved.push_back({sim.time(), sim.birds()});
-    }
+    sim.step_frame(exporter.due(sim.frames() + 1));
+    exporter.offer(sim.ready_snapshot());
+    if (exporter.due(sim.frames())) saved.push_back({sim.time(), sim.birds()});
   }
   exporter.finish();
   *out = sim.scenario();
@@ -121,7 +119,7 @@ TEST(VtkExport, FramesMatchTheSimulation) {
   options.every = 2;
   Scenario scenario;
   const std::vector<Saved> saved = run_and_export(options, 9, &scenario);
-  ASSERT_EQ(saved.size(), 4u);  // frames 1, 3, 5, 7 (0-based)
+  ASSERT_EQ(saved.size(), 4u);  // frames 2, 4, 6, 8
 
   const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
   ASSERT_EQ(pvd.size(), saved.size());
@@ -352,23 +350,48 @@ TEST(VtkExport, UnwritableDirectoryFailsBeforeAnything) {
   EXPECT_THROW(VtkExporter(options, scenario, 1), std::invalid_argument);
 }
 
+// The exported forces are the snapshot's, i.e. the backend's own (the shaders' on Vulkan): the
+// exporter computes none. A due frame without forces is a programming error.
+TEST(VtkExport, ForcesComeFromTheSnapshot) {
+  Scenario scenario = load_scenario("fig21-moving-target");
+  CpuSimulation sim(scenario, 2);
+  VtkOptions options;
+  options.dir = fresh_dir("forces");
+  VtkExporter exporter(options, sim.scenario(), 2);
+  sim.step_frame();
+  EXPECT_THROW(exporter.offer(sim.snapshot()), std::logic_error);
+  std::vector<StepForces> forces(2);
+  forces[0].wing[0] = {1.0, 2.0, 3.0};
+  forces[0].tail = {10.0, 20.0, 30.0};
+  forces[1].tail = {-5.0, 0.0, 0.5};
+  Snapshot snapshot = sim.snapshot();
+  snapshot.forces = &forces;
+  exporter.offer(snapshot);
+  exporter.offer(snapshot);  // the same frame again: queued once
+  exporter.finish();
+  EXPECT_EQ(exporter.frames_added(), 1u);
+  vtkSmartPointer<vtkPolyData> data = read_vtp(options.dir / "frames" / "flock_000000.vtp");
+  expect_vec(array(data, "aero_force", 3), 0, {11.0, 22.0, 33.0}, "aero_force");
+  expect_vec(array(data, "tail_force", 3), 1, {-5.0, 0.0, 0.5}, "tail_force");
+}
+
 TEST(VtkExport, WriterErrorIsReportedByFinish) {
   Scenario scenario = load_scenario("fig21-moving-target");
-  Simulation sim(scenario, 2);
+  CpuSimulation sim(scenario, 2);
   VtkOptions options;
   options.dir = fresh_dir("error");
   VtkExporter exporter(options, sim.scenario(), 2);
-  sim.step_frame();
-  exporter.add_frame(sim.time(), sim.birds());
+  sim.step_frame(true);
+  exporter.offer(sim.snapshot());
   // The frames directory turns into a file: the next frame cannot be written.
   exporter.finish();
   VtkExporter second(options, sim.scenario(), 2);
   fs::remove_all(options.dir / "frames");
   std::ofstream(options.dir / "frames") << "in the way\n";
-  sim.step_frame();
-  second.add_frame(sim.time(), sim.birds());
-  sim.step_frame();
-  second.add_frame(sim.time(), sim.birds());
+  sim.step_frame(true);
+  second.offer(sim.snapshot());
+  sim.step_frame(true);
+  second.offer(sim.snapshot());
   try {
     second.finish();
     FAIL() << "no error";

@@ -8,8 +8,10 @@ namespace aeroflock::gpu {
 // --- ComputePipeline ------------------------------------------------------------------------
 
 ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
-                                 uint32_t bindings, uint32_t push_size, uint32_t max_sets)
-    : device_(device), bindings_(bindings), push_size_(push_size) {
+                                 std::vector<uint32_t> bindings, uint32_t push_size,
+                                 uint32_t max_sets)
+    : device_(device), bindings_(std::move(bindings)), push_size_(push_size) {
+  const uint32_t count = static_cast<uint32_t>(bindings_.size());
   if (spirv.empty()) throw Error("compute pipeline: empty SPIR-V");
   if (push_size % 4 != 0 || push_size > device.limits().maxPushConstantsSize)
     throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
@@ -22,11 +24,11 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     module.pCode = spirv.data();
     check(vkCreateShaderModule(dev, &module, nullptr, &module_), "vkCreateShaderModule");
 
-    std::vector<VkDescriptorSetLayoutBinding> slots(bindings);
-    for (uint32_t i = 0; i < bindings; ++i)
-      slots[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    std::vector<VkDescriptorSetLayoutBinding> slots(count);
+    for (uint32_t i = 0; i < count; ++i)
+      slots[i] = {bindings_[i], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set_layout.bindingCount = bindings;
+    set_layout.bindingCount = count;
     set_layout.pBindings = slots.data();
     check(vkCreateDescriptorSetLayout(dev, &set_layout, nullptr, &set_layout_),
           "vkCreateDescriptorSetLayout");
@@ -48,7 +50,7 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
           "vkCreateComputePipelines");
 
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, bindings * max_sets)};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, count * max_sets)};
     VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool.maxSets = max_sets;
     pool.poolSizeCount = 1;
@@ -77,9 +79,10 @@ void ComputePipeline::destroy() {
 }
 
 VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers) {
-  if (buffers.size() != bindings_)
+  const uint32_t count = static_cast<uint32_t>(bindings_.size());
+  if (buffers.size() != count)
     throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
-                std::to_string(bindings_) + " bindings");
+                std::to_string(count) + " bindings");
   const VkDeviceSize range = device_.limits().maxStorageBufferRange;
   for (const Buffer* b : buffers)
     if (b->size() > range)
@@ -94,18 +97,18 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
   check(vkAllocateDescriptorSets(device_.handle(), &alloc, &set),
         "vkAllocateDescriptorSets (more sets than the pipeline's max_sets?)");
 
-  std::vector<VkDescriptorBufferInfo> infos(bindings_);
-  std::vector<VkWriteDescriptorSet> writes(bindings_);
-  for (uint32_t i = 0; i < bindings_; ++i) {
+  std::vector<VkDescriptorBufferInfo> infos(count);
+  std::vector<VkWriteDescriptorSet> writes(count);
+  for (uint32_t i = 0; i < count; ++i) {
     infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
-    writes[i].dstBinding = i;
+    writes[i].dstBinding = bindings_[i];
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[i].pBufferInfo = &infos[i];
   }
-  vkUpdateDescriptorSets(device_.handle(), bindings_, writes.data(), 0, nullptr);
+  vkUpdateDescriptorSets(device_.handle(), count, writes.data(), 0, nullptr);
   return set;
 }
 

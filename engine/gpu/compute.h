@@ -13,18 +13,19 @@
 
 namespace aeroflock::gpu {
 
-// A compute shader with `bindings` storage buffers (set 0, bindings 0..bindings-1) and a push-
-// constant block of `push_size` bytes (0: none). Its pool holds `max_sets` descriptor sets.
+// A compute shader with storage buffers at the binding numbers `bindings` (set 0; host_device.h
+// names them) and a push-constant block of `push_size` bytes (0: none). Its pool holds `max_sets`
+// descriptor sets.
 class ComputePipeline {
  public:
-  ComputePipeline(const Device& device, std::span<const uint32_t> spirv, uint32_t bindings,
-                  uint32_t push_size, uint32_t max_sets = 4);
+  ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
+                  std::vector<uint32_t> bindings, uint32_t push_size, uint32_t max_sets = 4);
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
 
-  // A descriptor set with binding i = the whole of buffers[i] (e.g. one per state buffer for
-  // ping-ponging). Lives as long as the pipeline.
+  // A descriptor set with the i-th of the pipeline's bindings = the whole of buffers[i] (e.g. one
+  // set per frame slot). Lives as long as the pipeline.
   VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
   VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
   // make_set, and the set that dispatch() uses without one.
@@ -47,7 +48,7 @@ class ComputePipeline {
   void destroy();
 
   const Device& device_;
-  uint32_t bindings_;
+  std::vector<uint32_t> bindings_;
   uint32_t push_size_;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;

@@ -4,24 +4,15 @@
 #include <span>
 
 #include "gpu/shaders.h"
-#include "model/simulation.h"
 
 namespace aeroflock::gpu {
 namespace {
-
-constexpr uint32_t kLocalSize = 64;  // local_size_x of step.comp and probe.comp
-constexpr uint32_t kBindings = 6;    // birds, species, targets, routes, route targets, branches
-
-template <class T>
-std::span<const std::byte> bytes_of(const std::vector<T>& v) {
-  return std::as_bytes(std::span<const T>(v));
-}
 
 // A buffer holding `items` (at least one element, so that every binding is a valid buffer).
 template <class T>
 Buffer buffer_with(const Device& device, const std::vector<T>& items, Memory memory) {
   Buffer b(device, std::max<size_t>(items.size(), 1) * sizeof(T), memory);
-  if (!items.empty()) b.upload(bytes_of(items));
+  if (!items.empty()) b.upload(std::as_bytes(std::span<const T>(items)));
   return b;
 }
 
@@ -31,139 +22,138 @@ std::vector<GpuSpecies> pack_species(const Scenario& s) {
   return out;
 }
 
-std::vector<GpuBird> pack_birds(const std::vector<BirdState>& birds) {
-  std::vector<GpuBird> out;
-  out.reserve(birds.size());
-  for (const BirdState& b : birds) out.push_back(pack(b));
-  return out;
+// A frame's targets: where they are at its start, then at the next frame's start.
+Buffer targets_buffer(const Device& device, const World& world) {
+  return Buffer(device, std::max<size_t>(2 * world.targets.size(), 1) * sizeof(GpuTarget), Memory::host);
 }
 
-Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds, Memory memory) {
+Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds) {
   check_storage_size(device, birds.size() * sizeof(GpuBird), sizeof(GpuBird));
-  return buffer_with(device, pack_birds(birds), memory);
+  std::vector<GpuBird> packed;
+  packed.reserve(birds.size());
+  for (const BirdState& b : birds) packed.push_back(pack(b));
+  return buffer_with(device, packed, Memory::device_local);
+}
+
+// The scenario's birds, once the device is known to hold that many (before spawning them).
+std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario, uint32_t birds_override) {
+  check_storage_size(device, spawn_count(scenario, birds_override) * sizeof(GpuBird), sizeof(GpuBird));
+  return spawn_birds(scenario, birds_override);
 }
 
 }  // namespace
 
-// The scenario's birds, once the device is known to hold that many (before spawning them).
-std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario, uint32_t birds_override) {
-  uint64_t count = birds_override;
-  if (count == 0)
-    for (const Flock& f : scenario.flocks) count += f.count;
-  check_storage_size(device, count * sizeof(GpuBird), sizeof(GpuBird));
-  return spawn_birds(scenario, birds_override);
-}
-
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override)
     : GpuSimulation(device, scenario, spawn_fitting(device, scenario, birds_override)) {}
 
-GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds)
-    : device_(device),
-      scenario_(std::move(scenario)),
-      count_(static_cast<uint32_t>(birds.size())),
-      birds_(make_bird_buffer(device, birds, Memory::device_local)),
-      species_(buffer_with(device, pack_species(scenario_), Memory::device_local)),
-      routes_(buffer_with(device, pack(scenario_.world).routes, Memory::device_local)),
-      route_targets_(buffer_with(device, pack(scenario_.world).route_targets, Memory::device_local)),
-      branches_(buffer_with(device, pack(scenario_.world).branches, Memory::device_local)),
-      probes_(device, std::max<size_t>(count_, 1) * sizeof(ProbeForces), Memory::host),
-      targets_{buffer_with(device, pack_targets(scenario_.world, 0.0), Memory::host),
-               buffer_with(device, pack_targets(scenario_.world, 0.0), Memory::host)},
-      readback_{Buffer(device, birds_.size(), Memory::host), Buffer(device, birds_.size(), Memory::host)},
-      step_(device, shader_spirv("step"), kBindings, sizeof(StepConstants), 2),
-      probe_(device, shader_spirv("probe"), kBindings + 1, sizeof(StepConstants), 1),
-      host_birds_(std::move(birds)),
-      submitter_(device, 2) {
-  for (uint32_t slot = 0; slot < 2; ++slot)
-    step_sets_[slot] = step_.make_set({&birds_, &species_, &targets_[slot], &routes_, &route_targets_, &branches_});
-  probe_set_ = probe_.make_set({&birds_, &species_, &targets_[0], &routes_, &route_targets_, &branches_, &probes_});
+GpuSimulation::GpuSimulation(std::unique_ptr<Device> device, Scenario scenario, uint32_t birds_override)
+    : GpuSimulation(*device, std::move(scenario), birds_override) {
+  owned_device_ = std::move(device);  // the members made on it are destroyed before it
 }
 
-StepConstants GpuSimulation::constants(uint32_t steps) const {
-  const World& w = scenario_.world;
+GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds)
+    : Simulation(std::move(scenario)),
+      device_(device),
+      count_(static_cast<uint32_t>(birds.size())),
+      birds_(make_bird_buffer(device, birds)),
+      species_(buffer_with(device, pack_species(this->scenario()), Memory::device_local)),
+      routes_(buffer_with(device, pack(world()).routes, Memory::device_local)),
+      route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local)),
+      branches_(buffer_with(device, pack(world()).branches, Memory::device_local)),
+      forces_(std::make_unique<Buffer>(device, sizeof(GpuForces), Memory::device_local)),
+      step_(device, shader_spirv("step"),
+            {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
+             kBindingBranches, kBindingForces},
+            sizeof(StepConstants), 4),
+      slots_{{targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)},
+             {targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)}},
+      initial_(std::move(birds)),
+      submitter_(device, 2) {
+  make_sets();
+}
+
+std::string GpuSimulation::device() const { return device_.name() + " (" + device_.driver() + ")"; }
+
+void GpuSimulation::make_sets() {
+  for (Slot& slot : slots_)
+    slot.set = step_.make_set(
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, forces_.get()});
+}
+
+// The forces buffers, made the first time a frame records forces (they are as large as the
+// flock's state again, three times over).
+void GpuSimulation::record_forces_buffers() {
+  if (slots_[0].forces) return;
+  submitter_.wait_all();  // the sets in flight name the stand-in
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(count_, 1) * sizeof(GpuForces);
+  check_storage_size(device_, bytes, sizeof(GpuForces), "birds' forces");
+  forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
+  for (Slot& slot : slots_) slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
+  make_sets();
+}
+
+void GpuSimulation::step(uint32_t steps, bool record_forces) {
+  if (record_forces) record_forces_buffers();
+  VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous frame only
+  Slot& slot = slots_[submitter_.frame()];
+  const double start = begin_frame();
+  // The targets where they are at the frame's start, then where the next frame sees them (for
+  // the recorded forces), in this slot's buffer (the other slot's frame may still read its own).
+  std::vector<GpuTarget> targets = pack_targets(world(), start);
+  const std::vector<GpuTarget> next = pack_targets(world(), frame_start(this->steps() + steps));
+  targets.insert(targets.end(), next.begin(), next.end());
+  if (!targets.empty()) std::memcpy(slot.targets.mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
+
   StepConstants c{};
-  c.wind_ground = glm::vec4(glm::vec3(w.wind), float(w.ground_height));
-  c.dt = float(scenario_.dt);
-  c.time = float(time_);
+  c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
+  c.dt = float(scenario().dt);
+  c.time = float(time());
   c.steps = steps;
   c.bird_count = count_;
-  c.turning = uint32_t(w.turning);
-  c.ground_effect = w.ground_effect ? 1u : 0u;
-  return c;
-}
-
-void GpuSimulation::write_targets(uint32_t slot, double time) {
-  scenario_.world.move_targets(time);
-  const std::vector<GpuTarget> targets = pack_targets(scenario_.world, time);
-  if (!targets.empty()) std::memcpy(targets_[slot].mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
-}
-
-double GpuSimulation::frame_start() const {
-  const uint64_t per_frame = scenario_.steps_per_frame;
-  return double(steps_ / per_frame * per_frame) * scenario_.dt;
-}
-
-void GpuSimulation::step_frame() { step(scenario_.steps_per_frame); }
-
-void GpuSimulation::step(uint32_t steps) {
-  VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous frame only
-  const uint32_t slot = submitter_.frame();
-  write_targets(slot, frame_start());  // targets move between frames
-  const StepConstants c = constants(steps);
+  c.turning = uint32_t(world().turning);
+  c.ground_effect = world().ground_effect ? 1u : 0u;
+  c.record_forces = record_forces ? 1u : 0u;
+  c.next_targets = uint32_t(next.size());
   barrier_to_compute(cmd);
-  step_.dispatch(cmd, step_sets_[slot], group_count(count_, kLocalSize), &c, sizeof c);
-  record_readback(cmd, birds_, readback_[slot]);
-  last_frame_ = submitter_.submit();
-  last_slot_ = slot;
-  host_current_ = false;
-  steps_ += steps;
-  time_ = steps_ * scenario_.dt;
-  slot_fence_[slot] = last_frame_;
-  slot_time_[slot] = time_;
-  ++frames_in_row_;
+  step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+  record_readback(cmd, birds_, slot.readback);
+  if (record_forces) record_readback(cmd, *forces_, *slot.forces);
+  slot.fence = submitter_.submit();
+  end_frame(steps);
+
+  slot.snapshot = {frames(), this->steps(), time(), nullptr, nullptr};
+  slot.unpacked = false;
+  slot.has_forces = record_forces;
+  last_ = static_cast<int>(submitter_.frame());
 }
 
-std::vector<ProbeForces> GpuSimulation::step_probe() {
-  submitter_.wait_all();
-  write_targets(0, frame_start());
-  const StepConstants c = constants(1);
-  submitter_.run([&](VkCommandBuffer cmd) {
-    barrier_to_compute(cmd);
-    probe_.dispatch(cmd, probe_set_, group_count(count_, kLocalSize), &c, sizeof c);
-    record_readback(cmd, birds_, readback_[0]);
-  });
-  last_frame_ = VK_NULL_HANDLE;
-  last_slot_ = 0;
-  frames_in_row_ = 0;
-  host_current_ = false;
-  ++steps_;
-  time_ = steps_ * scenario_.dt;
-  std::vector<ProbeForces> out(count_);
-  std::memcpy(out.data(), probes_.mapped(), count_ * sizeof(ProbeForces));
-  return out;
+Snapshot GpuSimulation::read(Slot& slot) {
+  if (!slot.unpacked) {
+    submitter_.wait(slot.fence);
+    const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
+    slot.birds.resize(count_);
+    for (uint32_t i = 0; i < count_; ++i) slot.birds[i] = unpack(gpu[i]);
+    if (slot.has_forces) {
+      const auto* f = reinterpret_cast<const GpuForces*>(slot.forces->mapped());
+      slot.step_forces.resize(count_);
+      for (uint32_t i = 0; i < count_; ++i) slot.step_forces[i] = unpack(f[i]);
+    }
+    slot.unpacked = true;
+  }
+  Snapshot s = slot.snapshot;
+  s.birds = &slot.birds;
+  s.forces = slot.has_forces ? &slot.step_forces : nullptr;
+  return s;
 }
 
-const std::vector<BirdState>& GpuSimulation::previous_birds() {
-  if (frames_in_row_ < 2) return birds();
-  const uint32_t slot = 1 - last_slot_;
-  submitter_.wait(slot_fence_[slot]);
-  const auto* gpu = reinterpret_cast<const GpuBird*>(readback_[slot].mapped());
-  previous_birds_.resize(count_);
-  for (uint32_t i = 0; i < count_; ++i) previous_birds_[i] = unpack(gpu[i]);
-  return previous_birds_;
+Snapshot GpuSimulation::snapshot() {
+  if (last_ < 0) return {0, 0, 0.0, &initial_, nullptr};
+  return read(slots_[last_]);
 }
 
-double GpuSimulation::previous_time() const {
-  return frames_in_row_ < 2 ? time_ : slot_time_[1 - last_slot_];
-}
-
-const std::vector<BirdState>& GpuSimulation::birds() {
-  if (host_current_) return host_birds_;
-  if (last_frame_ != VK_NULL_HANDLE) submitter_.wait(last_frame_);
-  const auto* gpu = reinterpret_cast<const GpuBird*>(readback_[last_slot_].mapped());
-  for (uint32_t i = 0; i < count_; ++i) host_birds_[i] = unpack(gpu[i]);
-  host_current_ = true;
-  return host_birds_;
+Snapshot GpuSimulation::ready_snapshot() {
+  if (frames() < 2) return snapshot();
+  return read(slots_[1 - last_]);
 }
 
 }  // namespace aeroflock::gpu

@@ -109,7 +109,7 @@ void validate_species(const TableReader& r, const Species& s) {
     }
     if (field.empty())
       io::fail(r.where(),
-               what + (r.find("base") ? "" : " (without a base every field starts at 0)"));
+               what + (r.find("base") ? "" : " (without a base, the fields of Table 1 start at 0)"));
     r.fail(field, what + ", got " + io::describe(*r.find(field)));
   }
 }
@@ -123,7 +123,7 @@ Species read_species(const TableReader& r, const std::vector<Species>& known) {
   if (auto base = r.located_string("base")) s = known[io::index_by_name(known, *base, "species")];
   s.name = name.value;
   for (const io::SpeciesField& f : io::species_fields())
-    if (r.find(f.name)) s.*f.member = io::from_file_unit(r.number(f.name, 0.0), f.unit);
+    if (r.find(f.name)) s.*f.member = from_unit(r.number(f.name, 0.0), f.unit);
   validate_species(r, s);
   return s;
 }

@@ -4,10 +4,12 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
+#include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
+#include <vtkType.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -35,7 +37,6 @@
 
 #include "model/body.h"
 #include "model/constants.h"
-#include "model/step.h"
 #include "model/tail.h"
 
 namespace aeroflock {
@@ -143,6 +144,60 @@ vtkSmartPointer<Array> make_array(const char* name, int components, vtkIdType tu
   return a;
 }
 
+// One bird of a saved frame, as the point arrays see it.
+struct ExportedBird {
+  uint32_t id;
+  double time;
+  const BirdState& state;
+  const Species& species;
+  const StepForces& forces;
+};
+
+// The point arrays of a frame file: name, VTK type, components and the bird's value. One line
+// an array; the README's "VTK export" lists them for users.
+struct PointArray {
+  const char* name;
+  int type;
+  int components;
+  void (*value)(const ExportedBird& e, double* out);
+};
+
+void put(double* out, const glm::dvec3& v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+
+const PointArray kPointArrays[] = {
+    {"bird_id", VTK_UNSIGNED_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.id; }},
+    {"species", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.species; }},
+    {"time", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.time; }},
+    {"velocity", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
+    {"speed", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
+    {"attitude", VTK_DOUBLE, 4,
+     [](const ExportedBird& e, double* v) {
+       const glm::dquat& q = e.state.attitude;
+       v[0] = q.w, v[1] = q.x, v[2] = q.y, v[3] = q.z;
+     }},
+    {"heading_pitch_bank", VTK_DOUBLE, 3,
+     [](const ExportedBird& e, double* v) {
+       const glm::dvec3 head = e.state.attitude * glm::dvec3{1.0, 0.0, 0.0};
+       put(v, {degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(e.state.attitude)),
+               degrees(bank_angle(e.state.attitude))});
+     }},
+    {"wingbeat_phase", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
+    {"frequency", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
+    {"amplitude", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.amplitude; }},
+    {"tail_bend", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
+    {"tail_twist", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
+    {"tail_opening", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = degrees(tail_opening(e.species, e.state)); }},
+    {"aero_force", VTK_DOUBLE, 3,
+     [](const ExportedBird& e, double* v) {
+       const StepForces& f = e.forces;
+       put(v, f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail);
+     }},
+    {"tail_force", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
+    {"flight_state", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
+    {"target", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
+};
+
 }  // namespace
 
 VtkOptions::Compression parse_vtk_compression(std::string_view name) {
@@ -205,6 +260,7 @@ struct VtkExporter::Writer {
   struct Frame {
     double time = 0.0;
     std::vector<BirdState> birds;  // the selected birds, in the order of `ids`
+    std::vector<StepForces> forces;  // theirs, of the next step
   };
 
   // Fixed at construction.
@@ -212,8 +268,6 @@ struct VtkExporter::Writer {
   VtkOptions::Compression compression;
   std::vector<uint32_t> ids;
   std::vector<Species> species;
-  World world;
-  double dt;
 
   // Shared with the simulation's thread.
   std::mutex mutex;
@@ -279,72 +333,36 @@ struct VtkExporter::Writer {
 
   void write_frame(const Frame& frame) {
     const vtkIdType n = static_cast<vtkIdType>(frame.birds.size());
-    world.move_targets(frame.time);
-
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
-    auto bird_id = make_array<vtkUnsignedIntArray>("bird_id", 1, n);
-    auto species_id = make_array<vtkIntArray>("species", 1, n);
-    auto time = make_array<vtkDoubleArray>("time", 1, n);
-    auto velocity = make_array<vtkDoubleArray>("velocity", 3, n);
-    auto speed = make_array<vtkDoubleArray>("speed", 1, n);
-    auto attitude = make_array<vtkDoubleArray>("attitude", 4, n);
-    auto hpb = make_array<vtkDoubleArray>("heading_pitch_bank", 3, n);
-    auto phase = make_array<vtkDoubleArray>("wingbeat_phase", 1, n);
-    auto frequency = make_array<vtkDoubleArray>("frequency", 1, n);
-    auto amplitude = make_array<vtkDoubleArray>("amplitude", 1, n);
-    auto tail_bend = make_array<vtkDoubleArray>("tail_bend", 1, n);
-    auto tail_twist = make_array<vtkDoubleArray>("tail_twist", 1, n);
-    auto tail_open = make_array<vtkDoubleArray>("tail_opening", 1, n);
-    auto aero_force = make_array<vtkDoubleArray>("aero_force", 3, n);
-    auto tail_force = make_array<vtkDoubleArray>("tail_force", 3, n);
-    auto flight_state = make_array<vtkIntArray>("flight_state", 1, n);
-    auto target = make_array<vtkIntArray>("target", 1, n);
+    std::vector<vtkSmartPointer<vtkDataArray>> arrays;
+    for (const PointArray& a : kPointArrays) {
+      arrays.emplace_back(vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(a.type)));
+      arrays.back()->SetName(a.name);
+      arrays.back()->SetNumberOfComponents(a.components);
+      arrays.back()->SetNumberOfTuples(n);
+    }
     vtkNew<vtkIdTypeArray> offsets, connectivity;
     offsets->SetNumberOfTuples(n + 1);
     connectivity->SetNumberOfTuples(n);
     std::vector<glm::dvec3> positions(static_cast<size_t>(n));
     std::vector<double> speeds(static_cast<size_t>(n));
 
+    double value[4];
     for (vtkIdType i = 0; i < n; ++i) {
-      const BirdState& b = frame.birds[static_cast<size_t>(i)];
-      const Species& sp = species[b.species];
-      // The forces of the step the simulation takes next from this state.
-      BirdState copy = b;
-      StepForces f;
-      step_bird(copy, sp, world, frame.time, dt, &f);
-      const glm::dvec3 aero = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail;
-      const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
-      const double opening = b.mode == FlightMode::landing
-                                 ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
-                                 : tail_opening(sp, b.tail_bend, b.tail_twist);
-
+      const size_t k = static_cast<size_t>(i);
+      const BirdState& b = frame.birds[k];
+      const ExportedBird e{ids[k], frame.time, b, species[b.species], frame.forces[k]};
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
-      bird_id->SetValue(i, ids[static_cast<size_t>(i)]);
-      species_id->SetValue(i, static_cast<int>(b.species));
-      time->SetValue(i, frame.time);
-      velocity->SetTuple3(i, b.velocity.x, b.velocity.y, b.velocity.z);
-      speed->SetValue(i, glm::length(b.velocity));
-      const double q[4] = {b.attitude.w, b.attitude.x, b.attitude.y, b.attitude.z};
-      attitude->SetTypedTuple(i, q);
-      hpb->SetTuple3(i, degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(b.attitude)),
-                     degrees(bank_angle(b.attitude)));
-      phase->SetValue(i, b.phase);
-      frequency->SetValue(i, b.frequency);
-      amplitude->SetValue(i, b.amplitude);
-      tail_bend->SetValue(i, degrees(b.tail_bend));
-      tail_twist->SetValue(i, degrees(b.tail_twist));
-      tail_open->SetValue(i, degrees(opening));
-      aero_force->SetTuple3(i, aero.x, aero.y, aero.z);
-      tail_force->SetTuple3(i, f.tail.x, f.tail.y, f.tail.z);
-      flight_state->SetValue(i, static_cast<int>(b.mode));
-      target->SetValue(i, static_cast<int>(b.target));
+      for (size_t a = 0; a < std::size(kPointArrays); ++a) {
+        kPointArrays[a].value(e, value);
+        arrays[a]->SetTuple(i, value);
+      }
       offsets->SetValue(i, i);
       connectivity->SetValue(i, i);
-
-      positions[static_cast<size_t>(i)] = b.position;
-      speeds[static_cast<size_t>(i)] = glm::length(b.velocity);
+      positions[k] = b.position;
+      speeds[k] = glm::length(b.velocity);
     }
     offsets->SetValue(n, n);
 
@@ -354,10 +372,7 @@ struct VtkExporter::Writer {
     data->SetPoints(points);
     data->SetVerts(verts);
     vtkPointData* pd = data->GetPointData();
-    for (vtkDataArray* a : std::initializer_list<vtkDataArray*>{
-             bird_id, species_id, time, velocity, speed, attitude, hpb, phase, frequency, amplitude,
-             tail_bend, tail_twist, tail_open, aero_force, tail_force, flight_state, target})
-      pd->AddArray(a);
+    for (const auto& a : arrays) pd->AddArray(a);
     pd->SetActiveVectors("velocity");
 
     const std::string name = "frames/" + frame_name(collection.size());
@@ -470,8 +485,6 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   w.compression = options.compression;
   w.ids = selected_;
   w.species = scenario.species;
-  w.world = scenario.world;
-  w.dt = scenario.dt;
   w.thread = std::thread([&w] { w.run(); });
 }
 
@@ -483,16 +496,26 @@ VtkExporter::~VtkExporter() {
   }
 }
 
-void VtkExporter::add_frame(double time, const std::vector<BirdState>& birds) {
-  if (finished_) throw std::logic_error("VtkExporter::add_frame after finish()");
+void VtkExporter::offer(const Snapshot& snapshot) {
+  if (finished_) throw std::logic_error("VtkExporter::offer after finish()");
+  if (!due(snapshot.frame) || snapshot.frame <= last_frame_) return;
+  const std::vector<BirdState>& birds = *snapshot.birds;
   if (birds.size() != bird_count_)
-    throw std::invalid_argument("VtkExporter::add_frame: expected " + std::to_string(bird_count_) +
+    throw std::invalid_argument("VtkExporter::offer: expected " + std::to_string(bird_count_) +
                                 " birds, got " + std::to_string(birds.size()));
+  if (!snapshot.forces)
+    throw std::logic_error("VtkExporter::offer: frame " + std::to_string(snapshot.frame) +
+                           " is due but was not stepped with record_forces");
+  last_frame_ = snapshot.frame;
   if (writer_->failed) return;
   Writer::Frame frame;
-  frame.time = time;
+  frame.time = snapshot.time;
   frame.birds.reserve(selected_.size());
-  for (uint32_t id : selected_) frame.birds.push_back(birds[id]);
+  frame.forces.reserve(selected_.size());
+  for (uint32_t id : selected_) {
+    frame.birds.push_back(birds[id]);
+    frame.forces.push_back((*snapshot.forces)[id]);
+  }
   {
     std::lock_guard lock(writer_->mutex);
     writer_->queue.push_back(std::move(frame));

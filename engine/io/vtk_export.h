@@ -3,23 +3,9 @@
 // with their simulated times, and one polyline per bird through its saved positions.
 //
 // DIR/frames/flock_000000.vtp, ...  one file per saved frame. Points: the birds' positions, cm.
-//   Point data, one tuple per bird:
-//     bird_id (uint32)        the bird's index in the flock
-//     species (int)           index into the scenario's species
-//     time (double)           simulated time of the frame, s
-//     velocity (3)            cm/s, world frame (y up)
-//     speed                   |velocity|, cm/s
-//     attitude (4)            body-to-world quaternion, components w x y z
-//     heading_pitch_bank (3)  degrees: heading from +x towards +z; pitch of the head above the
-//                             horizon; bank, right wing down > 0
-//     wingbeat_phase          psi, rad in [0, 2 pi)
-//     frequency               wingbeat frequency, Hz
-//     amplitude               wingbeat amplitude
-//     tail_bend, tail_twist, tail_opening   degrees (bend up > 0, twist right side down > 0)
-//     aero_force (3)          the aerodynamic force of the next step: four wing parts + tail, dyn
-//     tail_force (3)          the tail's part of it, dyn
-//     flight_state (int)      0 flying, 1 standing, 2 taking off, 3 landing, 4 perched
-//     target (int)            index of the current target in the bird's route
+//   Point data, one tuple per bird: the arrays of kPointArrays in vtk_export.cpp (the README's
+//   "VTK export" lists them with their units). Forces are the backend's own: the step it takes
+//   next from the saved state.
 // DIR/flock.pvd        the collection of the frame files with timestep = simulated time.
 // DIR/trajectories.vtp one polyline per exported bird through its saved positions; point data
 //                      time and speed, cell data bird_id.
@@ -39,6 +25,7 @@
 
 #include "model/bird.h"
 #include "model/scenario.h"
+#include "model/simulation.h"
 
 namespace aeroflock {
 
@@ -67,13 +54,15 @@ class VtkExporter {
   VtkExporter(const VtkExporter&) = delete;
   VtkExporter& operator=(const VtkExporter&) = delete;
 
-  // Whether the frame with 0-based index `frame` (just stepped) is one to export: every
-  // `options.every`-th, i.e. frames every-1, 2 every-1, ...
-  bool due(uint64_t frame) const { return (frame + 1) % every_ == 0; }
+  // Whether frame number `frame` (Snapshot::frame: 1 after the first step) is one to export:
+  // every `options.every`-th. Step those frames with record_forces.
+  bool due(uint64_t frame) const { return frame > 0 && frame % every_ == 0; }
 
-  // Copies the selected birds' states and queues them for the writer; returns at once. `time` is
-  // the simulated time of the state. Does nothing after the writer has failed (see failed()).
-  void add_frame(double time, const std::vector<BirdState>& birds);
+  // Queues the snapshot's selected birds for the writer when its frame is due and newer than the
+  // last one queued (so that the newest ready snapshot can be offered after every frame, and the
+  // last one at the end); returns at once. A due snapshot without forces is a logic_error. Does
+  // nothing after the writer has failed (see failed()).
+  void offer(const Snapshot& snapshot);
 
   // Waits for every queued frame, writes the final .pvd and trajectories and stops the writer.
   // Rethrows the writer's error, if any (std::runtime_error). Calling it again does nothing.
@@ -93,6 +82,7 @@ class VtkExporter {
   std::vector<uint32_t> selected_;
   size_t bird_count_ = 0;
   size_t frames_added_ = 0;
+  uint64_t last_frame_ = 0;  // the last frame queued
   bool finished_ = false;
   std::unique_ptr<Writer> writer_;
 };

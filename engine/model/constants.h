@@ -1,15 +1,31 @@
-// Physical constants and unit helpers. CGS throughout (cm, g, s, dyn), radians inside.
-#pragma once
+// Physical constants and the model's fixed numbers, for C++ (double) and GLSL (float): the
+// compute shaders include this file too. CGS throughout (cm, g, s, dyn), radians inside.
+#ifndef AEROFLOCK_MODEL_CONSTANTS_H
+#define AEROFLOCK_MODEL_CONSTANTS_H
 
+#ifdef __cplusplus
 #include <numbers>
-
+#define AF_REAL(name, value) inline constexpr double name = value;
 namespace aeroflock {
+#else
+#define AF_REAL(name, value) const float name = value;
+#endif
 
-inline constexpr double kAirDensity = 1.225e-3;  // rho, g/cm^3
-inline constexpr double kGravity = 980.665;      // G, cm/s^2
+AF_REAL(kAirDensity, 1.225e-3)  // rho, g/cm^3
+AF_REAL(kGravity, 980.665)      // G, cm/s^2
+// A target flown past within this many radii counts as passed (no endless orbits round it).
+AF_REAL(kMissedTargetRadii, 3.0)
+// The landing gate stands this many approach distances out on the branch's perpendicular.
+AF_REAL(kGateApproaches, 5.0)
+
+#ifdef __cplusplus
 inline constexpr double kPi = std::numbers::pi;
-
 constexpr double radians(double degrees) { return degrees * (kPi / 180.0); }
 constexpr double degrees(double radians) { return radians * (180.0 / kPi); }
-
 }  // namespace aeroflock
+#else
+const float kPi = 3.14159265358979;
+#endif
+#undef AF_REAL
+
+#endif  // AEROFLOCK_MODEL_CONSTANTS_H

@@ -6,15 +6,13 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "body.h"
+#include "constants.h"
 #include "control.h"
 
 namespace aeroflock {
 namespace {
 
 using glm::dvec3;
-
-// A target flown past within this many radii counts as passed.
-constexpr double kMissedTargetRadii = 3.0;
 
 const Branch* route_branch(const BirdState& b, const World& w) {
   const Route& r = w.routes[b.route];
@@ -23,11 +21,11 @@ const Branch* route_branch(const BirdState& b, const World& w) {
 }
 
 // A point on the branch's horizontal perpendicular, on the bird's side, five approach distances
-// out: where a bird that cannot turn onto the landing curve goes first.
+// out (kGateApproaches): where a bird that cannot turn onto the landing curve goes first.
 dvec3 landing_gate(const Species& s, const Branch& br, const dvec3& q2, const dvec3& position) {
   const dvec3 across{-br.direction.z, 0.0, br.direction.x};
   const double side = glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
-  return q2 + across * (side * 5.0 * s.approach_distance);
+  return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch

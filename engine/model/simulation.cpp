@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+
+#include <omp.h>
 
 #include "body.h"
 #include "constants.h"
@@ -67,36 +70,73 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
   return birds;
 }
 
-Simulation::Simulation(Scenario scenario, uint32_t birds_override)
-    : scenario_(std::move(scenario)), birds_(spawn_birds(scenario_, birds_override)) {
+uint64_t spawn_count(const Scenario& s, uint32_t birds_override) {
+  if (birds_override > 0) return birds_override;
+  uint64_t count = 0;
+  for (const Flock& f : s.flocks) count += f.count;
+  return count;
+}
+
+Simulation::Simulation(Scenario scenario) : scenario_(std::move(scenario)) {
   scenario_.world.move_targets(0.0);
 }
 
-void Simulation::step_frame() {
-  const uint32_t steps = scenario_.steps_per_frame;
-  const double dt = scenario_.dt;
-  const double t0 = time_;
-  scenario_.world.move_targets(t0);
-  const World& world = scenario_.world;
+double Simulation::frame_start(uint64_t steps) const {
+  const uint64_t per_frame = scenario_.steps_per_frame;
+  return static_cast<double>(steps / per_frame * per_frame) * scenario_.dt;
+}
+
+double Simulation::begin_frame() {
+  const double start = frame_start(steps_);
+  scenario_.world.move_targets(start);
+  ++frames_;
+  return start;
+}
+
+const World& Simulation::targets_at(double time) {
+  scenario_.world.move_targets(time);
+  return scenario_.world;
+}
+
+CpuSimulation::CpuSimulation(Scenario scenario, uint32_t birds_override)
+    : Simulation(std::move(scenario)), birds_(spawn_birds(this->scenario(), birds_override)) {}
+
+CpuSimulation::CpuSimulation(Scenario scenario, std::vector<BirdState> birds)
+    : Simulation(std::move(scenario)), birds_(std::move(birds)) {}
+
+std::string CpuSimulation::device() const {
+  return "cpu reference (" + std::to_string(omp_get_max_threads()) + " threads)";
+}
+
+void CpuSimulation::step(uint32_t steps, bool record_forces) {
+  begin_frame();
+  const double dt = scenario().dt;
+  const double t0 = time();
+  const World& world = this->world();
+  const std::vector<Species>& species = scenario().species;
   const int64_t n = static_cast<int64_t>(birds_.size());
   // Each bird runs all the frame's steps before the next bird: its state stays in cache.
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     BirdState& b = birds_[static_cast<size_t>(i)];
-    const Species& sp = scenario_.species[b.species];
+    const Species& sp = species[b.species];
     for (uint32_t k = 0; k < steps; ++k) step_bird(b, sp, world, t0 + k * dt, dt);
   }
-  steps_ += steps;
-  time_ = t0 + steps * dt;
+  end_frame(steps);
+  forces_current_ = record_forces;
+  if (!record_forces) return;
+  // The forces of the step each bird takes next, with the targets where it will see them.
+  const World& next = targets_at(frame_start(this->steps()));
+  forces_.resize(birds_.size());
+#pragma omp parallel for schedule(static)
+  for (int64_t i = 0; i < n; ++i) {
+    BirdState b = birds_[static_cast<size_t>(i)];  // stepped again next frame: only forces kept
+    step_bird(b, species[b.species], next, time(), dt, &forces_[static_cast<size_t>(i)]);
+  }
 }
 
-void Simulation::step_once() {
-  // Targets move between frames, as in step_frame.
-  if (steps_ % scenario_.steps_per_frame == 0) scenario_.world.move_targets(time_);
-  for (BirdState& b : birds_)
-    step_bird(b, scenario_.species[b.species], scenario_.world, time_, scenario_.dt);
-  ++steps_;
-  time_ += scenario_.dt;
+Snapshot CpuSimulation::snapshot() {
+  return {frames(), this->steps(), time(), &birds_, forces_current_ ? &forces_ : nullptr};
 }
 
 }  // namespace aeroflock

@@ -1,39 +1,105 @@
-// A flock of birds stepped with one fixed dt: the CPU reference backend.
+// A flock that steps with one fixed dt. Simulation is what the command line, the benchmark, the
+// exporters, the renderers and the tests hold; CpuSimulation (here, the reference) and
+// gpu::GpuSimulation (the compute shaders) implement it.
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "bird.h"
 #include "scenario.h"
+#include "step.h"
 
 namespace aeroflock {
 
 // Places the scenario's birds. `birds_override` > 0 spreads that many birds over the flocks in
 // proportion to their counts. Deterministic for a given seed.
 std::vector<BirdState> spawn_birds(const Scenario& scenario, uint32_t birds_override = 0);
+// The number of birds spawn_birds places, without placing them.
+uint64_t spawn_count(const Scenario& scenario, uint32_t birds_override = 0);
+
+// One frame's state as an exporter or a renderer reads it. The vectors belong to the simulation
+// and stay valid until its next step().
+struct Snapshot {
+  uint64_t frame = 0;  // step() calls that led to this state (0: the start)
+  uint64_t steps = 0;  // steps of dt per bird
+  double time = 0.0;   // simulated seconds
+  const std::vector<BirdState>* birds = nullptr;
+  // Each bird's forces of the step it takes next from this state, computed by the backend that
+  // flies it; null unless the frame was stepped with record_forces.
+  const std::vector<StepForces>* forces = nullptr;
+};
 
 class Simulation {
  public:
-  explicit Simulation(Scenario scenario, uint32_t birds_override = 0);
+  explicit Simulation(Scenario scenario);
+  virtual ~Simulation() = default;
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
 
-  // Runs one frame: scenario.steps_per_frame steps of dt over all birds (in parallel).
-  void step_frame();
-  // Runs a single step of dt (tests).
-  void step_once();
+  virtual std::string backend() const = 0;  // as given to --backend: "cpu", "vulkan"
+  virtual std::string device() const = 0;   // what runs it, in words
+  virtual size_t bird_count() const = 0;
+
+  // Steps every bird `steps` times (0 is allowed) as one frame: targets stay where they were at
+  // the frame's start (they move between frames). With `record_forces` the frame's snapshot
+  // carries each bird's forces of its next step. On a device it returns before the work is done.
+  virtual void step(uint32_t steps, bool record_forces = false) = 0;
+  // One frame of the scenario: steps_per_frame steps.
+  void step_frame(bool record_forces = false) { step(scenario_.steps_per_frame, record_forces); }
+
+  // The state after the last step() (on a device, waits for it).
+  virtual Snapshot snapshot() = 0;
+  // The newest state that can be read without waiting for the device: on the CPU the last; on a
+  // device the frame before the last, done or nearly while the last one runs (before two frames,
+  // the last, waited for). Exporters take this, so that the simulation never stalls for them.
+  virtual Snapshot ready_snapshot() { return snapshot(); }
+  const std::vector<BirdState>& birds() { return *snapshot().birds; }
 
   const Scenario& scenario() const { return scenario_; }
+  // The world, its targets where the birds see them now.
   const World& world() const { return scenario_.world; }
-  const std::vector<BirdState>& birds() const { return birds_; }
-  std::vector<BirdState>& birds() { return birds_; }
-  double time() const { return time_; }
+  double time() const { return static_cast<double>(steps_) * scenario_.dt; }
   uint64_t steps() const { return steps_; }
+  uint64_t frames() const { return frames_; }
+
+ protected:
+  // Called by step() before the work: moves the targets to the frame's start and counts the
+  // frame; the start time of the frame.
+  double begin_frame();
+  // When the frame that starts after `steps` steps per bird starts (targets move then).
+  double frame_start(uint64_t steps) const;
+  // Moves the targets to `time`: where the next frame's birds see them, for recorded forces.
+  const World& targets_at(double time);
+  // Called by step() after the work is submitted.
+  void end_frame(uint32_t steps) { steps_ += steps; }
 
  private:
   Scenario scenario_;
-  std::vector<BirdState> birds_;
-  double time_ = 0.0;
   uint64_t steps_ = 0;
+  uint64_t frames_ = 0;
+};
+
+// The CPU reference: every bird stepped in double precision, in parallel with OpenMP.
+class CpuSimulation final : public Simulation {
+ public:
+  explicit CpuSimulation(Scenario scenario, uint32_t birds_override = 0);
+  CpuSimulation(Scenario scenario, std::vector<BirdState> birds);
+
+  std::string backend() const override { return "cpu"; }
+  std::string device() const override;
+  size_t bird_count() const override { return birds_.size(); }
+  void step(uint32_t steps, bool record_forces = false) override;
+  Snapshot snapshot() override;
+
+  // The state, to change between steps (tests).
+  std::vector<BirdState>& state() { return birds_; }
+
+ private:
+  std::vector<BirdState> birds_;
+  std::vector<StepForces> forces_;
+  bool forces_current_ = false;
 };
 
 }  // namespace aeroflock

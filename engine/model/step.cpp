@@ -42,8 +42,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   const double bank = bank_angle(b.attitude);
   c.tail.twist = std::clamp(c.tail.twist, std::min(0.0, -sp.tail_roll_max - bank),
                             std::max(0.0, sp.tail_roll_max - bank));
-  c.opening = braking ? sp.Ct * std::max(sp.bend_max, sp.rot_max) + sp.tail_min
-                      : tail_opening(sp, b.tail_bend, b.tail_twist);
+  c.opening = tail_opening(sp, b);
 
   // Kinematic body rates: the bank (both turning models), the yaw at the standard rate R
   // (fixed-rate model, eq. 3), the pitch-up to brake (landing). The rest comes from the torque.

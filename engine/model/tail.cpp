@@ -1,5 +1,6 @@
 #include "tail.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "constants.h"
@@ -11,6 +12,12 @@ using glm::dvec3;
 double tail_opening(const Species& s, double bend, double twist) {
   const double larger = std::fabs(bend) > std::fabs(twist) ? bend : twist;
   return s.Ct * std::fabs(larger) + s.tail_min;
+}
+
+double open_tail(const Species& s) { return s.Ct * std::max(s.bend_max, s.rot_max) + s.tail_min; }
+
+double tail_opening(const Species& s, const BirdState& b) {
+  return b.mode == FlightMode::landing ? open_tail(s) : tail_opening(s, b.tail_bend, b.tail_twist);
 }
 
 double tail_area(const Species& s, double opening) {

@@ -4,14 +4,11 @@
 
 #include <vector>
 
-#include <glm/vec4.hpp>
+#include "gpu/host_device.h"
 
 namespace aeroflock::render {
 
-struct MeshVertex {
-  glm::vec4 position;  // xyz, w: the bird part (see bird.vert) as a float
-  glm::vec4 normal;    // xyz, w: 1 for detail that distant birds leave out
-};
+using gpu::MeshVertex;
 
 // Body (a unit double pyramid, scaled to a x b x b), arm and hand (span 0..1 along z, chord
 // -0.5..0.5 along x), tail (x: radius fraction, z: angle fraction), each wing segment twice

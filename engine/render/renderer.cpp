@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -24,34 +25,17 @@ using gpu::Buffer;
 using gpu::check;
 using gpu::Memory;
 
-// birds, species, targets, poses (the routes' binding in the compute shaders), the detailed and
-// distant bird lists, branches, mesh
-constexpr uint32_t kBindings = 7;
-// pose.comp: the same first six, then poses, lists and the two draws' arguments.
-constexpr uint32_t kPoseBindings = 9;
-constexpr uint32_t kPoseBytes = 19 * 16;  // shaders/render/pose.comp: struct Pose
+using gpu::FrameConstants;
+using gpu::PoseConstants;
+
+// What the draws read (host_device.h): the targets and branches, each bird's pose and the draw
+// lists, the mesh drawn, the route lines.
+constexpr std::array<uint32_t, 6> kDrawBindings = {gpu::kBindingTargets,   gpu::kBindingBranches,
+                                                   gpu::kBindingPoses,     gpu::kBindingDrawLists,
+                                                   gpu::kBindingMesh,      gpu::kBindingSegments};
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with four triangles
-
-// The push constants of shaders/render/frame.glsl.
-struct FrameConstants {
-  glm::mat4 view_projection;
-  glm::vec4 eye;        // xyz, w time
-  glm::vec4 sun;        // xyz towards the sun, w fog density
-  glm::vec4 fog_color;  // rgb, w ground height
-  uint32_t list_offset = 0;  // where the draw's birds start in the lists
-  uint32_t pad0 = 0, pad1 = 0, pad2 = 0;
-};
-static_assert(sizeof(FrameConstants) == 128);
-
-// The push constants of shaders/render/pose.comp.
-struct PoseConstants {
-  glm::vec4 eye;
-  uint32_t bird_count, capacity;
-  float lod_scale;  // a bird farther than its span times this is distant
-  uint32_t pad = 0;
-};
 
 template <class T>
 Buffer buffer_of(const gpu::Device& device, const std::vector<T>& items) {
@@ -96,9 +80,8 @@ struct Renderer::Impl {
   const gpu::Device& device;
   VkFormat format;
   VkExtent2D extent;
-  // Buffers the renderer owns (species, targets now, branches, meshes) and a stand-in for the
-  // routing tables the render shaders declare but do not read.
-  Buffer species, targets, branches, unused, bird_mesh, sphere, box, segments;
+  // Buffers the renderer owns: species, targets now, branches, meshes, route lines.
+  Buffer species, targets, branches, bird_mesh, sphere, box, segments;
   uint32_t bird_vertices, distant_vertices, sphere_vertices, box_vertices, target_count, branch_count,
       segment_count;
   float ground_height;
@@ -114,7 +97,7 @@ struct Renderer::Impl {
   std::map<VkImageLayout, VkRenderPass> passes;  // by final layout
   std::map<VkImageLayout, std::array<VkPipeline, 5>> pipelines;  // sky, birds, branches, targets, routes
   std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
-  std::map<VkBuffer, std::array<VkDescriptorSet, 4>> sets;  // by bird buffer: birds, spheres, boxes, routes
+  std::optional<std::array<VkDescriptorSet, 4>> sets;  // the draws' (draw_sets)
 
   Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e)
       : device(d),
@@ -127,7 +110,6 @@ struct Renderer::Impl {
         }())),
         targets(d, kMaxTargets * sizeof(gpu::GpuTarget), Memory::device_local),
         branches(buffer_of(d, gpu::pack(scenario.world).branches)),
-        unused(d, 16, Memory::device_local),
         bird_mesh(buffer_of(d, [] {
           std::vector<MeshVertex> both = render::bird_mesh(), distant = distant_bird_mesh();
           both.insert(both.end(), distant.begin(), distant.end());
@@ -144,7 +126,10 @@ struct Renderer::Impl {
         branch_count(uint32_t(scenario.world.branches.size())),
         segment_count(uint32_t(route_segments(scenario.world).size())),
         ground_height(float(scenario.world.ground_height)),
-        pose_pipeline(d, gpu::shader_spirv("pose"), kPoseBindings, sizeof(PoseConstants), 16),
+        pose_pipeline(d, gpu::shader_spirv("pose"),
+                      {gpu::kBindingBirds, gpu::kBindingSpecies, gpu::kBindingPoses,
+                       gpu::kBindingDrawLists, gpu::kBindingDraws},
+                      sizeof(PoseConstants), 16),
         depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT) {
     create_layouts();
   }
@@ -163,15 +148,15 @@ struct Renderer::Impl {
 
   void create_layouts() {
     VkDevice dev = device.handle();
-    std::array<VkDescriptorSetLayoutBinding, kBindings> bindings{};
-    for (uint32_t i = 0; i < kBindings; ++i) {
-      bindings[i].binding = i;
+    std::array<VkDescriptorSetLayoutBinding, kDrawBindings.size()> bindings{};
+    for (uint32_t i = 0; i < kDrawBindings.size(); ++i) {
+      bindings[i].binding = kDrawBindings[i];
       bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       bindings[i].descriptorCount = 1;
       bindings[i].stageFlags = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     }
     VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set.bindingCount = kBindings;
+    set.bindingCount = uint32_t(kDrawBindings.size());
     set.pBindings = bindings.data();
     check(vkCreateDescriptorSetLayout(dev, &set, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
     VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -182,9 +167,9 @@ struct Renderer::Impl {
     info.pushConstantRangeCount = 1;
     info.pPushConstantRanges = &push;
     check(vkCreatePipelineLayout(dev, &info, nullptr, &layout), "vkCreatePipelineLayout");
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4 * 8 * kBindings};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, uint32_t(4 * kDrawBindings.size())};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    pool_info.maxSets = 4 * 8;
+    pool_info.maxSets = 4;
     pool_info.poolSizeCount = 1;
     pool_info.pPoolSizes = &size;
     check(vkCreateDescriptorPool(dev, &pool_info, nullptr, &pool), "vkCreateDescriptorPool");
@@ -352,23 +337,23 @@ struct Renderer::Impl {
     if (count <= pose_capacity && poses) return;
     vkDeviceWaitIdle(device.handle());
     pose_capacity = std::max({count, 2 * pose_capacity, 1024u});
-    poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * kPoseBytes, Memory::device_local);
+    poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * sizeof(gpu::Pose), Memory::device_local);
     lists = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * 2 * sizeof(uint32_t), Memory::device_local);
     draws = std::make_unique<Buffer>(device, 2 * sizeof(VkDrawIndirectCommand), Memory::device_local);
     check(vkResetDescriptorPool(device.handle(), pool, 0), "vkResetDescriptorPool");
-    sets.clear();
+    sets.reset();
     pose_sets.clear();
   }
 
   VkDescriptorSet pose_set_for(const Buffer& birds) {
     if (auto it = pose_sets.find(birds.handle()); it != pose_sets.end()) return it->second;
     return pose_sets[birds.handle()] =
-               pose_pipeline.make_set({&birds, &species, &targets, &unused, &unused, &branches,
-                                       poses.get(), lists.get(), draws.get()});
+               pose_pipeline.make_set({&birds, &species, poses.get(), lists.get(), draws.get()});
   }
 
-  const std::array<VkDescriptorSet, 4>& sets_for(const Buffer& birds) {
-    if (auto it = sets.find(birds.handle()); it != sets.end()) return it->second;
+  // One set per mesh drawn (birds, spheres, boxes, and the route lines, which read no mesh).
+  const std::array<VkDescriptorSet, 4>& draw_sets() {
+    if (sets) return *sets;
     std::array<VkDescriptorSet, 4> result{};
     const std::array<const Buffer*, 4> meshes = {&bird_mesh, &sphere, &box, &box};
     for (size_t m = 0; m < 4; ++m) {
@@ -377,23 +362,22 @@ struct Renderer::Impl {
       alloc.descriptorSetCount = 1;
       alloc.pSetLayouts = &set_layout;
       check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
-      const Buffer* fourth = m == 3 ? &segments : lists.get();  // route lines read segments
-      const std::array<const Buffer*, kBindings> buffers = {&birds, &species, &targets, poses.get(),
-                                                            fourth, &branches, meshes[m]};
-      std::array<VkDescriptorBufferInfo, kBindings> infos{};
-      std::array<VkWriteDescriptorSet, kBindings> writes{};
-      for (uint32_t i = 0; i < kBindings; ++i) {
+      const std::array<const Buffer*, kDrawBindings.size()> buffers = {
+          &targets, &branches, poses.get(), lists.get(), meshes[m], &segments};
+      std::array<VkDescriptorBufferInfo, kDrawBindings.size()> infos{};
+      std::array<VkWriteDescriptorSet, kDrawBindings.size()> writes{};
+      for (uint32_t i = 0; i < kDrawBindings.size(); ++i) {
         infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
         writes[i].dstSet = result[m];
-        writes[i].dstBinding = i;
+        writes[i].dstBinding = kDrawBindings[i];
         writes[i].descriptorCount = 1;
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &infos[i];
       }
-      vkUpdateDescriptorSets(device.handle(), kBindings, writes.data(), 0, nullptr);
+      vkUpdateDescriptorSets(device.handle(), uint32_t(writes.size()), writes.data(), 0, nullptr);
     }
-    return sets[birds.handle()] = result;
+    return *(sets = result);
   }
 };
 
@@ -412,7 +396,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   Impl& r = *impl_;
   r.reserve_poses(bird_count);
   const auto& pipelines = r.pipelines_for(final_layout);
-  const auto& sets = r.sets_for(birds);
+  const auto& sets = r.draw_sets();
 
   // The previous frame's reads of the buffers written below are done before they are written.
   vkCmdPipelineBarrier(cmd,
@@ -431,7 +415,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   const PoseConstants pose{glm::vec4(view.camera.eye, 0.0f), bird_count, r.pose_capacity,
                            focal_pixels / kDetailPixels};
   if (bird_count > 0)
-    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, 64), &pose,
+    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose,
                              sizeof pose);
 
   // The targets where they are now, written in the command stream (no host race with frames in
@@ -468,7 +452,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
 
-  FrameConstants frame;
+  FrameConstants frame{};
   frame.view_projection = view.camera.view_projection(float(r.extent.width) / float(r.extent.height));
   frame.eye = glm::vec4(view.camera.eye, view.time);
   frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);

@@ -284,7 +284,7 @@ void Viewer::update_title(Clock::time_point now) {
   std::snprintf(text, sizeof text,
                 "aeroflock  %s  |  %u bird%s  |  t = %.1f s  |  %.1f fps  |  step %s  |  x%g%s  |  "
                 "%s%s",
-                sim_.scenario().name.c_str(), sim_.bird_count(), sim_.bird_count() == 1 ? "" : "s",
+                sim_.scenario().name.c_str(), uint32_t(sim_.bird_count()), sim_.bird_count() == 1 ? "" : "s",
                 sim_.time(), title_frames_ / elapsed, step, speed_, paused_ ? " paused" : "",
                 camera, follow.c_str());
   window_.set_title(text);

@@ -1,112 +1,9 @@
 // The bird model of engine/model, function for function, in float. Force and integration
 // statements are `precise` so that they are not contracted into FMAs: the CPU reference is built
-// with -ffp-contract=off, and the two then differ only by float-vs-double rounding.
+// with -ffp-contract=off, and the two then differ only by float-vs-double rounding. The includer
+// declares the buffers (buffers.glsl) and the push constants `pc` (StepConstants).
 
-const float kAirDensity = 1.225e-3;  // g/cm^3
-const float kGravity = 980.665;      // cm/s^2
-const float kPi = 3.14159265358979;
-const float kMissedTargetRadii = 3.0;
-const float kGateApproaches = 5.0;
-
-// The bird's state while it is stepped (engine/model/bird.h).
-struct Bird {
-  vec3 position, velocity;
-  vec4 attitude;  // x, y, z, w
-  vec3 omega;
-  float phase, frequency, amplitude, tail_bend, tail_twist, mode_time, takeoff_time;
-  vec3 landing_start, via_point;
-  float landing_progress;
-  uint mode, landing_stage, species, route, target, targets_reached;
-};
-
-Bird unpack(GpuBird g) {
-  Bird b;
-  b.position = g.position_phase.xyz;
-  b.phase = g.position_phase.w;
-  b.velocity = g.velocity_frequency.xyz;
-  b.frequency = g.velocity_frequency.w;
-  b.attitude = g.attitude;
-  b.omega = g.omega_amplitude.xyz;
-  b.amplitude = g.omega_amplitude.w;
-  b.tail_bend = g.tail_times.x;
-  b.tail_twist = g.tail_times.y;
-  b.mode_time = g.tail_times.z;
-  b.takeoff_time = g.tail_times.w;
-  b.via_point = g.via_progress.xyz;
-  b.landing_progress = g.via_progress.w;
-  b.landing_start = g.landing_start.xyz;
-  b.mode = g.ids.x & 0xffu;
-  b.landing_stage = (g.ids.x >> 8) & 0xffu;
-  b.species = g.ids.x >> 16;
-  b.route = g.ids.y;
-  b.target = g.ids.z;
-  b.targets_reached = g.ids.w;
-  return b;
-}
-
-GpuBird pack(Bird b) {
-  GpuBird g;
-  g.position_phase = vec4(b.position, b.phase);
-  g.velocity_frequency = vec4(b.velocity, b.frequency);
-  g.attitude = b.attitude;
-  g.omega_amplitude = vec4(b.omega, b.amplitude);
-  g.tail_times = vec4(b.tail_bend, b.tail_twist, b.mode_time, b.takeoff_time);
-  g.via_progress = vec4(b.via_point, b.landing_progress);
-  g.landing_start = vec4(b.landing_start, 0.0);
-  g.ids = uvec4(b.mode | (b.landing_stage << 8) | (b.species << 16), b.route, b.target,
-                b.targets_reached);
-  return g;
-}
-
-// --- Precise trigonometry --------------------------------------------------------------------
-// Vulkan lets sin and cos be off by 2^-11 (lavapipe's are); these are good to a few float ulps
-// for the angles the model uses, so that the shader follows the double-precision reference.
-
-vec2 sin_cos(float x) {
-  precise float k = round(x * 0.636619772);            // x / (pi / 2)
-  precise float r = (x - k * 1.57079637) + k * 4.37113883e-8;  // x - k pi / 2, two-part pi / 2
-  precise float r2 = r * r;
-  precise float s = r + r * r2 * (-1.66666667e-1 + r2 * (8.33333333e-3 + r2 * (-1.98412698e-4 + r2 * 2.75573192e-6)));
-  precise float c = 1.0 + r2 * (-0.5 + r2 * (4.16666667e-2 + r2 * (-1.38888889e-3 + r2 * 2.48015873e-5)));
-  int q = int(k) & 3;
-  if (q == 0) return vec2(s, c);
-  if (q == 1) return vec2(c, -s);
-  if (q == 2) return vec2(-s, -c);
-  return vec2(-c, s);
-}
-float sin_p(float x) { return sin_cos(x).x; }
-float cos_p(float x) { return sin_cos(x).y; }
-float tan_p(float x) {
-  vec2 sc = sin_cos(x);
-  return sc.x / sc.y;
-}
-
-// atan2 (Vulkan allows atan 4096 ulps): reduced to |u| <= tan(pi / 8), then a series.
-float atan_p(float y, float x) {
-  float ax = abs(x), ay = abs(y);
-  if (ax == 0.0 && ay == 0.0) return 0.0;
-  bool swap = ay > ax;
-  precise float t = swap ? ax / ay : ay / ax;
-  bool shift = t > 0.414213562;
-  precise float u = shift ? (t - 1.0) / (t + 1.0) : t;
-  precise float u2 = u * u;
-  precise float a = u + u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * (0.111111111 +
-                    u2 * (-0.0909090909 + u2 * (0.0769230769 + u2 * (-0.0666666667)))))));
-  if (shift) a += 0.785398163;
-  if (swap) a = 1.57079633 - a;
-  if (x < 0.0) a = 3.14159265 - a;
-  return y < 0.0 ? -a : a;
-}
-float atan_p(float x) { return atan_p(x, 1.0); }
-float asin_p(float x) { return atan_p(x, sqrt(max(0.0, 1.0 - x * x))); }
-
-// --- Quaternions and the body (body.cpp) ---------------------------------------------------
-
-vec3 rotate(vec4 q, vec3 v) {
-  precise vec3 t = 2.0 * cross(q.xyz, v);
-  precise vec3 r = v + q.w * t + cross(q.xyz, t);
-  return r;
-}
+#include "bird.glsl"
 
 vec3 rotate_back(vec4 q, vec3 v) { return rotate(vec4(-q.xyz, q.w), v); }
 
@@ -126,13 +23,13 @@ vec4 heading_attitude(float heading) {
 vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
 
 // eq. 15
-float ground_effect_force(Species s, float height) {
+float ground_effect_force(GpuSpecies s, float height) {
   return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / height : 0.0;
 }
 
 // --- Aerodynamics (eqs. 1, 2; aerodynamics.cpp) ---------------------------------------------
 
-vec3 aerodynamic_force(Species s, vec3 air, vec3 chord, vec3 normal, float area) {
+vec3 aerodynamic_force(GpuSpecies s, vec3 air, vec3 chord, vec3 normal, float area) {
   precise float u_chord = dot(air, chord);
   precise float u_normal = dot(air, normal);
   precise float speed2 = u_chord * u_chord + u_normal * u_normal;
@@ -172,16 +69,12 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
   normal = s * fx + c * fy;
 }
 
-void right_wing_points(Species s, float phase, float amp, float frequency, out WingPoint arm,
+void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, out WingPoint arm,
                        out WingPoint hand) {
-  float hand_phase = phase - s.lag_hand;
-  vec2 p = sin_cos(phase), h = sin_cos(hand_phase);
-  float cp = p.y, sp = p.x, ch = h.y, sh = h.x;
-  float flap_arm = amp * s.A_arm * cp + s.flap_bias;
-  float flap_hand = amp * s.A_hand * ch;
-  float feather_arm = s.B_arm * sp - s.twist_bias;
-  float feather_hand = s.B_hand * sh;
-  float leadlag = s.C_leadlag * sp;
+  WingAngles w = wing_angles(s, phase, amp);
+  float cp = w.cos_phase, sp = w.sin_phase, sh = w.sin_hand_phase;
+  float flap_arm = w.flap_arm, flap_hand = w.flap_hand;
+  float feather_arm = w.feather_arm, feather_hand = w.feather_hand, leadlag = w.leadlag;
   float phase_rate = 2.0 * kPi * frequency;
   float leadlag_rate = s.C_leadlag * cp * phase_rate;
   float flap_arm_rate = -amp * s.A_arm * sp * phase_rate;
@@ -220,12 +113,7 @@ WingPoint mirror_to_left(WingPoint p) {
 
 // --- Tail (eqs. 9, 10; tail.cpp) ------------------------------------------------------------
 
-float tail_opening(Species s, float bend, float twist) {
-  float larger = abs(bend) > abs(twist) ? bend : twist;
-  return s.Ct * abs(larger) + s.tail_min;
-}
-
-void tail_geometry(Species s, float bend, float twist, out vec3 position, out vec3 chord,
+void tail_geometry(GpuSpecies s, float bend, float twist, out vec3 position, out vec3 chord,
                    out vec3 normal) {
   float pitch = s.tail_incidence + bend;
   vec2 p = sin_cos(pitch), t = sin_cos(twist);
@@ -240,7 +128,7 @@ void tail_geometry(Species s, float bend, float twist, out vec3 position, out ve
 
 float sign_outside(float x, float band) { return x > band ? 1.0 : (x < -band ? -1.0 : 0.0); }
 
-float steer_share(Species s, float heading_error) {
+float steer_share(GpuSpecies s, float heading_error) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
   return clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
@@ -249,7 +137,7 @@ struct Steering {
   float heading_error, heading_error_ahead, height_error;
 };
 
-Steering steer_towards(Species s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal) {
+Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal) {
   vec3 head = rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   Steering st;
@@ -270,11 +158,11 @@ float approach(float angle, float command, float rate, float dt) {
   return angle + clamp(command - angle, -step, step);
 }
 
-float coordinated_bank(Species s, float turn_rate, float speed) {
+float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
   return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
-float pursuit_bank(Species s, float heading_error, float distance, float speed) {
+float pursuit_bank(GpuSpecies s, float heading_error, float distance, float speed) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
   if (abs(heading_error) >= 0.5 * kPi || distance <= 0.0) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
   float tightest = speed * speed / (kGravity * s.tan_bank_max);
@@ -316,29 +204,29 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 
 // --- Route and landing (route.cpp) ------------------------------------------------------------
 
-vec3 perch_point(Species s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
+vec3 perch_point(GpuSpecies s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
 
-vec3 landing_gate(Species s, uint branch, vec3 q2, vec3 position) {
+vec3 landing_gate(GpuSpecies s, uint branch, vec3 q2, vec3 position) {
   vec3 direction = branches[branch].direction.xyz;
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   float side = dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
-void place_curve(inout Bird b, uint branch, vec3 q2) {
+void place_curve(inout GpuBird b, uint branch, vec3 q2) {
   b.landing_start = b.position;
   b.via_point = landing_point(b.position, rotate(b.attitude, vec3(1, 0, 0)), q2, branches[branch].direction.xyz);
   b.landing_progress = 0.0;
 }
 
-vec3 landing_goal(inout Bird b, Species s, uint branch) {
+vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch) {
   vec3 q2 = perch_point(s, branch);
-  if (b.landing_stage == kStageNone) {
+  if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
     bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    b.landing_stage = any(notEqual(b.via_point, q2)) || heading_in ? kStageCurve : kStageGate;
+    b.landing_stage = any(notEqual(b.via_point, q2)) || heading_in ? stage_curve : stage_gate;
   }
-  if (b.landing_stage == kStageGate) {
+  if (b.landing_stage == stage_gate) {
     vec3 gate = landing_gate(s, branch, q2, b.position);
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
@@ -346,11 +234,11 @@ vec3 landing_goal(inout Bird b, Species s, uint branch) {
     if (d > s.approach_distance && !(flown_past && d <= kMissedTargetRadii * s.approach_distance))
       return gate;
     place_curve(b, branch, q2);
-    b.landing_stage = kStageCurve;
+    b.landing_stage = stage_curve;
   }
   if (b.landing_progress >= 1.0 || all(equal(b.via_point, q2))) {
     bool closing = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    if (!closing) b.landing_stage = kStageGate;
+    if (!closing) b.landing_stage = stage_gate;
     return q2;
   }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
@@ -361,26 +249,28 @@ vec3 landing_goal(inout Bird b, Species s, uint branch) {
 // What a bird's route asks of it now: the route and its current (or, past the end, last)
 // target, loaded from the buffers when the target changes (targets only move between frames).
 struct Leg {
-  Route route;
+  GpuRoute route;
   vec4 centre_radius;
   vec3 velocity;
+  uint targets_from;  // 0: the targets at the frame's start; pc.next_targets: at the next one's
 };
 
-Leg load_leg(Bird b) {
+Leg load_leg(GpuBird b, uint targets_from) {
   Leg l;
+  l.targets_from = targets_from;
   l.route = routes[b.route];
   l.centre_radius = vec4(0.0);
   l.velocity = vec3(0.0);
   if (l.route.count > 0u) {
-    Target t = targets[route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
+    GpuTarget t = targets[targets_from + route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
     l.centre_radius = t.centre_radius;
     l.velocity = t.velocity.xyz;
   }
   return l;
 }
 
-vec3 route_goal(inout Bird b, Species s, inout Leg leg) {
-  Route r = leg.route;
+vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
+  GpuRoute r = leg.route;
   if (b.target < r.count) {
     vec3 to_target = leg.centre_radius.xyz - b.position;
     float d = length(to_target);
@@ -388,16 +278,16 @@ vec3 route_goal(inout Bird b, Species s, inout Leg leg) {
     if (d <= leg.centre_radius.w || (d <= kMissedTargetRadii * leg.centre_radius.w && flown_past)) {
       b.targets_reached += 1u;
       b.target += 1u;
-      if (b.target == r.count && (r.flags & 1u) != 0u && r.branch == 0u) b.target = 0u;
-      leg = load_leg(b);
+      if (b.target == r.count && (r.flags & kRouteLoop) != 0u && r.branch == 0u) b.target = 0u;
+      leg = load_leg(b, leg.targets_from);
     }
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & 2u) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
 }
 
-void perch(inout Bird b, Species s, uint branch) {
+void perch(inout GpuBird b, GpuSpecies s, uint branch) {
   vec3 head = rotate(b.attitude, vec3(1, 0, 0));
   b.position = perch_point(s, branch);
   b.velocity = vec3(0.0);
@@ -406,13 +296,13 @@ void perch(inout Bird b, Species s, uint branch) {
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
-  b.mode = kPerched;
+  b.mode = mode_perched;
   b.mode_time = 0.0;
   b.targets_reached += 1u;
 }
 
-bool approach_branch(inout Bird b, Species s, Leg leg) {
-  Route r = leg.route;
+bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
+  GpuRoute r = leg.route;
   if (r.branch == 0u || b.target < r.count) return false;
   uint branch = r.branch - 1u;
   vec3 to_perch = perch_point(s, branch) - b.position;
@@ -422,12 +312,12 @@ bool approach_branch(inout Bird b, Species s, Leg leg) {
     return true;
   }
   bool closing = dot(to_perch, b.velocity) > 0.0;
-  if (b.mode == kLanding && !closing) {
-    b.mode = kFlying;
+  if (b.mode == mode_landing && !closing) {
+    b.mode = mode_flying;
     b.mode_time = 0.0;
-    b.landing_stage = kStageNone;
-  } else if (b.mode == kFlying && closing && d <= s.brake_distance) {
-    b.mode = kLanding;
+    b.landing_stage = stage_none;
+  } else if (b.mode == mode_flying && closing && d <= s.brake_distance) {
+    b.mode = mode_landing;
     b.mode_time = 0.0;
   }
   return false;
@@ -442,9 +332,9 @@ struct Commands {
   vec3 omega;
 };
 
-Commands control(Bird b, Species s, vec3 goal) {
-  bool on_legs = b.mode == kTakingOff;
-  bool braking = b.mode == kLanding;
+Commands control(GpuBird b, GpuSpecies s, vec3 goal) {
+  bool on_legs = b.mode == mode_taking_off;
+  bool braking = b.mode == mode_landing;
   bool fixed_rate = pc.turning == 1u && !braking;
   Commands c;
   float bank = bank_angle(b.attitude);
@@ -452,7 +342,7 @@ Commands control(Bird b, Species s, vec3 goal) {
   c.bend = sign_outside(c.steering.height_error, s.height_band) * s.bend_max;
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
-  c.opening = braking ? s.open_tail : tail_opening(s, b.tail_bend, b.tail_twist);
+  c.opening = tail_opening(s, b);
   c.omega = b.omega;
   if (on_legs) {
     c.omega = vec3(0.0);
@@ -476,13 +366,10 @@ Commands control(Bird b, Species s, vec3 goal) {
   return c;
 }
 
-struct Forces {
-  vec3 tail, total;          // world
-  vec3 torque, tail_torque;  // body frame
-};
-
-Forces forces(Bird b, Species s, Commands c) {
-  Forces f;
+// The step's forces as GpuForces (host_device.h): world frame, torques in the body frame. Only
+// what is read survives compilation: the stepping loop keeps the total and the torque.
+GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
+  GpuForces f;
   vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz - b.velocity);
   WingPoint right[2];
   right_wing_points(s, b.phase, b.amplitude, b.frequency, right[0], right[1]);
@@ -496,27 +383,38 @@ Forces forces(Bird b, Species s, Commands c) {
       vec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
       body_force += force;
       torque += cross(p.position, force);
+      f.wing[2 * side + i] = vec4(rotate(b.attitude, force), 0.0);
     }
   }
   vec3 tail_position, tail_chord, tail_normal;
   tail_geometry(s, b.tail_bend, b.tail_twist, tail_position, tail_chord, tail_normal);
   precise vec3 tail_air = body_air - cross(c.omega, tail_position);
   vec3 tail = aerodynamic_force(s, tail_air, tail_chord, tail_normal, s.tail_area_per_radian * c.opening);
-  f.tail = rotate(b.attitude, tail);
-  f.tail_torque = cross(tail_position, tail);
-  f.torque = torque + f.tail_torque;
+  vec3 tail_torque = cross(tail_position, tail);  // eq. 11
+  f.tail = vec4(rotate(b.attitude, tail), 0.0);
+  f.tail_torque = vec4(tail_torque, 0.0);
+  f.torque = vec4(torque + tail_torque, 0.0);
+  f.gravity = vec4(0.0, -s.mass * kGravity, 0.0, 0.0);
+  f.ground = vec4(0.0);
+  f.legs = vec4(0.0);
   precise vec3 total = rotate(b.attitude, body_force + tail);
   total.y -= s.mass * kGravity;
-  if (pc.ground_effect != 0u) total.y += ground_effect_force(s, b.position.y - pc.wind_ground.w);
-  if (b.mode == kTakingOff && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
-    vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
-    total += s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
+  if (pc.ground_effect != 0u) {
+    float ground = ground_effect_force(s, b.position.y - pc.wind_ground.w);
+    f.ground.y = ground;
+    total.y += ground;
   }
-  f.total = total;
+  if (b.mode == mode_taking_off && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
+    vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
+    vec3 legs = s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
+    f.legs = vec4(legs, 0.0);
+    total += legs;
+  }
+  f.total = vec4(total, 0.0);
   return f;
 }
 
-void stand_on_legs(inout Bird b, Species s, float dt) {
+void stand_on_legs(inout GpuBird b, GpuSpecies s, float dt) {
   float crouch = min(b.mode_time / max(s.crouch_time, dt), 1.0);
   float floor_y = pc.wind_ground.w + s.stand_height - s.crouch_depth * crouch;
   if (b.mode_time < s.crouch_time) {
@@ -531,20 +429,21 @@ void stand_on_legs(inout Bird b, Species s, float dt) {
   b.omega = vec3(0.0);
 }
 
-Forces no_forces() {
-  Forces f;
-  f.tail = f.total = f.torque = f.tail_torque = vec3(0.0);
+GpuForces no_forces() {
+  GpuForces f;
+  f.wing[0] = f.wing[1] = f.wing[2] = f.wing[3] = vec4(0.0);
+  f.tail = f.ground = f.legs = f.gravity = f.total = f.tail_torque = f.torque = vec4(0.0);
   return f;
 }
 
 // One step of dt from `time`; returns the step's forces (zero for a bird at rest).
-Forces step_bird(inout Bird b, Species s, inout Leg leg, float time, float dt) {
-  if (b.mode == kPerched || (b.mode == kStanding && time + 0.5 * dt < b.takeoff_time)) {
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt) {
+  if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
     return no_forces();
   }
-  if (b.mode == kStanding) {
-    b.mode = kTakingOff;
+  if (b.mode == mode_standing) {
+    b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
     b.amplitude = s.amp_max;
@@ -552,12 +451,12 @@ Forces step_bird(inout Bird b, Species s, inout Leg leg, float time, float dt) {
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg)) return no_forces();
   Commands c = control(b, s, goal);
-  Forces f = forces(b, s, c);
+  GpuForces f = forces(b, s, c);
 
-  bool on_legs = b.mode == kTakingOff;
+  bool on_legs = b.mode == mode_taking_off;
   precise vec3 position = b.position + b.velocity * dt;
-  precise vec3 velocity = b.velocity + f.total / s.mass * dt;
-  precise vec3 omega = c.omega + f.torque * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
+  precise vec3 velocity = b.velocity + f.total.xyz / s.mass * dt;
+  precise vec3 omega = c.omega + f.torque.xyz * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
   b.position = position;
   b.velocity = velocity;
   b.attitude = integrate_attitude(b.attitude, c.omega, dt);
@@ -571,7 +470,7 @@ Forces step_bird(inout Bird b, Species s, inout Leg leg, float time, float dt) {
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
   b.mode_time += dt;
   if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
-    b.mode = kFlying;
+    b.mode = mode_flying;
     b.mode_time = 0.0;
   }
   return f;

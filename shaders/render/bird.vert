@@ -5,17 +5,9 @@
 
 #include "frame.glsl"
 
-struct MeshVertex {
-  vec4 position;  // xyz, w: part (0 body, 1 arm, 2 hand, 3 tail; +4 left)
-  vec4 normal;
-};
-layout(std430, set = 0, binding = 6) readonly buffer Mesh { MeshVertex mesh[]; };
-struct Pose {
-  vec4 rows[18];
-  vec4 tail;
-};
-layout(std430, set = 0, binding = 3) readonly buffer Poses { Pose poses[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Lists { uint lists[]; };
+layout(std430, set = 0, binding = kBindingMesh) readonly buffer Mesh { MeshVertex mesh[]; };
+layout(std430, set = 0, binding = kBindingPoses) readonly buffer Poses { Pose poses[]; };
+layout(std430, set = 0, binding = kBindingDrawLists) readonly buffer Lists { uint lists[]; };
 
 // Shaded per vertex (the faces are flat anyway): the fragment shader only writes the colour.
 layout(location = 0) flat out vec3 out_color;

@@ -1,12 +1,7 @@
-// What every render shader sees: the camera and the light, as push constants.
-layout(push_constant) uniform Frame {
-  mat4 view_projection;
-  vec4 eye;        // xyz camera position (cm), w time (s)
-  vec4 sun;        // xyz direction towards the sun, w fog density (1/cm)
-  vec4 fog_color;  // rgb, w unused
-  uint list_offset;  // where the draw's birds start in the lists (bird.vert)
-  uint pad0, pad1, pad2;
-} frame;
+// What every render shader sees: the camera and the light, as push constants (FrameConstants).
+#include "gpu/host_device.h"
+
+layout(push_constant) uniform FramePush { FrameConstants frame; };
 
 vec3 shade(vec3 albedo, vec3 normal, vec3 world_position) {
   vec3 n = normalize(normal);

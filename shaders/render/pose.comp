@@ -4,36 +4,17 @@
 // body frame), from its wingbeat phase, amplitude, tail and attitude.
 #extension GL_GOOGLE_include_directive : require
 
-layout(local_size_x = 64) in;
-
 #define BIRDS_ACCESS readonly
-#include "../compute/layout.glsl"
+#include "buffers.glsl"
+#include "bird.glsl"
 
-// Six affine transforms (body, right arm, right hand, tail, left arm, left hand) of three rows
-// each, part-local to world, and the tail's opening (x).
-struct Pose {
-  vec4 rows[18];
-  vec4 tail;
-};
-layout(std430, set = 0, binding = 6) writeonly buffer Poses { Pose poses[]; };
+layout(local_size_x = kWorkgroupSize) in;
+layout(std430, set = 0, binding = kBindingPoses) writeonly buffer Poses { Pose poses[]; };
 // Two draws (detailed, distant), each drawing the birds of its list.
-struct DrawCommand {
-  uint vertex_count, instance_count, first_vertex, first_instance;
-};
-layout(std430, set = 0, binding = 7) writeonly buffer Lists { uint lists[]; };
-layout(std430, set = 0, binding = 8) buffer Draws { DrawCommand draws[2]; };
-layout(push_constant) uniform Constants {
-  vec4 eye;          // xyz camera position
-  uint bird_count;
-  uint capacity;     // of each list
-  float lod_scale;   // a bird farther than span * lod_scale is distant
-  uint pad;
-} pc;
+layout(std430, set = 0, binding = kBindingDrawLists) writeonly buffer Lists { uint lists[]; };
+layout(std430, set = 0, binding = kBindingDraws) buffer Draws { DrawCommand draws[2]; };
+layout(push_constant) uniform PosePush { PoseConstants pc; };
 
-vec3 rotate(vec4 q, vec3 v) {
-  vec3 t = 2.0 * cross(q.xyz, v);
-  return v + q.w * t + cross(q.xyz, t);
-}
 mat3 rot_x(float a) { float c = cos(a), s = sin(a); return mat3(1, 0, 0, 0, c, s, 0, -s, c); }
 mat3 rot_y(float a) { float c = cos(a), s = sin(a); return mat3(c, 0, -s, 0, 1, 0, s, 0, c); }
 mat3 rot_z(float a) { float c = cos(a), s = sin(a); return mat3(c, s, 0, -s, c, 0, 0, 0, 1); }
@@ -49,25 +30,20 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.bird_count) return;
   GpuBird b = birds[i];
-  Species s = species[b.ids.x >> 16];
-  uint mode = b.ids.x & 0xffu;
-  bool folded = mode == kPerched || mode == kStanding;
-  float phase = b.position_phase.w, amp = folded ? 0.0 : b.omega_amplitude.w;
+  GpuSpecies s = species[b.species];
+  bool folded = b.mode == mode_perched || b.mode == mode_standing;
 
   vec4 q = b.attitude;
   mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
-  vec3 position = b.position_phase.xyz;
+  vec3 position = b.position;
 
   // Body: the box a x b x b.
   store(i, 0u, attitude * mat3(-2.0 * s.tail_hinge_x, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
 
-  // Wings: the model's joints (wingbeat.cpp), folded along the body when perched.
-  float hand_phase = phase - s.lag_hand;
-  float flap_arm = amp * s.A_arm * cos(phase) + s.flap_bias;
-  float flap_hand = amp * s.A_hand * cos(hand_phase);
-  float feather_arm = s.B_arm * sin(phase) - s.twist_bias;
-  float feather_hand = s.B_hand * sin(hand_phase);
-  float leadlag = s.C_leadlag * sin(phase);
+  // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
+  WingAngles w = wing_angles(s, b.phase, folded ? 0.0 : b.amplitude);
+  float flap_arm = w.flap_arm, flap_hand = w.flap_hand, feather_arm = w.feather_arm;
+  float feather_hand = w.feather_hand, leadlag = w.leadlag;
   if (folded) {
     flap_arm = 0.0; flap_hand = 0.0; feather_arm = 0.0; feather_hand = 0.0; leadlag = -1.3;
   }
@@ -88,13 +64,13 @@ void main() {
 
   // Tail: hinged at x = -a/2, bent up by incidence + bend, twisted about x; scaled by lr.
   float lr = sqrt(2.0 * s.tail_area_per_radian);
-  mat3 tail = rot_x(b.tail_times.y) * rot_z(-(s.tail_incidence + b.tail_times.x));
+  mat3 tail = rot_x(b.tail_twist) * rot_z(-(s.tail_incidence + b.tail_bend));
   store(i, 3u, attitude * tail * lr, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
   // Detailed or distant: how wide the bird is on screen (its span about three body lengths).
   float span = 3.0 * -2.0 * s.tail_hinge_x;
   uint list = distance(position, pc.eye.xyz) > span * pc.lod_scale ? 1u : 0u;
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
-  poses[i].tail = vec4(s.Ct * max(abs(b.tail_times.x), abs(b.tail_times.y)) + s.tail_min,
-                       uintBitsToFloat(b.ids.x >> 16), 0.0, 0.0);
+  // The tail's opening as the model has it now: fully open while braking to land.
+  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), 0.0, 0.0);
 }

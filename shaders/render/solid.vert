@@ -5,21 +5,17 @@
 
 #include "frame.glsl"
 #define BIRDS_ACCESS readonly
-#include "../compute/layout.glsl"
+#include "buffers.glsl"
 
 // The mesh, read by vertex index (engine/render/meshes.h).
-struct MeshVertex {
-  vec4 position;  // xyz, w: part
-  vec4 normal;
-};
-layout(std430, set = 0, binding = 6) readonly buffer Mesh { MeshVertex mesh[]; };
+layout(std430, set = 0, binding = kBindingMesh) readonly buffer Mesh { MeshVertex mesh[]; };
 layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_world;
 layout(location = 2) flat out uint out_kind;
 
 layout(constant_id = 0) const uint kKind = 0u;  // 0 target spheres, 1 branches, 2 route lines
 // Route lines: pairs of target indices (kind 2 reads these instead of a mesh).
-layout(std430, set = 0, binding = 4) readonly buffer Segments { uvec2 segments[]; };
+layout(std430, set = 0, binding = kBindingSegments) readonly buffer Segments { uvec2 segments[]; };
 
 void main() {
   uint vertex = kKind == 2u ? 0u : uint(gl_VertexIndex);
@@ -33,7 +29,7 @@ void main() {
     world = targets[gl_VertexIndex == 0 ? ends.x : ends.y].centre_radius.xyz;
     normal = vec3(0.0, 1.0, 0.0);
   } else {
-    Branch br = branches[gl_InstanceIndex];
+    GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
     mat3 m = mat3(along, up, across);
     // A branch 1 m long and 4 cm thick, its top at the perch point.

@@ -1,0 +1,176 @@
+// What the host and the shaders share, written once and compiled both as C++ (engine/gpu,
+// engine/render) and as GLSL (shaders/): every GPU-visible struct, binding index, push-constant
+// block and the workgroup size. Buffers are std430; in C++ every vec3 and vec4 member is aligned
+// to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
+// (engine/gpu/layout.cpp checks the sizes). All descriptors are storage buffers in set 0, and no
+// binding number serves two buffers, compute or render.
+#ifndef AEROFLOCK_HOST_DEVICE_H
+#define AEROFLOCK_HOST_DEVICE_H
+
+#ifdef __cplusplus
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace aeroflock::gpu {
+using vec3 = glm::vec3;
+using vec4 = glm::vec4;
+using uvec2 = glm::uvec2;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+#define AF_V16 alignas(16)
+#define AF_UINT(name, value) inline constexpr uint32_t name = value;
+#else
+#define AF_V16
+#define AF_UINT(name, value) const uint name = value;
+#endif
+
+// Invocations per workgroup of every compute shader.
+AF_UINT(kWorkgroupSize, 64)
+
+// Bindings (set 0). Compute: the flock and its world, and the forces the step records.
+AF_UINT(kBindingBirds, 0)
+AF_UINT(kBindingSpecies, 1)
+AF_UINT(kBindingTargets, 2)
+AF_UINT(kBindingRoutes, 3)
+AF_UINT(kBindingRouteTargets, 4)
+AF_UINT(kBindingBranches, 5)
+AF_UINT(kBindingForces, 6)
+// Render: each bird's pose, the detailed and distant draw lists and their indirect draws, the mesh
+// drawn, the route lines.
+AF_UINT(kBindingPoses, 7)
+AF_UINT(kBindingDrawLists, 8)
+AF_UINT(kBindingDraws, 9)
+AF_UINT(kBindingMesh, 10)
+AF_UINT(kBindingSegments, 11)
+
+// GpuRoute::flags
+AF_UINT(kRouteLoop, 1)
+AF_UINT(kRoutePathControl, 2)
+
+#ifndef __cplusplus
+// Flight modes and landing stages (engine/model/bird.h: FlightMode, LandingStage).
+#define AF_FLIGHT_MODE(name, value) const uint mode_##name = value;
+#define AF_LANDING_STAGE(name, value) const uint stage_##name = value;
+#include "model/flight_mode.def"
+#undef AF_FLIGHT_MODE
+#undef AF_LANDING_STAGE
+#endif
+
+// One bird (engine/model/bird_state.def), floats for the CPU reference's doubles.
+#define AF_GPU_float float
+#define AF_GPU_uint uint
+#define AF_GPU_vec3 AF_V16 vec3
+#define AF_GPU_vec4 AF_V16 vec4
+struct GpuBird {
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) AF_GPU_##gpu_type name;
+#include "model/bird_state.def"
+#undef AF_BIRD_FIELD
+};
+
+// A species (engine/model/species.def), then what the step derives from it, computed once on the
+// host (layout.cpp, pack(const Species&)).
+struct GpuSpecies {
+#define AF_SPECIES_PARAM(name, default_value, unit, rule) float name;
+#include "model/species.def"
+#undef AF_SPECIES_PARAM
+  float inv_inertia_x, inv_inertia_y, inv_inertia_z;  // eq. 12
+  float shoulder_z, arm_length, hand_length;           // cm
+  float arm_area, hand_area;                           // one wing's, cm^2
+  float tail_hinge_x, tail_arm;                        // cm; tail_arm: 2/3 lr
+  float tail_area_per_radian;                          // eq. 9: S_t = lr^2 / 2 phi
+  float tan_bank_max;
+  float open_tail;                                     // the tail fully open (braking), rad
+};
+
+struct GpuTarget {
+  AF_V16 vec4 centre_radius;  // where it is at the frame's start (cm), radius
+  AF_V16 vec4 velocity;       // xyz, cm/s
+};
+
+struct GpuRoute {
+  uint first;   // into the route-target list
+  uint count;
+  uint flags;   // kRouteLoop, kRoutePathControl
+  uint branch;  // branch index + 1, 0: none
+};
+
+struct GpuBranch {
+  AF_V16 vec4 point;
+  AF_V16 vec4 direction;
+};
+
+// One bird's forces of one step (engine/model/step.h: StepForces), world frame but the torques.
+struct GpuForces {
+  AF_V16 vec4 wing[4];  // right arm, right hand, left arm, left hand
+  AF_V16 vec4 tail;
+  AF_V16 vec4 ground;
+  AF_V16 vec4 legs;
+  AF_V16 vec4 gravity;
+  AF_V16 vec4 total;
+  AF_V16 vec4 tail_torque;  // body frame
+  AF_V16 vec4 torque;       // body frame
+};
+
+// Push constants of step.comp.
+struct StepConstants {
+  AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
+  float dt;
+  float time;             // at the start of the dispatch
+  uint steps;             // steps this dispatch (0: only the forces)
+  uint bird_count;
+  uint turning;           // TurningModel: 0 tail, 1 fixed-rate
+  uint ground_effect;
+  uint record_forces;     // 1: write each bird's forces of the next step from the final state
+  uint next_targets;      // where the targets at the next frame's start begin in the targets buffer
+};
+
+// Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right
+// hand, tail, left arm, left hand; part-local to world, by rows) and the tail's opening (x) and the
+// bird's species (y, as bits).
+struct Pose {
+  AF_V16 vec4 rows[18];
+  AF_V16 vec4 tail;
+};
+
+struct DrawCommand {  // VkDrawIndirectCommand
+  uint vertex_count;
+  uint instance_count;
+  uint first_vertex;
+  uint first_instance;
+};
+
+// Push constants of pose.comp.
+struct PoseConstants {
+  AF_V16 vec4 eye;    // xyz camera position
+  uint bird_count;
+  uint capacity;      // of each list
+  float lod_scale;    // a bird farther than its span times this is distant
+  uint pad;
+};
+
+// Push constants of every render shader (frame.glsl): the camera and the light.
+struct FrameConstants {
+  AF_V16 mat4 view_projection;
+  AF_V16 vec4 eye;        // xyz camera position (cm), w time (s)
+  AF_V16 vec4 sun;        // xyz towards the sun, w fog density (1/cm)
+  AF_V16 vec4 fog_color;  // rgb, w ground height
+  uint list_offset;       // where the draw's birds start in the lists (bird.vert)
+  uint pad0, pad1, pad2;
+};
+
+// A mesh vertex (engine/render/meshes.h), read by vertex index.
+struct MeshVertex {
+  AF_V16 vec4 position;  // xyz, w: the bird part (0 body, 1 arm, 2 hand, 3 tail; +4 left)
+  AF_V16 vec4 normal;    // xyz, w: 1 for detail that distant birds leave out
+};
+
+#ifdef __cplusplus
+}  // namespace aeroflock::gpu
+#endif
+#undef AF_UINT
+
+#endif  // AEROFLOCK_HOST_DEVICE_H
