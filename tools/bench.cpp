@@ -31,6 +31,7 @@
 #include "git_revision.h"
 #include "gpu/compute.h"
 #include "gpu/error.h"
+#include "io/atomic_file.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
 #include "render/offscreen.h"
@@ -273,24 +274,6 @@ std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
   return (n * sxy - sx * sy) / d;
 }
 
-void write_json_atomically(const fs::path& path, const nlohmann::json& j) {
-  fs::path tmp = path;
-  tmp += ".tmp";
-  std::error_code ec;
-  auto fail = [&](const std::string& why) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("--json " + path.string() + ": " + why);
-  };
-  {
-    std::ofstream out(tmp);
-    if (!out) fail("cannot write " + tmp.string());
-    out << j.dump(2) << "\n";
-    if (!out.flush()) fail("write failed");
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
-}
-
 // Quoted for gnuplot ('' is a quote inside '...') and for the shell ('\'' likewise).
 std::string gnuplot_string(const std::string& text) {
   std::string out = "'";
@@ -352,14 +335,14 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   const std::string command = "gnuplot " + shell_string(script.string());
   if (std::system(command.c_str()) != 0) throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
   // Copied beside the destination and renamed onto it: never a half-written image.
-  fs::path tmp = png;
-  tmp += ".tmp";
-  std::error_code ec;
-  fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
-  if (!ec) fs::rename(tmp, png, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw std::runtime_error("--plot " + png.string() + ": " + ec.message());
+  try {
+    write_file_atomically(png, [&](const fs::path& tmp) {
+      std::error_code ec;
+      fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
+      if (ec) throw std::runtime_error(ec.message());
+    });
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("--plot: ") + e.what());
   }
 }
 
@@ -620,7 +603,11 @@ int run_bench(const BenchOptions& options) {
         {"scaling_exponent", exponents},
         {"ratios", ratios},
     };
-    write_json_atomically(options.json, j);
+    try {
+      write_text_atomically(options.json, j.dump(2) + "\n");
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("--json: ") + e.what());
+    }
     std::printf("json     %s\n", options.json.c_str());
   }
   if (!options.plot.empty()) {

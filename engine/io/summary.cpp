@@ -1,12 +1,10 @@
 #include "io/summary.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
-#include <stdexcept>
+
+#include "io/atomic_file.h"
 
 namespace aeroflock {
 namespace {
@@ -75,24 +73,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
 }
 
 void write_summary(const std::filesystem::path& path, const RunSummary& summary) {
-  const std::string text = summary_json(summary).dump(2) + "\n";
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  auto fail = [&](const std::string& why) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write " + path.string() + ": " + why);
-  };
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(std::strerror(errno));
-    out << text;
-    out.close();
-    if (!out) fail("write error");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
+  write_text_atomically(path, summary_json(summary).dump(2) + "\n");
 }
 
 }  // namespace aeroflock

@@ -33,6 +33,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "io/atomic_file.h"
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/step.h"
@@ -71,56 +72,40 @@ std::string frame_name(size_t index) {
   return name;
 }
 
-fs::path temporary(const fs::path& path) {
-  fs::path t = path;
-  t += ".tmp";
-  return t;
-}
-
-void rename_into_place(const fs::path& from, const fs::path& to) {
-  std::error_code ec;
-  fs::rename(from, to, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename " + from.string() + " to " + to.string() + ": " +
-                             ec.message());
-}
-
 // Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
 // exception.
 void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
-  std::string message;
-  vtkNew<vtkCallbackCommand> on_error;
-  on_error->SetClientData(&message);
-  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-    auto* text = static_cast<std::string*>(client);
-    if (text->empty() && call) *text = static_cast<const char*>(call);
-  });
-  const fs::path tmp = temporary(path);
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->AddObserver(vtkCommand::ErrorEvent, on_error);
-  writer->AddObserver(vtkCommand::WarningEvent, on_error);
-  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
-  writer->SetFileName(tmp.c_str());
-  writer->SetInputData(data);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();  // raw binary, not base64
-  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
-  switch (compression) {
-    case VtkOptions::Compression::none:
-      writer->SetCompressorTypeToNone();
-      break;
-    case VtkOptions::Compression::lz4:
-      writer->SetCompressorTypeToLZ4();
-      break;
-    case VtkOptions::Compression::zlib:
-      writer->SetCompressorTypeToZLib();
-      break;
-  }
-  errno = 0;
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+  write_file_atomically(path, [&](const fs::path& tmp) {
+    std::string message;
+    vtkNew<vtkCallbackCommand> on_error;
+    on_error->SetClientData(&message);
+    on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+      auto* text = static_cast<std::string*>(client);
+      if (text->empty() && call) *text = static_cast<const char*>(call);
+    });
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->AddObserver(vtkCommand::ErrorEvent, on_error);
+    writer->AddObserver(vtkCommand::WarningEvent, on_error);
+    writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary, not base64
+    writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
+    switch (compression) {
+      case VtkOptions::Compression::none:
+        writer->SetCompressorTypeToNone();
+        break;
+      case VtkOptions::Compression::lz4:
+        writer->SetCompressorTypeToLZ4();
+        break;
+      case VtkOptions::Compression::zlib:
+        writer->SetCompressorTypeToZLib();
+        break;
+    }
+    errno = 0;
+    if (writer->Write() == 1 && writer->GetErrorCode() == 0) return;
     const int err = errno;
-    std::error_code ec;
-    fs::remove(tmp, ec);
     // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
     while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
       message.pop_back();
@@ -129,9 +114,8 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
         message.starts_with("vtk") && colon != std::string::npos)
       message.erase(0, colon + 3);
     if (err != 0) message += (message.empty() ? "" : ": ") + std::string(std::strerror(err));
-    throw std::runtime_error("cannot write " + path.string() + ": " + message);
-  }
-  rename_into_place(tmp, path);
+    throw std::runtime_error(message);
+  });
 }
 
 template <typename Array>
@@ -373,26 +357,19 @@ struct VtkExporter::Writer {
 
   // flock.pvd: every frame file written so far with its time.
   void write_collection() {
-    const fs::path path = dir / "flock.pvd";
-    const fs::path tmp = temporary(path);
-    {
-      std::ofstream out(tmp, std::ios::trunc);
-      out << "<?xml version=\"1.0\"?>\n"
-             "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-             "  <Collection>\n";
-      char line[512];
-      for (const auto& [t, file] : collection) {
-        std::snprintf(line, sizeof line,
-                      "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
-                      file.c_str());
-        out << line;
-      }
-      out << "  </Collection>\n</VTKFile>\n";
-      out.close();
-      if (!out)
-        throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
+    std::string text =
+        "<?xml version=\"1.0\"?>\n"
+        "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "  <Collection>\n";
+    char line[512];
+    for (const auto& [t, file] : collection) {
+      std::snprintf(line, sizeof line,
+                    "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
+                    file.c_str());
+      text += line;
     }
-    rename_into_place(tmp, path);
+    text += "  </Collection>\n</VTKFile>\n";
+    write_text_atomically(dir / "flock.pvd", text);
   }
 
   // trajectories.vtp: one polyline per bird through its saved positions (a single saved frame:
