@@ -27,10 +27,10 @@
 
 #include "backend.h"
 #include "frame_output.h"
-#include "host.h"
 #include "git_revision.h"
 #include "gpu/compute.h"
 #include "gpu/error.h"
+#include "host.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
@@ -57,7 +57,7 @@ constexpr double kBudgetMs = 25.0;
 constexpr double kMaxMeasurementSeconds = 150.0;
 
 struct Settings {
-  Scenario scenario;  // the default scenario, loaded once
+  Scenario scenario;     // the default scenario, loaded once
   double budget_ms = 0;  // wall ms per frame
   int warmup = 0;
   int repetitions = 0;
@@ -137,7 +137,8 @@ class OffscreenLoad {
     if (!device || !backend.gpu_simulation())
       throw std::runtime_error("rendering is measured only with the Vulkan backend");
     const VkExtent2D size{kRenderWidth, kRenderHeight};
-    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(),
+                                                   render::Offscreen::kFormat, size);
     target_ = std::make_unique<render::Offscreen>(*device, size);
     submitter_ = std::make_unique<gpu::Submitter>(*device, 1);
     camera_ = AutoCamera().update(backend.birds());
@@ -151,8 +152,8 @@ class OffscreenLoad {
     World world = backend.scenario().world;
     world.move_targets(backend.time());
     submitter_->run([&](VkCommandBuffer cmd) {
-      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(), world,
-                        view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(),
+                        world, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
   }
 
@@ -195,8 +196,8 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   std::unique_ptr<VtkExporter> vtk;
   if (variant == "vtk") {
     static int counter = 0;
-    vtk_dir.path = fs::temp_directory_path() /
-                   ("aeroflock-bench-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    vtk_dir.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) +
+                                                "-" + std::to_string(counter++));
     VtkOptions vo;
     vo.dir = vtk_dir.path;
     vo.every = kVtkEvery;
@@ -236,19 +237,21 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);
   m.p90 = quantile(times, 0.9);
-  m.bird_steps_per_second = m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
+  m.bird_steps_per_second =
+      m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
   return m;
 }
 
 void print_header() {
-  std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms", "p10 ms",
-              "p90 ms", "bird-steps/s");
+  std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms",
+              "p10 ms", "p90 ms", "bird-steps/s");
   std::fflush(stdout);
 }
 
 void print_row(const Measurement& m, double budget_ms) {
-  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(), m.birds,
-              m.median, m.p10, m.p90, m.bird_steps_per_second, m.median <= budget_ms ? "  fits" : "");
+  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(),
+              m.birds, m.median, m.p10, m.p90, m.bird_steps_per_second,
+              m.median <= budget_ms ? "  fits" : "");
   std::fflush(stdout);
 }
 
@@ -295,7 +298,8 @@ std::string gnuplot_terminal() {
 void write_plot(const fs::path& png, const std::vector<Series>& series, double budget_ms) {
   TempDir dir;
   std::string pattern = (fs::temp_directory_path() / "aeroflock-plot-XXXXXX").string();
-  if (!::mkdtemp(pattern.data())) throw std::runtime_error("--plot: cannot create a temporary directory");
+  if (!::mkdtemp(pattern.data()))
+    throw std::runtime_error("--plot: cannot create a temporary directory");
   dir.path = pattern;
   const fs::path image = dir.path / "bench.png";
   const fs::path data = dir.path / "bench.dat";
@@ -321,9 +325,11 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   auto plot = [&](int column) {
     gp << "plot ";
     for (size_t i = 0; i < titles.size(); ++i)
-      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i << " using 1:" << column
-         << " with linespoints title " << gnuplot_string(titles[i]);
-    if (column == 2) gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
+      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i
+         << " using 1:" << column << " with linespoints title " << gnuplot_string(titles[i]);
+    if (column == 2)
+      gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms
+         << " ms'";
     gp << "\n";
   };
   gp << "set ylabel 'ms per frame (median)'\n";
@@ -333,7 +339,8 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   gp << "unset multiplot\n";
   gp.close();
   const std::string command = "gnuplot " + shell_string(script.string());
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
+  if (std::system(command.c_str()) != 0)
+    throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
   // Copied beside the destination and renamed onto it: never a half-written image.
   try {
     write_file_atomically(png, [&](const fs::path& tmp) {
@@ -355,7 +362,8 @@ int run_bench(const BenchOptions& options) {
     if (b != "vulkan" && b != "cpu" &&
         !(b.size() > 7 && b.starts_with("vulkan:") &&
           b.find_first_not_of("0123456789", 7) == std::string::npos && b.size() < 12))
-      throw std::runtime_error("--backends: unknown backend " + b + " (vulkan, vulkan:N for device N, cpu)");
+      throw std::runtime_error("--backends: unknown backend " + b +
+                               " (vulkan, vulkan:N for device N, cpu)");
   for (size_t i = 0; i < options.backends.size(); ++i)
     if (std::find(options.backends.begin() + i + 1, options.backends.end(), options.backends[i]) !=
         options.backends.end())
@@ -382,16 +390,18 @@ int run_bench(const BenchOptions& options) {
   s.repetitions = options.repetitions > 0 ? options.repetitions : (options.quick ? 5 : 15);
   s.device = options.device;
 
-  std::vector<uint32_t> sizes = options.quick ? std::vector<uint32_t>{1000, 3000}
-                                              : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
+  std::vector<uint32_t> sizes =
+      options.quick ? std::vector<uint32_t>{1000, 3000}
+                    : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
   std::erase_if(sizes, [&](uint32_t n) { return n > options.max_birds; });
   if (sizes.empty()) sizes.push_back(options.max_birds);
   const uint32_t cpu_cap = options.quick ? 3000 : 30000;
 
-  std::printf("aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
-              "%d warm-up + %d timed frames\n\n",
-              s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms,
-              s.warmup, s.repetitions);
+  std::printf(
+      "aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
+      "%d warm-up + %d timed frames\n\n",
+      s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms,
+      1000.0 / s.budget_ms, s.warmup, s.repetitions);
   print_header();
 
   Progress progress;
@@ -411,7 +421,8 @@ int run_bench(const BenchOptions& options) {
         continue;
       }
       auto attempt = [&](uint32_t n, const char* phase) {
-        progress.show(backend + "/" + variant + ": " + std::to_string(n) + " birds (" + phase + ")");
+        progress.show(backend + "/" + variant + ": " + std::to_string(n) + " birds (" + phase +
+                      ")");
         Measurement m = measure(backend, variant, n, s);
         progress.clear();
         devices[backend] = m.device;
@@ -431,7 +442,8 @@ int run_bench(const BenchOptions& options) {
         }
         if (!series.points.empty()) {
           const Measurement& last = series.points.back();
-          const double frames = double(frames_per_sample(variant)) * (s.warmup + samples(variant, s));
+          const double frames =
+              double(frames_per_sample(variant)) * (s.warmup + samples(variant, s));
           const double estimate = last.median * (double(n) / last.birds) * frames / 1000.0;
           if (estimate > kMaxMeasurementSeconds) {
             series.stopped = "stopped before " + std::to_string(n) + " birds: would take about " +
@@ -445,13 +457,15 @@ int run_bench(const BenchOptions& options) {
         } catch (const gpu::Error& e) {
           progress.clear();
           if (series.points.empty()) {
-            if (all.empty()) throw;  // nothing measured yet: fail at once (no device, a bad vulkan:N)
+            if (all.empty())
+              throw;  // nothing measured yet: fail at once (no device, a bad vulkan:N)
             failure(e);
             break;
           }
           series.stopped = std::string("device limit: ") + e.what();
           device_cap = n;
-          std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n, e.what());
+          std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n,
+                      e.what());
           break;
         } catch (const std::exception& e) {
           progress.clear();
@@ -503,7 +517,7 @@ int run_bench(const BenchOptions& options) {
     }
     std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
                 !series.lower_bound || series.points.empty() ? ""
-                : options.quick ? " (or more: --quick does not search)"
+                : options.quick                              ? " (or more: --quick does not search)"
                                 : " (or more: every size measured fitted)");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     std::printf("\n");
@@ -529,7 +543,9 @@ int run_bench(const BenchOptions& options) {
         }
   }
   nlohmann::json exponents = nlohmann::json::object();
-  std::printf("\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were measured):\n");
+  std::printf(
+      "\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were "
+      "measured):\n");
   for (const std::string& backend : options.backends) {
     const Series* h = headless(backend);
     const std::optional<double> b = h ? scaling_exponent(h->points) : std::nullopt;
@@ -540,7 +556,8 @@ int run_bench(const BenchOptions& options) {
       std::printf("  %-8s n/a (fewer than 2 sizes)\n", backend.c_str());
   }
   std::printf("\n");
-  for (const auto& [backend, device] : devices) std::printf("%-8s %s\n", backend.c_str(), device.c_str());
+  for (const auto& [backend, device] : devices)
+    std::printf("%-8s %s\n", backend.c_str(), device.c_str());
 
   if (!options.json.empty()) {
     nlohmann::json context = {
@@ -615,7 +632,8 @@ int run_bench(const BenchOptions& options) {
     std::printf("plot     %s\n", options.plot.c_str());
   }
   if (!failed.empty()) {
-    for (const std::string& f : failed) std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
+    for (const std::string& f : failed)
+      std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
     return 1;  // the outputs hold what was measured; the failed series are in sweep_notes
   }
   return 0;

@@ -26,7 +26,8 @@ void check_writable_dir(const fs::path& dir, const char* option) {
   if (ec) throw std::runtime_error(std::string(option) + " " + dir.string() + ": " + ec.message());
   const fs::path probe = dir / ".aeroflock-probe";
   FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f) throw std::runtime_error(std::string(option) + " " + dir.string() + ": cannot write there");
+  if (!f)
+    throw std::runtime_error(std::string(option) + " " + dir.string() + ": cannot write there");
   std::fclose(f);
   fs::remove(probe, ec);
 }
@@ -73,7 +74,8 @@ struct FrameOutput::Impl {
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       if (!has_program("ffmpeg"))
-        throw std::runtime_error("--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
+        throw std::runtime_error(
+            "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
       const fs::path dir = fs::path(options.video).parent_path();
       check_writable_dir(dir.empty() ? "." : dir, "--video");
     }
@@ -84,15 +86,18 @@ struct FrameOutput::Impl {
       own_device = std::make_unique<gpu::Device>(d);
       device = own_device.get();
       own_birds = std::make_unique<gpu::Buffer>(
-          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird), gpu::Memory::host);
+          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird),
+          gpu::Memory::host);
     }
     const VkExtent2D size{options.width, options.height};
-    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(),
+                                                  render::Offscreen::kFormat, size);
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
     if (!options.video.empty()) {
       const std::string command = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
-                                  std::to_string(options.width) + "x" + std::to_string(options.height) +
+                                  std::to_string(options.width) + "x" +
+                                  std::to_string(options.height) +
                                   " -r 40 -i - -pix_fmt yuv420p '" + options.video + "'";
       video = popen(command.c_str(), "w");
       if (!video) throw std::runtime_error("--video: cannot start ffmpeg");
@@ -143,7 +148,8 @@ void FrameOutput::frame(Backend& backend, uint64_t index) {
   const std::vector<uint8_t> pixels = o.render(backend);
   if (to_dir) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(index / o.options.every));
+    std::snprintf(name, sizeof name, "frame_%06llu.png",
+                  (unsigned long long)(index / o.options.every));
     write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
   }
   if (o.video && std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())

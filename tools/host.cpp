@@ -26,7 +26,9 @@ std::string cpu_model() {
 }
 
 void check_output_path(const fs::path& path, const std::string& option) {
-  auto fail = [&](const std::string& why) { throw std::runtime_error(option + " " + path.string() + ": " + why); };
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error(option + " " + path.string() + ": " + why);
+  };
   std::error_code ec;
   if (fs::is_directory(path, ec)) fail("is a directory");
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
