@@ -20,7 +20,7 @@
 #include "backend.h"
 #include "bench.h"
 #include "frame_output.h"
-#include "host.h"
+#include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
 #include "io/vtk_export.h"

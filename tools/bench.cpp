@@ -32,6 +32,7 @@
 #include "gpu/error.h"
 #include "host.h"
 #include "io/atomic_file.h"
+#include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
 #include "render/offscreen.h"

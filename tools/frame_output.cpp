@@ -12,27 +12,13 @@
 #include "gpu/layout.h"
 #include "host.h"
 #include "io/image.h"
+#include "io/paths.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
 namespace aeroflock {
-namespace {
 
 namespace fs = std::filesystem;
-
-void check_writable_dir(const fs::path& dir, const char* option) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(std::string(option) + " " + dir.string() + ": " + ec.message());
-  const fs::path probe = dir / ".aeroflock-probe";
-  FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f)
-    throw std::runtime_error(std::string(option) + " " + dir.string() + ": cannot write there");
-  std::fclose(f);
-  fs::remove(probe, ec);
-}
-
-}  // namespace
 
 render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
   glm::dvec3 centre{0.0};
@@ -67,17 +53,13 @@ struct FrameOutput::Impl {
   FILE* video = nullptr;
 
   Impl(const ImageOptions& o, Backend& backend) : options(o) {
-    if (!options.png.empty()) {
-      const fs::path dir = fs::path(options.png).parent_path();
-      check_writable_dir(dir.empty() ? "." : dir, "--png");
-    }
+    if (!options.png.empty()) check_output_path(options.png, "--png");
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       if (!has_program("ffmpeg"))
         throw std::runtime_error(
             "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
-      const fs::path dir = fs::path(options.video).parent_path();
-      check_writable_dir(dir.empty() ? "." : dir, "--video");
+      check_output_path(options.video, "--video");
     }
     device = backend.gpu_device();
     if (!device) {

@@ -28,12 +28,12 @@
 #include <cstring>
 #include <deque>
 #include <exception>
-#include <fstream>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
 
 #include "io/atomic_file.h"
+#include "io/paths.h"
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/step.h"
@@ -424,22 +424,9 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   selected_ = select_birds(options.birds, bird_count);
   if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");
 
-  // Create and probe the directory before the run.
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error("VTK export directory " + dir_.string() + ": " + why);
-  };
-  std::error_code ec;
-  fs::create_directories(dir_ / "frames", ec);
-  if (ec) fail("cannot create it: " + ec.message());
-  for (const fs::path& probe : {dir_ / ".aeroflock-probe", dir_ / "frames" / ".aeroflock-probe"}) {
-    errno = 0;
-    std::ofstream out(probe);
-    out << "probe\n";
-    out.close();
-    const int err = errno;
-    fs::remove(probe, ec);
-    if (!out) fail(std::string("cannot write there: ") + std::strerror(err ? err : EIO));
-  }
+  // Create and probe the directories before the run.
+  check_writable_dir(dir_, "VTK export directory");
+  check_writable_dir(dir_ / "frames", "VTK export directory");
 
   writer_ = std::make_unique<Writer>();
   Writer& w = *writer_;
