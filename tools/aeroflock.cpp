@@ -1,6 +1,5 @@
 // aeroflock: list the built-in scenarios, run one and summarise it, or watch it in a window.
 #include <omp.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
@@ -24,6 +23,7 @@
 #include "io/scenario_file.h"
 #include "io/summary.h"
 #include "io/vtk_export.h"
+#include "progress.h"
 #include "render/viewer.h"
 
 namespace aeroflock {
@@ -73,29 +73,6 @@ const CLI::Validator kPositive(
       return "";
     },
     "> 0");
-
-// One "\r" line on a terminal, at most five times a second.
-class Progress {
- public:
-  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
-  void update(double sim_time, double duration, size_t birds, double bird_steps_per_second,
-              bool force = false) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!force && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    std::fprintf(stderr, "\r  t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s   ", sim_time,
-                 duration, birds, bird_steps_per_second);
-    std::fflush(stderr);
-  }
-  void finish() {
-    if (enabled_) std::fputs("\n", stderr);
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 void print_summary(const RunSummary& r, const std::string& summary_path, const VtkExporter* vtk,
                    bool interrupted) {
@@ -184,9 +161,14 @@ int run(const RunOptions& opt) {
       vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
     else if (vtk && !backend->lags() && vtk->due(frame))
       vtk->add_frame(backend->time(), backend->birds());
-    const double w = wall();
-    progress.update(backend->time(), seconds, birds,
-                    w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
+    if (progress.due() || frame + 1 == frames) {
+      const double w = wall();
+      char line[128];
+      std::snprintf(line, sizeof line, "t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s",
+                    backend->time(), seconds, birds,
+                    w > 0 ? birds * double(backend->steps()) / w : 0.0);
+      progress.show(line);
+    }
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;

@@ -35,6 +35,7 @@
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
+#include "progress.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
@@ -109,25 +110,6 @@ double quantile(std::vector<double> v, double p) {
   const size_t j = std::min(i + 1, v.size() - 1);
   return v[i] + (x - double(i)) * (v[j] - v[i]);
 }
-
-// One "\r" line on stderr when it is a terminal.
-class Progress {
- public:
-  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
-  void show(const std::string& text) {
-    if (!enabled_) return;
-    std::fprintf(stderr, "\r\033[K  %s", text.c_str());
-    std::fflush(stderr);
-  }
-  void clear() {
-    if (!enabled_) return;
-    std::fputs("\r\033[K", stderr);
-    std::fflush(stderr);
-  }
-
- private:
-  bool enabled_;
-};
 
 // Renders every frame offscreen at 1280x720 from the birds on the device, as `aeroflock run --png`
 // does (the image is not read back). The camera looks at the whole flock as it is at the start.
