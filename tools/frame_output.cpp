@@ -1,7 +1,6 @@
 #include "frame_output.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -13,6 +12,7 @@
 #include "host.h"
 #include "io/image.h"
 #include "io/paths.h"
+#include "model/flock_geometry.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
@@ -21,18 +21,11 @@ namespace aeroflock {
 namespace fs = std::filesystem;
 
 render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
-  glm::dvec3 centre{0.0};
-  size_t n = 0;
-  for (const BirdState& b : birds)
-    if (std::isfinite(b.position.x)) centre += b.position, ++n;
-  if (n > 0) centre /= double(n);
-  double radius = 0.0;
-  for (const BirdState& b : birds)
-    if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
-  radius = std::clamp(radius, 200.0, 1e5);
+  const FlockExtent flock = flock_extent(birds);
+  const double radius = std::clamp(flock.radius, 200.0, 1e5);
   const float ease = first_ ? 1.0f : 0.1f;
   first_ = false;
-  centre_ = glm::mix(centre_, glm::vec3(centre), ease);
+  centre_ = glm::mix(centre_, glm::vec3(flock.centre), ease);
   radius_ = radius_ + ease * (float(radius) - radius_);
   render::Camera camera;
   camera.target = centre_;

@@ -5,19 +5,10 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
+#include "model/flock_geometry.h"
 
 namespace aeroflock {
 namespace {
-
-bool finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-bool finite(const BirdState& b) {
-  const glm::dquat& q = b.attitude;
-  return finite(b.position) && finite(b.velocity) && std::isfinite(q.w) && std::isfinite(q.x) &&
-         std::isfinite(q.y) && std::isfinite(q.z);
-}
 
 bool in_the_air(FlightMode mode) {
   return mode == FlightMode::flying || mode == FlightMode::landing ||
@@ -29,23 +20,17 @@ bool in_the_air(FlightMode mode) {
 FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   FlockStatistics s;
   s.birds = birds.size();
+  const FlockExtent extent = flock_extent(birds);
+  s.centroid = extent.centre;
+  s.nan_birds = s.birds - extent.finite;
   double speed_sum = 0.0;
   for (const BirdState& b : birds) {
     s.targets_reached += b.targets_reached;
     s.perched += b.mode == FlightMode::perched;
     s.flying += in_the_air(b.mode);
-    if (!finite(b)) {
-      ++s.nan_birds;
-      continue;
-    }
-    s.centroid += b.position;
-    speed_sum += glm::length(b.velocity);
+    if (is_finite(b)) speed_sum += glm::length(b.velocity);
   }
-  const uint64_t finite_birds = s.birds - s.nan_birds;
-  if (finite_birds > 0) {
-    s.centroid /= static_cast<double>(finite_birds);
-    s.mean_speed = speed_sum / static_cast<double>(finite_birds);
-  }
+  if (extent.finite > 0) s.mean_speed = speed_sum / static_cast<double>(extent.finite);
   return s;
 }
 
