@@ -1,4 +1,4 @@
-// Run summaries: statistics of hand-made bird states and the JSON file.
+// Run summaries: statistics of hand-made bird states and the JSON file; the flock's extent.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/summary.h"
+#include "model/flock_geometry.h"
 
 namespace aeroflock {
 namespace {
@@ -65,6 +66,24 @@ TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
   EXPECT_EQ(s.nan_birds, 3u);
   EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
   EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
+}
+
+TEST(FlockExtent, CentreAndRadiusOfTheFiniteBirds) {
+  EXPECT_EQ(flock_extent({}).finite, 0u);
+  EXPECT_EQ(flock_extent({}).centre, glm::dvec3(0.0));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<BirdState> birds = {
+      bird({100, 0, 0}, {0, 0, 0}),
+      bird({nan, 0, 0}, {0, 0, 0}),
+      bird({300, 0, 0}, {0, 0, 0}),
+      bird({200, 50, 0}, {0, nan, 0}),
+  };
+  const FlockExtent e = flock_extent(birds);
+  EXPECT_EQ(e.finite, 2u);
+  EXPECT_EQ(e.centre, glm::dvec3(200, 0, 0));
+  EXPECT_DOUBLE_EQ(e.radius, 100.0);
+  EXPECT_TRUE(is_finite(birds[0]));
+  EXPECT_FALSE(is_finite(birds[3]));
 }
 
 RunSummary sample_summary() {

@@ -1,12 +1,11 @@
 // aeroflock: list the built-in scenarios, run one and summarise it, or watch it in a window.
 #include <omp.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <cerrno>
-#include <csignal>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -20,10 +19,11 @@
 #include "backend.h"
 #include "bench.h"
 #include "frame_output.h"
-#include "host.h"
+#include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
 #include "io/vtk_export.h"
+#include "progress.h"
 #include "render/viewer.h"
 
 namespace aeroflock {
@@ -74,29 +74,6 @@ const CLI::Validator kPositive(
     },
     "> 0");
 
-// One "\r" line on a terminal, at most five times a second.
-class Progress {
- public:
-  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
-  void update(double sim_time, double duration, size_t birds, double bird_steps_per_second,
-              bool force = false) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!force && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    std::fprintf(stderr, "\r  t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s   ", sim_time,
-                 duration, birds, bird_steps_per_second);
-    std::fflush(stderr);
-  }
-  void finish() {
-    if (enabled_) std::fputs("\n", stderr);
-  }
-
- private:
-  bool enabled_;
-  std::chrono::steady_clock::time_point last_{};
-};
-
 void print_summary(const RunSummary& r, const std::string& summary_path, const VtkExporter* vtk,
                    bool interrupted) {
   const FlockStatistics& s = r.stats;
@@ -141,8 +118,8 @@ int run(const RunOptions& opt) {
   summary.scenario = scenario.name;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
-  std::unique_ptr<Backend> backend = make_backend(
-      {opt.backend, opt.birds, opt.device, opt.images.any()}, std::move(scenario));
+  std::unique_ptr<Backend> backend =
+      make_backend({opt.backend, opt.birds, opt.device, opt.images.any()}, std::move(scenario));
   std::unique_ptr<FrameOutput> images;
   if (opt.images.any()) images = std::make_unique<FrameOutput>(opt.images, *backend);
   summary.backend = backend->name();
@@ -184,9 +161,14 @@ int run(const RunOptions& opt) {
       vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
     else if (vtk && !backend->lags() && vtk->due(frame))
       vtk->add_frame(backend->time(), backend->birds());
-    const double w = wall();
-    progress.update(backend->time(), seconds, birds,
-                    w > 0 ? birds * double(backend->steps()) / w : 0.0, frame + 1 == frames);
+    if (progress.due() || frame + 1 == frames) {
+      const double w = wall();
+      char line[128];
+      std::snprintf(line, sizeof line, "t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s",
+                    backend->time(), seconds, birds,
+                    w > 0 ? birds * double(backend->steps()) / w : 0.0);
+      progress.show(line);
+    }
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
@@ -217,8 +199,10 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
       [&width, &height](const std::string& text) {
         unsigned w = 0, h = 0;
         char x = 0;
-        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 8192 || h > 8192)
-          throw CLI::ValidationError("--size", "expected WxH between 16x16 and 8192x8192, got " + text);
+        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 ||
+            w > 8192 || h > 8192)
+          throw CLI::ValidationError("--size",
+                                     "expected WxH between 16x16 and 8192x8192, got " + text);
         width = w;
         height = h;
       },
@@ -239,7 +223,8 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario and summarise it");
   run_cmd->add_option("scenario", opt.scenario, "A built-in scenario name or a FILE.toml")
       ->capture_default_str();
-  run_cmd->add_option("--backend", opt.backend, "Backend: vulkan (compute shaders) or cpu (reference)")
+  run_cmd
+      ->add_option("--backend", opt.backend, "Backend: vulkan (compute shaders) or cpu (reference)")
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
   run_cmd->add_option("--device", opt.device, "Vulkan device index (see `aeroflock devices`)")
@@ -252,20 +237,25 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(kPositive);
   run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)");
-  run_cmd->add_option("--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png");
+  run_cmd->add_option("--frames-dir", opt.images.frames_dir,
+                      "Render frames to DIR/frame_NNNNNN.png");
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
-  add_size_option(run_cmd, opt.images.width, opt.images.height, "Image size WxH (default 1280x720)");
-  run_cmd->add_option("--vtk", opt.vtk_dir,
-                      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp");
+  add_size_option(run_cmd, opt.images.width, opt.images.height,
+                  "Image size WxH (default 1280x720)");
+  run_cmd->add_option(
+      "--vtk", opt.vtk_dir,
+      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp");
   run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame (default 1)")
       ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--vtk-birds", opt.vtk_birds,
-                      "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")
+  run_cmd
+      ->add_option("--vtk-birds", opt.vtk_birds,
+                   "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")
       ->capture_default_str();
-  run_cmd->add_option("--vtk-compression", opt.vtk_compression,
-                      "With --vtk: none, lz4 or zlib (default lz4)")
+  run_cmd
+      ->add_option("--vtk-compression", opt.vtk_compression,
+                   "With --vtk: none, lz4 or zlib (default lz4)")
       ->check(CLI::IsMember({"none", "lz4", "zlib"}))
       ->capture_default_str();
 
@@ -273,30 +263,46 @@ int main(int argc, char** argv) {
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
   view_cmd->add_option("scenario", view_opt.scenario, "A built-in scenario name or a FILE.toml")
       ->capture_default_str();
-  view_cmd->add_option("--device", view_opt.viewer.device, "Vulkan device index (see `aeroflock devices`)")
+  view_cmd
+      ->add_option("--device", view_opt.viewer.device,
+                   "Vulkan device index (see `aeroflock devices`)")
       ->check(CLI::NonNegativeNumber);
-  view_cmd->add_option("--birds", view_opt.viewer.birds, "Birds in all, shared over the flocks in proportion")
+  view_cmd
+      ->add_option("--birds", view_opt.viewer.birds,
+                   "Birds in all, shared over the flocks in proportion")
       ->check(kPositive);
-  add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height, "Window size WxH (default 1280x720)");
+  add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height,
+                  "Window size WxH (default 1280x720)");
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
-  view_cmd->add_option("--frames", view_opt.viewer.frames, "Close the window after N frames (for tests)")
+  view_cmd
+      ->add_option("--frames", view_opt.viewer.frames,
+                   "Close the window after N frames (for tests)")
       ->check(kPositive);
 
   BenchOptions bench_opt;
   std::string bench_backends = "vulkan,cpu";
   CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
-  bench_cmd->add_flag("--quick", bench_opt.quick, "A short smoke run: 1000 and 3000 birds, headless only");
-  bench_cmd->add_option("--json", bench_opt.json, "Write the results as JSON (Google Benchmark-like) to FILE");
-  bench_cmd->add_option("--plot", bench_opt.plot, "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)");
-  bench_cmd->add_option("--backends", bench_backends, "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
+      "bench",
+      "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
+  bench_cmd->add_flag("--quick", bench_opt.quick,
+                      "A short smoke run: 1000 and 3000 birds, headless only");
+  bench_cmd->add_option("--json", bench_opt.json,
+                        "Write the results as JSON (Google Benchmark-like) to FILE");
+  bench_cmd->add_option("--plot", bench_opt.plot,
+                        "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)");
+  bench_cmd
+      ->add_option("--backends", bench_backends,
+                   "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
   bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
       ->check(kPositive)
       ->capture_default_str();
-  bench_cmd->add_option("--repetitions", bench_opt.repetitions, "Timed frames per measurement (default 5 quick, 15 full)")
+  bench_cmd
+      ->add_option("--repetitions", bench_opt.repetitions,
+                   "Timed frames per measurement (default 5 quick, 15 full)")
       ->check(kPositive);
-  bench_cmd->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
+  bench_cmd
+      ->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(CLI::NonNegativeNumber);
 
   try {

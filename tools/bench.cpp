@@ -27,12 +27,15 @@
 
 #include "backend.h"
 #include "frame_output.h"
-#include "host.h"
 #include "git_revision.h"
 #include "gpu/compute.h"
 #include "gpu/error.h"
+#include "host.h"
+#include "io/atomic_file.h"
+#include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
+#include "progress.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
@@ -57,6 +60,11 @@ constexpr double kMaxMeasurementSeconds = 150.0;
 
 struct Settings {
   Scenario scenario;  // the default scenario, loaded once
+  std::vector<std::string> backends;
+  std::vector<std::string> variants;  // headless; render and vtk too unless --quick
+  std::vector<uint32_t> sizes;        // the sweep
+  uint32_t cpu_cap = 0;               // the CPU reference is swept up to this many birds
+  uint32_t max_birds = 0;
   double budget_ms = 0;  // wall ms per frame
   int warmup = 0;
   int repetitions = 0;
@@ -108,25 +116,6 @@ double quantile(std::vector<double> v, double p) {
   return v[i] + (x - double(i)) * (v[j] - v[i]);
 }
 
-// One "\r" line on stderr when it is a terminal.
-class Progress {
- public:
-  Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
-  void show(const std::string& text) {
-    if (!enabled_) return;
-    std::fprintf(stderr, "\r\033[K  %s", text.c_str());
-    std::fflush(stderr);
-  }
-  void clear() {
-    if (!enabled_) return;
-    std::fputs("\r\033[K", stderr);
-    std::fflush(stderr);
-  }
-
- private:
-  bool enabled_;
-};
-
 // Renders every frame offscreen at 1280x720 from the birds on the device, as `aeroflock run --png`
 // does (the image is not read back). The camera looks at the whole flock as it is at the start.
 class OffscreenLoad {
@@ -136,7 +125,8 @@ class OffscreenLoad {
     if (!device || !backend.gpu_simulation())
       throw std::runtime_error("rendering is measured only with the Vulkan backend");
     const VkExtent2D size{kRenderWidth, kRenderHeight};
-    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(),
+                                                   render::Offscreen::kFormat, size);
     target_ = std::make_unique<render::Offscreen>(*device, size);
     submitter_ = std::make_unique<gpu::Submitter>(*device, 1);
     camera_ = AutoCamera().update(backend.birds());
@@ -150,8 +140,8 @@ class OffscreenLoad {
     World world = backend.scenario().world;
     world.move_targets(backend.time());
     submitter_->run([&](VkCommandBuffer cmd) {
-      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(), world,
-                        view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(),
+                        world, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
   }
 
@@ -162,13 +152,13 @@ class OffscreenLoad {
   render::Camera camera_;
 };
 
-// Removes a directory on the way out.
 int frames_per_sample(const std::string& variant) { return variant == "vtk" ? int(kVtkEvery) : 1; }
 // VTK samples are whole export cycles: a third as many of them.
 int samples(const std::string& variant, const Settings& s) {
   return variant == "vtk" ? std::max(3, (s.repetitions + 2) / 3) : s.repetitions;
 }
 
+// Removes a directory on the way out.
 struct TempDir {
   fs::path path;
   ~TempDir() {
@@ -194,8 +184,8 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   std::unique_ptr<VtkExporter> vtk;
   if (variant == "vtk") {
     static int counter = 0;
-    vtk_dir.path = fs::temp_directory_path() /
-                   ("aeroflock-bench-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    vtk_dir.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) +
+                                                "-" + std::to_string(counter++));
     VtkOptions vo;
     vo.dir = vtk_dir.path;
     vo.every = kVtkEvery;
@@ -235,19 +225,26 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);
   m.p90 = quantile(times, 0.9);
-  m.bird_steps_per_second = m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
+  m.bird_steps_per_second =
+      m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
   return m;
 }
 
-void print_header() {
-  std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms", "p10 ms",
-              "p90 ms", "bird-steps/s");
+void print_header(const Settings& s) {
+  std::printf(
+      "aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
+      "%d warm-up + %d timed frames\n\n",
+      s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms,
+      1000.0 / s.budget_ms, s.warmup, s.repetitions);
+  std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms",
+              "p10 ms", "p90 ms", "bird-steps/s");
   std::fflush(stdout);
 }
 
 void print_row(const Measurement& m, double budget_ms) {
-  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(), m.birds,
-              m.median, m.p10, m.p90, m.bird_steps_per_second, m.median <= budget_ms ? "  fits" : "");
+  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(),
+              m.birds, m.median, m.p10, m.p90, m.bird_steps_per_second,
+              m.median <= budget_ms ? "  fits" : "");
   std::fflush(stdout);
 }
 
@@ -273,24 +270,6 @@ std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
   return (n * sxy - sx * sy) / d;
 }
 
-void write_json_atomically(const fs::path& path, const nlohmann::json& j) {
-  fs::path tmp = path;
-  tmp += ".tmp";
-  std::error_code ec;
-  auto fail = [&](const std::string& why) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("--json " + path.string() + ": " + why);
-  };
-  {
-    std::ofstream out(tmp);
-    if (!out) fail("cannot write " + tmp.string());
-    out << j.dump(2) << "\n";
-    if (!out.flush()) fail("write failed");
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
-}
-
 // Quoted for gnuplot ('' is a quote inside '...') and for the shell ('\'' likewise).
 std::string gnuplot_string(const std::string& text) {
   std::string out = "'";
@@ -312,7 +291,8 @@ std::string gnuplot_terminal() {
 void write_plot(const fs::path& png, const std::vector<Series>& series, double budget_ms) {
   TempDir dir;
   std::string pattern = (fs::temp_directory_path() / "aeroflock-plot-XXXXXX").string();
-  if (!::mkdtemp(pattern.data())) throw std::runtime_error("--plot: cannot create a temporary directory");
+  if (!::mkdtemp(pattern.data()))
+    throw std::runtime_error("--plot: cannot create a temporary directory");
   dir.path = pattern;
   const fs::path image = dir.path / "bench.png";
   const fs::path data = dir.path / "bench.dat";
@@ -338,9 +318,11 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   auto plot = [&](int column) {
     gp << "plot ";
     for (size_t i = 0; i < titles.size(); ++i)
-      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i << " using 1:" << column
-         << " with linespoints title " << gnuplot_string(titles[i]);
-    if (column == 2) gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
+      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i
+         << " using 1:" << column << " with linespoints title " << gnuplot_string(titles[i]);
+    if (column == 2)
+      gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms
+         << " ms'";
     gp << "\n";
   };
   gp << "set ylabel 'ms per frame (median)'\n";
@@ -350,29 +332,29 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
   gp << "unset multiplot\n";
   gp.close();
   const std::string command = "gnuplot " + shell_string(script.string());
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
+  if (std::system(command.c_str()) != 0)
+    throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
   // Copied beside the destination and renamed onto it: never a half-written image.
-  fs::path tmp = png;
-  tmp += ".tmp";
-  std::error_code ec;
-  fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
-  if (!ec) fs::rename(tmp, png, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw std::runtime_error("--plot " + png.string() + ": " + ec.message());
+  try {
+    write_file_atomically(png, [&](const fs::path& tmp) {
+      std::error_code ec;
+      fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
+      if (ec) throw std::runtime_error(ec.message());
+    });
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("--plot: ") + e.what());
   }
 }
 
-}  // namespace
-
-int run_bench(const BenchOptions& options) {
-  // Everything that can fail before the run fails now.
+// Everything about the options that can fail fails now, before the run.
+void check_options(const BenchOptions& options) {
   if (options.backends.empty()) throw std::runtime_error("--backends: none given");
   for (const std::string& b : options.backends)
     if (b != "vulkan" && b != "cpu" &&
         !(b.size() > 7 && b.starts_with("vulkan:") &&
           b.find_first_not_of("0123456789", 7) == std::string::npos && b.size() < 12))
-      throw std::runtime_error("--backends: unknown backend " + b + " (vulkan, vulkan:N for device N, cpu)");
+      throw std::runtime_error("--backends: unknown backend " + b +
+                               " (vulkan, vulkan:N for device N, cpu)");
   for (size_t i = 0; i < options.backends.size(); ++i)
     if (std::find(options.backends.begin() + i + 1, options.backends.end(), options.backends[i]) !=
         options.backends.end())
@@ -390,124 +372,190 @@ int run_bench(const BenchOptions& options) {
     check_output_path(options.plot, "--plot");
   }
   if (!options.json.empty()) check_output_path(options.json, "--json");
+}
 
+Settings settings(const BenchOptions& options) {
   Settings s;
   s.scenario = load_scenario("default");
+  s.backends = options.backends;
+  s.variants = options.quick ? std::vector<std::string>{"headless"}
+                             : std::vector<std::string>{"headless", "render", "vtk"};
+  s.sizes = options.quick
+                ? std::vector<uint32_t>{1000, 3000}
+                : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
+  std::erase_if(s.sizes, [&](uint32_t n) { return n > options.max_birds; });
+  if (s.sizes.empty()) s.sizes.push_back(options.max_birds);
+  s.cpu_cap = options.quick ? 3000 : 30000;
+  s.max_birds = options.max_birds;
   s.budget_ms = kBudgetMs;
   s.quick = options.quick;
   s.warmup = options.quick ? 2 : 5;
   s.repetitions = options.repetitions > 0 ? options.repetitions : (options.quick ? 5 : 15);
   s.device = options.device;
+  return s;
+}
 
-  std::vector<uint32_t> sizes = options.quick ? std::vector<uint32_t>{1000, 3000}
-                                              : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
-  std::erase_if(sizes, [&](uint32_t n) { return n > options.max_birds; });
-  if (sizes.empty()) sizes.push_back(options.max_birds);
-  const uint32_t cpu_cap = options.quick ? 3000 : 30000;
+// What the run has measured so far, and the progress line while it measures.
+struct Run {
+  explicit Run(const Settings& settings) : s(settings) {}
 
-  std::printf("aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
-              "%d warm-up + %d timed frames\n\n",
-              s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms,
-              s.warmup, s.repetitions);
-  print_header();
+  // measure(), with the progress line saying what is measured.
+  Measurement attempt(const Series& series, uint32_t n, const char* phase) {
+    progress.show(series.key() + ": " + std::to_string(n) + " birds (" + phase + ")");
+    Measurement m = measure(series.backend, series.variant, n, s);
+    progress.clear();
+    devices[series.backend] = m.device;
+    return m;
+  }
 
+  // A series that fails once others have been measured: the run keeps what it has and goes on.
+  void fail(Series& series, const std::exception& e) {
+    series.stopped = std::string("failed: ") + e.what();
+    failed.push_back(series.key() + ": " + e.what());
+    std::printf("%-8s %-9s   failed: %s\n", series.backend.c_str(), series.variant.c_str(),
+                e.what());
+  }
+
+  const Settings& s;
   Progress progress;
-  std::vector<Series> all;
-  std::map<std::string, std::string> devices;
-  std::vector<std::string> failed;  // series that failed after others had been measured
-  for (const std::string& backend : options.backends) {
-    std::vector<std::string> variants{"headless"};
-    if (!options.quick) variants = {"headless", "render", "vtk"};
-    for (const std::string& variant : variants) {
-      Series series;
-      series.backend = backend;
-      series.variant = variant;
-      if (backend == "cpu" && variant == "render") {
-        series.skipped = true;
-        all.push_back(series);
-        continue;
+  std::vector<Series> all;                     // the series done, in the order measured
+  std::map<std::string, std::string> devices;  // backend: its device
+  std::vector<std::string> failed;             // "series: why"
+};
+
+// Seconds a measurement of `n` birds would take, from the one of `last`, cost linear in N.
+double estimated_seconds(const Measurement& last, uint32_t n, const Settings& s) {
+  const double frames =
+      double(frames_per_sample(last.variant)) * (s.warmup + samples(last.variant, s));
+  return last.median * (double(n) / last.birds) * frames / 1000.0;
+}
+
+// The sweep over the sizes, a row printed for each. Returns the size the device could not hold,
+// or 0.
+uint32_t sweep(Run& run, Series& series) {
+  const Settings& s = run.s;
+  for (uint32_t n : s.sizes) {
+    if (series.backend == "cpu" && n > s.cpu_cap) {
+      series.stopped = "the CPU reference is swept up to " + std::to_string(s.cpu_cap) + " birds";
+      return 0;
+    }
+    if (!series.points.empty()) {
+      const double estimate = estimated_seconds(series.points.back(), n, s);
+      if (estimate > kMaxMeasurementSeconds) {
+        series.stopped = "stopped before " + std::to_string(n) + " birds: would take about " +
+                         std::to_string(int(estimate)) + " s";
+        return 0;
       }
-      auto attempt = [&](uint32_t n, const char* phase) {
-        progress.show(backend + "/" + variant + ": " + std::to_string(n) + " birds (" + phase + ")");
-        Measurement m = measure(backend, variant, n, s);
-        progress.clear();
-        devices[backend] = m.device;
-        return m;
-      };
-      auto failure = [&](const std::exception& e) {
-        series.stopped = std::string("failed: ") + e.what();
-        failed.push_back(series.key() + ": " + e.what());
-        std::printf("%-8s %-9s   failed: %s\n", backend.c_str(), variant.c_str(), e.what());
-      };
-      // The sweep.
-      uint32_t device_cap = 0;  // the smallest size the device could not hold
-      for (uint32_t n : sizes) {
-        if (backend == "cpu" && n > cpu_cap) {
-          series.stopped = "the CPU reference is swept up to " + std::to_string(cpu_cap) + " birds";
-          break;
-        }
-        if (!series.points.empty()) {
-          const Measurement& last = series.points.back();
-          const double frames = double(frames_per_sample(variant)) * (s.warmup + samples(variant, s));
-          const double estimate = last.median * (double(n) / last.birds) * frames / 1000.0;
-          if (estimate > kMaxMeasurementSeconds) {
-            series.stopped = "stopped before " + std::to_string(n) + " birds: would take about " +
-                             std::to_string(int(estimate)) + " s";
-            break;
-          }
-        }
-        try {
-          series.points.push_back(attempt(n, "sweep"));
-          print_row(series.points.back(), s.budget_ms);
-        } catch (const gpu::Error& e) {
-          progress.clear();
-          if (series.points.empty()) {
-            if (all.empty()) throw;  // nothing measured yet: fail at once (no device, a bad vulkan:N)
-            failure(e);
-            break;
-          }
-          series.stopped = std::string("device limit: ") + e.what();
-          device_cap = n;
-          std::printf("%-8s %-9s %9u   does not fit: %s\n", backend.c_str(), variant.c_str(), n, e.what());
-          break;
-        } catch (const std::exception& e) {
-          progress.clear();
-          if (all.empty() && series.points.empty()) throw;
-          failure(e);  // keep what the run has measured so far
-          break;
-        }
+    }
+    try {
+      series.points.push_back(run.attempt(series, n, "sweep"));
+      print_row(series.points.back(), s.budget_ms);
+    } catch (const gpu::Error& e) {
+      run.progress.clear();
+      if (series.points.empty()) {
+        // Nothing measured yet: fail at once (no device, a bad vulkan:N).
+        if (run.all.empty()) throw;
+        run.fail(series, e);
+        return 0;
       }
-      // Birds per frame: bracket from the sweep (the largest size that fitted, the smallest larger
-      // one that did not or that the device cannot hold), then bisect.
-      uint32_t lo = 0, hi = device_cap;
-      for (const Measurement& m : series.points)
-        if (m.median <= s.budget_ms) lo = std::max(lo, m.birds);
-      for (const Measurement& m : series.points)
-        if (m.median > s.budget_ms && m.birds > lo && (hi == 0 || m.birds < hi)) hi = m.birds;
-      series.lower_bound = hi == 0 || options.quick;  // --quick does not bisect
-      if (!options.quick && hi != 0) {
-        while (hi - lo > std::max<uint32_t>(16, lo / 50)) {
-          const uint32_t mid = lo + (hi - lo) / 2;
-          ++series.search_steps;
-          try {
-            const Measurement m = attempt(mid, "search");
-            (m.median <= s.budget_ms ? lo : hi) = mid;
-          } catch (const gpu::Error&) {
-            hi = mid;
-          } catch (const std::exception& e) {
-            progress.clear();
-            failure(e);
-            break;
-          }
-        }
-      }
-      series.birds_per_frame = lo;
-      all.push_back(series);
+      series.stopped = std::string("device limit: ") + e.what();
+      std::printf("%-8s %-9s %9u   does not fit: %s\n", series.backend.c_str(),
+                  series.variant.c_str(), n, e.what());
+      return n;
+    } catch (const std::exception& e) {
+      run.progress.clear();
+      if (run.all.empty() && series.points.empty()) throw;
+      run.fail(series, e);  // keep what the run has measured so far
+      return 0;
     }
   }
-  progress.clear();
+  return 0;
+}
 
-  // Summary: birds per frame, ratios, exponents.
+// Birds per frame: bracketed from the sweep (the largest size that fitted, the smallest larger one
+// that did not or that the device cannot hold), then bisected; --quick takes the bracket's foot.
+void search_birds_per_frame(Run& run, Series& series, uint32_t device_cap) {
+  const Settings& s = run.s;
+  uint32_t lo = 0, hi = device_cap;
+  for (const Measurement& m : series.points)
+    if (m.median <= s.budget_ms) lo = std::max(lo, m.birds);
+  for (const Measurement& m : series.points)
+    if (m.median > s.budget_ms && m.birds > lo && (hi == 0 || m.birds < hi)) hi = m.birds;
+  series.lower_bound = hi == 0 || s.quick;
+  if (!s.quick && hi != 0) {
+    while (hi - lo > std::max<uint32_t>(16, lo / 50)) {
+      const uint32_t mid = lo + (hi - lo) / 2;
+      ++series.search_steps;
+      try {
+        const Measurement m = run.attempt(series, mid, "search");
+        (m.median <= s.budget_ms ? lo : hi) = mid;
+      } catch (const gpu::Error&) {
+        hi = mid;
+      } catch (const std::exception& e) {
+        run.progress.clear();
+        run.fail(series, e);
+        break;
+      }
+    }
+  }
+  series.birds_per_frame = lo;
+}
+
+// One backend and variant: the sweep, then the search for birds per frame.
+Series measure_series(Run& run, const std::string& backend, const std::string& variant) {
+  Series series;
+  series.backend = backend;
+  series.variant = variant;
+  series.skipped = backend == "cpu" && variant == "render";
+  if (series.skipped) return series;
+  const uint32_t device_cap = sweep(run, series);
+  search_birds_per_frame(run, series, device_cap);
+  return series;
+}
+
+// A Vulkan backend over the CPU reference in bird-steps/s, at the sizes both measured headless.
+struct Ratios {
+  std::string backend;
+  std::vector<std::pair<uint32_t, double>> by_birds;
+};
+
+// The scaling exponent of each backend, in the order given (none: fewer than 2 sizes).
+using Exponents = std::vector<std::pair<std::string, std::optional<double>>>;
+
+const Series* headless(const std::vector<Series>& all, const std::string& backend) {
+  for (const Series& series : all)
+    if (series.backend == backend && series.variant == "headless") return &series;
+  return nullptr;
+}
+
+std::vector<Ratios> vulkan_over_cpu(const std::vector<Series>& all,
+                                    const std::vector<std::string>& backends) {
+  std::vector<Ratios> ratios;
+  const Series* cpu = headless(all, "cpu");
+  for (const std::string& backend : backends) {
+    const Series* vk = backend.starts_with("vulkan") ? headless(all, backend) : nullptr;
+    if (!vk || !cpu || vk->points.empty() || cpu->points.empty()) continue;
+    Ratios r{backend, {}};
+    for (const Measurement& a : vk->points)
+      for (const Measurement& b : cpu->points)
+        if (a.birds == b.birds && b.bird_steps_per_second > 0)
+          r.by_birds.emplace_back(a.birds, a.bird_steps_per_second / b.bird_steps_per_second);
+    ratios.push_back(r);
+  }
+  return ratios;
+}
+
+Exponents scaling_exponents(const std::vector<Series>& all,
+                            const std::vector<std::string>& backends) {
+  Exponents exponents;
+  for (const std::string& backend : backends) {
+    const Series* h = headless(all, backend);
+    exponents.emplace_back(backend, h ? scaling_exponent(h->points) : std::nullopt);
+  }
+  return exponents;
+}
+
+void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
   std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
   for (const Series& series : all) {
     if (series.skipped) {
@@ -519,119 +567,153 @@ int run_bench(const BenchOptions& options) {
       continue;
     }
     std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
-                !series.lower_bound || series.points.empty() ? ""
-                : options.quick ? " (or more: --quick does not search)"
-                                : " (or more: every size measured fitted)");
+                !series.lower_bound ? ""
+                : s.quick           ? " (or more: --quick does not search)"
+                                    : " (or more: every size measured fitted)");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
   }
-  auto headless = [&](const std::string& backend) -> const Series* {
-    for (const Series& series : all)
-      if (series.backend == backend && series.variant == "headless") return &series;
-    return nullptr;
-  };
-  nlohmann::json ratios = nlohmann::json::array();
-  const Series* cpu = headless("cpu");
-  for (const std::string& backend : options.backends) {
-    const Series* vk = backend.starts_with("vulkan") ? headless(backend) : nullptr;
-    if (!vk || !cpu || vk->points.empty() || cpu->points.empty()) continue;
-    std::printf("\n%s / CPU reference, bird-steps/s (headless):\n", backend.c_str());
-    for (const Measurement& a : vk->points)
-      for (const Measurement& b : cpu->points)
-        if (a.birds == b.birds && b.bird_steps_per_second > 0) {
-          const double r = a.bird_steps_per_second / b.bird_steps_per_second;
-          std::printf("  %9u birds  %8.2fx\n", a.birds, r);
-          ratios.push_back({{"backend", backend}, {"birds", a.birds}, {"vulkan_over_cpu", r}});
-        }
+}
+
+void print_ratios(const std::vector<Ratios>& ratios) {
+  for (const Ratios& r : ratios) {
+    std::printf("\n%s / CPU reference, bird-steps/s (headless):\n", r.backend.c_str());
+    for (const auto& [birds, ratio] : r.by_birds)
+      std::printf("  %9u birds  %8.2fx\n", birds, ratio);
   }
-  nlohmann::json exponents = nlohmann::json::object();
-  std::printf("\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were measured):\n");
-  for (const std::string& backend : options.backends) {
-    const Series* h = headless(backend);
-    const std::optional<double> b = h ? scaling_exponent(h->points) : std::nullopt;
-    exponents[backend] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
+}
+
+void print_exponents(const Exponents& exponents) {
+  std::printf(
+      "\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were "
+      "measured):\n");
+  for (const auto& [backend, b] : exponents)
     if (b)
       std::printf("  %-8s %.3f\n", backend.c_str(), *b);
     else
       std::printf("  %-8s n/a (fewer than 2 sizes)\n", backend.c_str());
-  }
-  std::printf("\n");
-  for (const auto& [backend, device] : devices) std::printf("%-8s %s\n", backend.c_str(), device.c_str());
+}
 
-  if (!options.json.empty()) {
-    nlohmann::json context = {
-        {"date", now_iso8601()},
-        {"host_name", host_name()},
-        {"executable", "aeroflock bench"},
-        {"cpu_model", cpu_model()},
-        {"num_cpus", std::thread::hardware_concurrency()},
-        {"omp_threads", omp_get_max_threads()},
-        {"git_revision", AEROFLOCK_GIT_REVISION},
-        {"library_build_type", AEROFLOCK_BUILD_TYPE},
-        {"build_type", AEROFLOCK_BUILD_TYPE},
-        {"scenario", "default"},
-        {"dt", s.scenario.dt},
-        {"steps_per_frame", s.scenario.steps_per_frame},
-        {"budget_ms", s.budget_ms},
-        {"warmup_frames", s.warmup},
-        {"repetitions", s.repetitions},
-        {"quick", s.quick},
-        {"max_birds", options.max_birds},
-        {"render_size", std::to_string(kRenderWidth) + "x" + std::to_string(kRenderHeight)},
-        {"vtk_every", kVtkEvery},
-        {"devices", devices},
-    };
-    nlohmann::json benchmarks = nlohmann::json::array();
-    nlohmann::json birds_per_frame = nlohmann::json::object();
-    nlohmann::json sweep_notes = nlohmann::json::object();
-    for (const Series& series : all) {
-      if (series.skipped) {
-        birds_per_frame[series.key()] = "n/a";
-        continue;
-      }
-      birds_per_frame[series.key()] =
-          series.points.empty() ? nlohmann::json(nullptr) : nlohmann::json(series.birds_per_frame);
-      if (!series.stopped.empty()) sweep_notes[series.key()] = series.stopped;
-      for (const Measurement& m : series.points)
-        benchmarks.push_back({
-            {"name", m.backend + "/" + m.variant + "/birds:" + std::to_string(m.birds)},
-            {"run_type", "iteration"},
-            {"backend", m.backend},
-            {"variant", m.variant},
-            {"birds", m.birds},
-            {"iterations", m.iterations},
-            {"real_time", m.median},
-            {"p10", m.p10},
-            {"p90", m.p90},
-            {"time_unit", "ms"},
-            {"bird_steps_per_second", m.bird_steps_per_second},
-        });
+void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {
+  print_birds_per_frame(run.all, run.s);
+  print_ratios(ratios);
+  print_exponents(exponents);
+  std::printf("\n");
+  for (const auto& [backend, device] : run.devices)
+    std::printf("%-8s %s\n", backend.c_str(), device.c_str());
+}
+
+// Where and how the figures were taken.
+nlohmann::json context_json(const Settings& s, const std::map<std::string, std::string>& devices) {
+  return {
+      {"date", now_iso8601()},
+      {"host_name", host_name()},
+      {"executable", "aeroflock bench"},
+      {"cpu_model", cpu_model()},
+      {"num_cpus", std::thread::hardware_concurrency()},
+      {"omp_threads", omp_get_max_threads()},
+      {"git_revision", AEROFLOCK_GIT_REVISION},
+      {"library_build_type", AEROFLOCK_BUILD_TYPE},
+      {"build_type", AEROFLOCK_BUILD_TYPE},
+      {"scenario", "default"},
+      {"dt", s.scenario.dt},
+      {"steps_per_frame", s.scenario.steps_per_frame},
+      {"budget_ms", s.budget_ms},
+      {"warmup_frames", s.warmup},
+      {"repetitions", s.repetitions},
+      {"quick", s.quick},
+      {"max_birds", s.max_birds},
+      {"render_size", std::to_string(kRenderWidth) + "x" + std::to_string(kRenderHeight)},
+      {"vtk_every", kVtkEvery},
+      {"devices", devices},
+  };
+}
+
+// Google Benchmark's layout (context, benchmarks) with the bench's own findings beside it.
+nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
+                          const Exponents& exponents) {
+  nlohmann::json benchmarks = nlohmann::json::array();
+  nlohmann::json birds_per_frame = nlohmann::json::object();
+  nlohmann::json lower_bounds = nlohmann::json::object();
+  nlohmann::json sweep_notes = nlohmann::json::object();
+  for (const Series& series : run.all) {
+    if (series.skipped) {
+      birds_per_frame[series.key()] = "n/a";
+      continue;
     }
-    nlohmann::json lower_bounds = nlohmann::json::object();
-    for (const Series& series : all)
-      if (!series.skipped) lower_bounds[series.key()] = series.lower_bound;
-    const nlohmann::json j = {
-        {"context", context},
-        {"benchmarks", benchmarks},
-        {"birds_per_frame", birds_per_frame},
-        {"birds_per_frame_is_lower_bound", lower_bounds},
-        {"sweep_notes", sweep_notes},
-        {"scaling_exponent", exponents},
-        {"ratios", ratios},
-    };
-    write_json_atomically(options.json, j);
+    birds_per_frame[series.key()] =
+        series.points.empty() ? nlohmann::json(nullptr) : nlohmann::json(series.birds_per_frame);
+    lower_bounds[series.key()] = series.lower_bound;
+    if (!series.stopped.empty()) sweep_notes[series.key()] = series.stopped;
+    for (const Measurement& m : series.points)
+      benchmarks.push_back({
+          {"name", m.backend + "/" + m.variant + "/birds:" + std::to_string(m.birds)},
+          {"run_type", "iteration"},
+          {"backend", m.backend},
+          {"variant", m.variant},
+          {"birds", m.birds},
+          {"iterations", m.iterations},
+          {"real_time", m.median},
+          {"p10", m.p10},
+          {"p90", m.p90},
+          {"time_unit", "ms"},
+          {"bird_steps_per_second", m.bird_steps_per_second},
+      });
+  }
+  nlohmann::json ratios_json = nlohmann::json::array();
+  for (const Ratios& r : ratios)
+    for (const auto& [birds, ratio] : r.by_birds)
+      ratios_json.push_back({{"backend", r.backend}, {"birds", birds}, {"vulkan_over_cpu", ratio}});
+  nlohmann::json exponents_json = nlohmann::json::object();
+  for (const auto& [backend, b] : exponents)
+    exponents_json[backend] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
+  return {
+      {"context", context_json(run.s, run.devices)},
+      {"benchmarks", benchmarks},
+      {"birds_per_frame", birds_per_frame},
+      {"birds_per_frame_is_lower_bound", lower_bounds},
+      {"sweep_notes", sweep_notes},
+      {"scaling_exponent", exponents_json},
+      {"ratios", ratios_json},
+  };
+}
+
+void write_json(const fs::path& path, const nlohmann::json& j) {
+  try {
+    write_text_atomically(path, j.dump(2) + "\n");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("--json: ") + e.what());
+  }
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& options) {
+  check_options(options);
+  const Settings s = settings(options);
+  print_header(s);
+  Run run(s);
+  for (const std::string& backend : s.backends)
+    for (const std::string& variant : s.variants)
+      run.all.push_back(measure_series(run, backend, variant));
+  run.progress.clear();
+
+  const std::vector<Ratios> ratios = vulkan_over_cpu(run.all, s.backends);
+  const Exponents exponents = scaling_exponents(run.all, s.backends);
+  print_summary(run, ratios, exponents);
+  if (!options.json.empty()) {
+    write_json(options.json, bench_json(run, ratios, exponents));
     std::printf("json     %s\n", options.json.c_str());
   }
   if (!options.plot.empty()) {
-    write_plot(options.plot, all, s.budget_ms);
+    write_plot(options.plot, run.all, s.budget_ms);
     std::printf("plot     %s\n", options.plot.c_str());
   }
-  if (!failed.empty()) {
-    for (const std::string& f : failed) std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
-    return 1;  // the outputs hold what was measured; the failed series are in sweep_notes
-  }
-  return 0;
+  // The outputs hold what was measured; the failed series are in sweep_notes.
+  for (const std::string& f : run.failed)
+    std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
+  return run.failed.empty() ? 0 : 1;
 }
 
 }  // namespace aeroflock

@@ -9,9 +9,9 @@
 namespace aeroflock {
 
 struct BenchOptions {
-  bool quick = false;            // short smoke run: 1000 and 3000 birds, headless only, no bisection
-  std::string json;              // Google-Benchmark-like JSON to this file (written atomically)
-  std::string plot;              // PNG through gnuplot
+  bool quick = false;  // short smoke run: 1000 and 3000 birds, headless only, no bisection
+  std::string json;    // Google-Benchmark-like JSON to this file (written atomically)
+  std::string plot;    // PNG through gnuplot
   std::vector<std::string> backends{"vulkan", "cpu"};
   uint32_t max_birds = 1000000;  // largest flock of the sweep
   int repetitions = 0;           // timed frames per measurement (0: 5 quick, 15 full)

@@ -1,7 +1,6 @@
 #include "frame_output.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -12,40 +11,21 @@
 #include "gpu/layout.h"
 #include "host.h"
 #include "io/image.h"
+#include "io/paths.h"
+#include "model/flock_geometry.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
 namespace aeroflock {
-namespace {
 
 namespace fs = std::filesystem;
 
-void check_writable_dir(const fs::path& dir, const char* option) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(std::string(option) + " " + dir.string() + ": " + ec.message());
-  const fs::path probe = dir / ".aeroflock-probe";
-  FILE* f = std::fopen(probe.c_str(), "w");
-  if (!f) throw std::runtime_error(std::string(option) + " " + dir.string() + ": cannot write there");
-  std::fclose(f);
-  fs::remove(probe, ec);
-}
-
-}  // namespace
-
 render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
-  glm::dvec3 centre{0.0};
-  size_t n = 0;
-  for (const BirdState& b : birds)
-    if (std::isfinite(b.position.x)) centre += b.position, ++n;
-  if (n > 0) centre /= double(n);
-  double radius = 0.0;
-  for (const BirdState& b : birds)
-    if (std::isfinite(b.position.x)) radius = std::max(radius, glm::distance(b.position, centre));
-  radius = std::clamp(radius, 200.0, 1e5);
+  const FlockExtent flock = flock_extent(birds);
+  const double radius = std::clamp(flock.radius, 200.0, 1e5);
   const float ease = first_ ? 1.0f : 0.1f;
   first_ = false;
-  centre_ = glm::mix(centre_, glm::vec3(centre), ease);
+  centre_ = glm::mix(centre_, glm::vec3(flock.centre), ease);
   radius_ = radius_ + ease * (float(radius) - radius_);
   render::Camera camera;
   camera.target = centre_;
@@ -66,16 +46,13 @@ struct FrameOutput::Impl {
   FILE* video = nullptr;
 
   Impl(const ImageOptions& o, Backend& backend) : options(o) {
-    if (!options.png.empty()) {
-      const fs::path dir = fs::path(options.png).parent_path();
-      check_writable_dir(dir.empty() ? "." : dir, "--png");
-    }
+    if (!options.png.empty()) check_output_path(options.png, "--png");
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       if (!has_program("ffmpeg"))
-        throw std::runtime_error("--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
-      const fs::path dir = fs::path(options.video).parent_path();
-      check_writable_dir(dir.empty() ? "." : dir, "--video");
+        throw std::runtime_error(
+            "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
+      check_output_path(options.video, "--video");
     }
     device = backend.gpu_device();
     if (!device) {
@@ -84,15 +61,18 @@ struct FrameOutput::Impl {
       own_device = std::make_unique<gpu::Device>(d);
       device = own_device.get();
       own_birds = std::make_unique<gpu::Buffer>(
-          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird), gpu::Memory::host);
+          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird),
+          gpu::Memory::host);
     }
     const VkExtent2D size{options.width, options.height};
-    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(), render::Offscreen::kFormat, size);
+    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(),
+                                                  render::Offscreen::kFormat, size);
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
     if (!options.video.empty()) {
       const std::string command = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
-                                  std::to_string(options.width) + "x" + std::to_string(options.height) +
+                                  std::to_string(options.width) + "x" +
+                                  std::to_string(options.height) +
                                   " -r 40 -i - -pix_fmt yuv420p '" + options.video + "'";
       video = popen(command.c_str(), "w");
       if (!video) throw std::runtime_error("--video: cannot start ffmpeg");
@@ -143,7 +123,8 @@ void FrameOutput::frame(Backend& backend, uint64_t index) {
   const std::vector<uint8_t> pixels = o.render(backend);
   if (to_dir) {
     char name[32];
-    std::snprintf(name, sizeof name, "frame_%06llu.png", (unsigned long long)(index / o.options.every));
+    std::snprintf(name, sizeof name, "frame_%06llu.png",
+                  (unsigned long long)(index / o.options.every));
     write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
   }
   if (o.video && std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())

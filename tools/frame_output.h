@@ -16,7 +16,7 @@ struct ImageOptions {
   std::string png;         // the last frame
   std::string frames_dir;  // every `every`-th frame as frame_000000.png, ...
   uint32_t every = 1;
-  std::string video;       // FILE.mp4, through ffmpeg
+  std::string video;  // FILE.mp4, through ffmpeg
   uint32_t width = 1280, height = 720;
   bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
 };

@@ -5,7 +5,8 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
-#include <string>
+
+#include "io/atomic_file.h"
 
 namespace aeroflock {
 
@@ -13,18 +14,10 @@ void write_png(const std::filesystem::path& path, uint32_t width, uint32_t heigh
                const std::vector<uint8_t>& rgba) {
   if (rgba.size() != size_t(width) * height * 4)
     throw std::invalid_argument("write_png: pixel count does not match the size");
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  if (!stbi_write_png(tmp.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4))) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error("cannot write " + path.string() + ": " + std::strerror(errno));
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
-  }
+  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
+    if (!stbi_write_png(tmp.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4)))
+      throw std::runtime_error(std::strerror(errno));
+  });
 }
 
 }  // namespace aeroflock

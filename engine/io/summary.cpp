@@ -1,25 +1,14 @@
 #include "io/summary.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
-#include <stdexcept>
+
+#include "io/atomic_file.h"
+#include "model/flock_geometry.h"
 
 namespace aeroflock {
 namespace {
-
-bool finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-bool finite(const BirdState& b) {
-  const glm::dquat& q = b.attitude;
-  return finite(b.position) && finite(b.velocity) && std::isfinite(q.w) && std::isfinite(q.x) &&
-         std::isfinite(q.y) && std::isfinite(q.z);
-}
 
 bool in_the_air(FlightMode mode) {
   return mode == FlightMode::flying || mode == FlightMode::landing ||
@@ -31,23 +20,17 @@ bool in_the_air(FlightMode mode) {
 FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   FlockStatistics s;
   s.birds = birds.size();
+  const FlockExtent extent = flock_extent(birds);
+  s.centroid = extent.centre;
+  s.nan_birds = s.birds - extent.finite;
   double speed_sum = 0.0;
   for (const BirdState& b : birds) {
     s.targets_reached += b.targets_reached;
     s.perched += b.mode == FlightMode::perched;
     s.flying += in_the_air(b.mode);
-    if (!finite(b)) {
-      ++s.nan_birds;
-      continue;
-    }
-    s.centroid += b.position;
-    speed_sum += glm::length(b.velocity);
+    if (is_finite(b)) speed_sum += glm::length(b.velocity);
   }
-  const uint64_t finite_birds = s.birds - s.nan_birds;
-  if (finite_birds > 0) {
-    s.centroid /= static_cast<double>(finite_birds);
-    s.mean_speed = speed_sum / static_cast<double>(finite_birds);
-  }
+  if (extent.finite > 0) s.mean_speed = speed_sum / static_cast<double>(extent.finite);
   return s;
 }
 
@@ -75,24 +58,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
 }
 
 void write_summary(const std::filesystem::path& path, const RunSummary& summary) {
-  const std::string text = summary_json(summary).dump(2) + "\n";
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  auto fail = [&](const std::string& why) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write " + path.string() + ": " + why);
-  };
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(std::strerror(errno));
-    out << text;
-    out.close();
-    if (!out) fail("write error");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) fail(ec.message());
+  write_text_atomically(path, summary_json(summary).dump(2) + "\n");
 }
 
 }  // namespace aeroflock

@@ -30,11 +30,12 @@
 #include <cstring>
 #include <deque>
 #include <exception>
-#include <fstream>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
 
+#include "io/atomic_file.h"
+#include "io/paths.h"
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/tail.h"
@@ -72,56 +73,40 @@ std::string frame_name(size_t index) {
   return name;
 }
 
-fs::path temporary(const fs::path& path) {
-  fs::path t = path;
-  t += ".tmp";
-  return t;
-}
-
-void rename_into_place(const fs::path& from, const fs::path& to) {
-  std::error_code ec;
-  fs::rename(from, to, ec);
-  if (ec)
-    throw std::runtime_error("cannot rename " + from.string() + " to " + to.string() + ": " +
-                             ec.message());
-}
-
 // Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
 // exception.
 void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
-  std::string message;
-  vtkNew<vtkCallbackCommand> on_error;
-  on_error->SetClientData(&message);
-  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-    auto* text = static_cast<std::string*>(client);
-    if (text->empty() && call) *text = static_cast<const char*>(call);
-  });
-  const fs::path tmp = temporary(path);
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->AddObserver(vtkCommand::ErrorEvent, on_error);
-  writer->AddObserver(vtkCommand::WarningEvent, on_error);
-  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
-  writer->SetFileName(tmp.c_str());
-  writer->SetInputData(data);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();  // raw binary, not base64
-  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
-  switch (compression) {
-    case VtkOptions::Compression::none:
-      writer->SetCompressorTypeToNone();
-      break;
-    case VtkOptions::Compression::lz4:
-      writer->SetCompressorTypeToLZ4();
-      break;
-    case VtkOptions::Compression::zlib:
-      writer->SetCompressorTypeToZLib();
-      break;
-  }
-  errno = 0;
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
+  write_file_atomically(path, [&](const fs::path& tmp) {
+    std::string message;
+    vtkNew<vtkCallbackCommand> on_error;
+    on_error->SetClientData(&message);
+    on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+      auto* text = static_cast<std::string*>(client);
+      if (text->empty() && call) *text = static_cast<const char*>(call);
+    });
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->AddObserver(vtkCommand::ErrorEvent, on_error);
+    writer->AddObserver(vtkCommand::WarningEvent, on_error);
+    writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary, not base64
+    writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
+    switch (compression) {
+      case VtkOptions::Compression::none:
+        writer->SetCompressorTypeToNone();
+        break;
+      case VtkOptions::Compression::lz4:
+        writer->SetCompressorTypeToLZ4();
+        break;
+      case VtkOptions::Compression::zlib:
+        writer->SetCompressorTypeToZLib();
+        break;
+    }
+    errno = 0;
+    if (writer->Write() == 1 && writer->GetErrorCode() == 0) return;
     const int err = errno;
-    std::error_code ec;
-    fs::remove(tmp, ec);
     // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
     while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
       message.pop_back();
@@ -130,9 +115,8 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
         message.starts_with("vtk") && colon != std::string::npos)
       message.erase(0, colon + 3);
     if (err != 0) message += (message.empty() ? "" : ": ") + std::string(std::strerror(err));
-    throw std::runtime_error("cannot write " + path.string() + ": " + message);
-  }
-  rename_into_place(tmp, path);
+    throw std::runtime_error(message);
+  });
 }
 
 template <typename Array>
@@ -388,26 +372,19 @@ struct VtkExporter::Writer {
 
   // flock.pvd: every frame file written so far with its time.
   void write_collection() {
-    const fs::path path = dir / "flock.pvd";
-    const fs::path tmp = temporary(path);
-    {
-      std::ofstream out(tmp, std::ios::trunc);
-      out << "<?xml version=\"1.0\"?>\n"
-             "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-             "  <Collection>\n";
-      char line[512];
-      for (const auto& [t, file] : collection) {
-        std::snprintf(line, sizeof line,
-                      "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
-                      file.c_str());
-        out << line;
-      }
-      out << "  </Collection>\n</VTKFile>\n";
-      out.close();
-      if (!out)
-        throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
+    std::string text =
+        "<?xml version=\"1.0\"?>\n"
+        "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "  <Collection>\n";
+    char line[512];
+    for (const auto& [t, file] : collection) {
+      std::snprintf(line, sizeof line,
+                    "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
+                    file.c_str());
+      text += line;
     }
-    rename_into_place(tmp, path);
+    text += "  </Collection>\n</VTKFile>\n";
+    write_text_atomically(dir / "flock.pvd", text);
   }
 
   // trajectories.vtp: one polyline per bird through its saved positions (a single saved frame:
@@ -462,22 +439,9 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   selected_ = select_birds(options.birds, bird_count);
   if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");
 
-  // Create and probe the directory before the run.
-  auto fail = [&](const std::string& why) {
-    throw std::runtime_error("VTK export directory " + dir_.string() + ": " + why);
-  };
-  std::error_code ec;
-  fs::create_directories(dir_ / "frames", ec);
-  if (ec) fail("cannot create it: " + ec.message());
-  for (const fs::path& probe : {dir_ / ".aeroflock-probe", dir_ / "frames" / ".aeroflock-probe"}) {
-    errno = 0;
-    std::ofstream out(probe);
-    out << "probe\n";
-    out.close();
-    const int err = errno;
-    fs::remove(probe, ec);
-    if (!out) fail(std::string("cannot write there: ") + std::strerror(err ? err : EIO));
-  }
+  // Create and probe the directories before the run.
+  check_writable_dir(dir_, "VTK export directory");
+  check_writable_dir(dir_ / "frames", "VTK export directory");
 
   writer_ = std::make_unique<Writer>();
   Writer& w = *writer_;
