@@ -68,20 +68,23 @@ TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
   EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
 }
 
-TEST(FlockExtent, CentreAndRadiusOfTheFiniteBirds) {
+TEST(FlockExtent, CentreVelocityAndRadiiOfTheFiniteBirds) {
   EXPECT_EQ(flock_extent({}).finite, 0u);
   EXPECT_EQ(flock_extent({}).centre, glm::dvec3(0.0));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<BirdState> birds = {
-      bird({100, 0, 0}, {0, 0, 0}),
+      bird({100, 0, 0}, {10, 0, 0}),
       bird({nan, 0, 0}, {0, 0, 0}),
-      bird({300, 0, 0}, {0, 0, 0}),
+      bird({300, 0, 0}, {30, 0, 0}),
       bird({200, 50, 0}, {0, nan, 0}),
+      bird({200, 0, 0}, {20, 0, 0}),
   };
   const FlockExtent e = flock_extent(birds);
-  EXPECT_EQ(e.finite, 2u);
+  EXPECT_EQ(e.finite, 3u);
   EXPECT_EQ(e.centre, glm::dvec3(200, 0, 0));
+  EXPECT_EQ(e.mean_velocity, glm::dvec3(20, 0, 0));
   EXPECT_DOUBLE_EQ(e.radius, 100.0);
+  EXPECT_DOUBLE_EQ(e.rms_radius, std::sqrt(2.0 * 100.0 * 100.0 / 3.0));
   EXPECT_TRUE(is_finite(birds[0]));
   EXPECT_FALSE(is_finite(birds[3]));
 }

@@ -118,15 +118,15 @@ int run(const RunOptions& opt) {
   summary.scenario = scenario.name;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
-  std::unique_ptr<Backend> backend =
-      make_backend({opt.backend, opt.birds, opt.device, opt.images.any()}, std::move(scenario));
+  std::unique_ptr<Simulation> sim =
+      make_simulation({opt.backend, opt.birds, opt.device, opt.images.any()}, std::move(scenario));
   std::unique_ptr<FrameOutput> images;
-  if (opt.images.any()) images = std::make_unique<FrameOutput>(opt.images, *backend);
-  summary.backend = backend->name();
-  summary.device = backend->device();
+  if (opt.images.any()) images = std::make_unique<FrameOutput>(opt.images, *sim);
+  summary.backend = sim->backend();
+  summary.device = describe_device(*sim);
 
   Progress progress;
-  const size_t birds = backend->birds().size();
+  const size_t birds = sim->bird_count();
   // Before the run: a directory that cannot be written fails now.
   std::unique_ptr<VtkExporter> vtk;
   if (!opt.vtk_dir.empty()) {
@@ -136,7 +136,7 @@ int run(const RunOptions& opt) {
     vo.birds = opt.vtk_birds;
     vo.compression = parse_vtk_compression(opt.vtk_compression);
     try {
-      vtk = std::make_unique<VtkExporter>(vo, backend->scenario(), birds);
+      vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
     }
@@ -146,40 +146,33 @@ int run(const RunOptions& opt) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   bool interrupted = false;
-  uint64_t stepped = 0;  // frames run
   for (uint64_t frame = 0; frame < frames; ++frame) {
     if (g_interrupted || (vtk && vtk->failed())) {
       interrupted = g_interrupted;
       break;
     }
-    backend->step_frame();
-    ++stepped;
-    if (images) images->frame(*backend, frame);
-    // The exporter writes on its own thread; it takes the frame before the last from a lagging
-    // backend (Vulkan), so that the device never waits for it.
-    if (vtk && backend->lags() && frame > 0 && vtk->due(frame - 1))
-      vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
-    else if (vtk && !backend->lags() && vtk->due(frame))
-      vtk->add_frame(backend->time(), backend->birds());
+    // Frames due for export record their forces; the exporter takes the newest state that is
+    // ready without waiting (on Vulkan the frame before the last) and writes on its own thread.
+    sim->step_frame(vtk && vtk->due(sim->frames() + 1));
+    if (images) images->frame(*sim, frame);
+    if (vtk) vtk->offer(sim->ready_snapshot());
     if (progress.due() || frame + 1 == frames) {
       const double w = wall();
       char line[128];
-      std::snprintf(line, sizeof line, "t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s",
-                    backend->time(), seconds, birds,
-                    w > 0 ? birds * double(backend->steps()) / w : 0.0);
+      std::snprintf(line, sizeof line, "t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s", sim->time(),
+                    seconds, birds, w > 0 ? birds * double(sim->steps()) / w : 0.0);
       progress.show(line);
     }
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
-  if (vtk && backend->lags() && stepped > 0 && vtk->due(stepped - 1))
-    vtk->add_frame(backend->time(), backend->birds());  // the last frame, still owed
+  if (vtk) vtk->offer(sim->snapshot());  // the last frame, if due and still owed
 
   summary.wall_seconds = wall();
-  summary.steps = backend->steps();
-  summary.sim_seconds = backend->time();
-  summary.stats = flock_statistics(backend->birds());
-  if (images) images->finish(*backend);
+  summary.steps = sim->steps();
+  summary.sim_seconds = sim->time();
+  summary.stats = flock_statistics(sim->birds());
+  if (images) images->finish(*sim);
   if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
   print_summary(summary, opt.summary, vtk.get(), interrupted);

@@ -30,6 +30,7 @@
 #include "git_revision.h"
 #include "gpu/compute.h"
 #include "gpu/error.h"
+#include "gpu/gpu_simulation.h"
 #include "host.h"
 #include "io/atomic_file.h"
 #include "io/paths.h"
@@ -120,32 +121,30 @@ double quantile(std::vector<double> v, double p) {
 // does (the image is not read back). The camera looks at the whole flock as it is at the start.
 class OffscreenLoad {
  public:
-  explicit OffscreenLoad(Backend& backend) {
-    const gpu::Device* device = backend.gpu_device();
-    if (!device || !backend.gpu_simulation())
-      throw std::runtime_error("rendering is measured only with the Vulkan backend");
+  explicit OffscreenLoad(Simulation& sim) : sim_(dynamic_cast<gpu::GpuSimulation*>(&sim)) {
+    if (!sim_) throw std::runtime_error("rendering is measured only with the Vulkan backend");
+    const gpu::Device& device = sim_->gpu_device();
     const VkExtent2D size{kRenderWidth, kRenderHeight};
-    renderer_ = std::make_unique<render::Renderer>(*device, backend.scenario(),
-                                                   render::Offscreen::kFormat, size);
-    target_ = std::make_unique<render::Offscreen>(*device, size);
-    submitter_ = std::make_unique<gpu::Submitter>(*device, 1);
-    camera_ = AutoCamera().update(backend.birds());
+    renderer_ = std::make_unique<render::Renderer>(device, sim.scenario(), render::Offscreen::kFormat, size);
+    target_ = std::make_unique<render::Offscreen>(device, size);
+    submitter_ = std::make_unique<gpu::Submitter>(device, 1);
+    camera_ = AutoCamera().update(sim.birds());
   }
 
-  void frame(Backend& backend) {
-    gpu::GpuSimulation& sim = *backend.gpu_simulation();
+  void frame() {
     render::View view;
     view.camera = camera_;
-    view.time = float(backend.time());
-    World world = backend.scenario().world;
-    world.move_targets(backend.time());
+    view.time = float(sim_->time());
+    World world = sim_->scenario().world;
+    world.move_targets(sim_->time());
     submitter_->run([&](VkCommandBuffer cmd) {
-      renderer_->record(cmd, target_->image(), target_->view(), sim.bird_buffer(), sim.bird_count(),
-                        world, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+      renderer_->record(cmd, target_->image(), target_->view(), sim_->bird_buffer(),
+                        uint32_t(sim_->bird_count()), world, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
   }
 
  private:
+  gpu::GpuSimulation* sim_;
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<render::Offscreen> target_;
   std::unique_ptr<gpu::Submitter> submitter_;
@@ -176,10 +175,10 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
   const bool on_device = backend_name.starts_with("vulkan:");
   const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
-  std::unique_ptr<Backend> backend = make_backend(
+  std::unique_ptr<Simulation> sim = make_simulation(
       {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, s.scenario);
   std::unique_ptr<OffscreenLoad> render;
-  if (rendering) render = std::make_unique<OffscreenLoad>(*backend);
+  if (rendering) render = std::make_unique<OffscreenLoad>(*sim);
   TempDir vtk_dir;
   std::unique_ptr<VtkExporter> vtk;
   if (variant == "vtk") {
@@ -189,19 +188,14 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
     VtkOptions vo;
     vo.dir = vtk_dir.path;
     vo.every = kVtkEvery;
-    vtk = std::make_unique<VtkExporter>(vo, backend->scenario(), backend->birds().size());
+    vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), sim->bird_count());
   }
-  uint64_t frame = 0;
   auto one_frame = [&] {
     const auto start = Clock::now();
-    backend->step_frame();
-    (void)backend->birds();
-    if (render) render->frame(*backend);
-    if (vtk && backend->lags() && frame > 0 && vtk->due(frame - 1))
-      vtk->add_frame(backend->lagged_time(), backend->lagged_birds());
-    else if (vtk && !backend->lags() && vtk->due(frame))
-      vtk->add_frame(backend->time(), backend->birds());
-    ++frame;
+    sim->step_frame(vtk && vtk->due(sim->frames() + 1));
+    (void)sim->birds();
+    if (render) render->frame();
+    if (vtk) vtk->offer(sim->ready_snapshot());
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   };
   // With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
@@ -219,8 +213,8 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   Measurement m;
   m.backend = backend_name;
   m.variant = variant;
-  m.device = backend->device();
-  m.birds = uint32_t(backend->birds().size());
+  m.device = describe_device(*sim);
+  m.birds = uint32_t(sim->bird_count());
   m.iterations = int(times.size());
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);

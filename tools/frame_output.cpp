@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "gpu/compute.h"
+#include "gpu/gpu_simulation.h"
 #include "gpu/layout.h"
 #include "host.h"
 #include "io/image.h"
@@ -35,7 +36,7 @@ render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
 
 struct FrameOutput::Impl {
   ImageOptions options;
-  // A device of our own where the backend has none (the CPU reference), with a bird buffer.
+  // A device of our own where the sim has none (the CPU reference), with a bird buffer.
   std::unique_ptr<gpu::Device> own_device;
   std::unique_ptr<gpu::Buffer> own_birds;
   const gpu::Device* device = nullptr;
@@ -45,7 +46,7 @@ struct FrameOutput::Impl {
   AutoCamera camera;
   FILE* video = nullptr;
 
-  Impl(const ImageOptions& o, Backend& backend) : options(o) {
+  Impl(const ImageOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png");
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
@@ -54,18 +55,18 @@ struct FrameOutput::Impl {
             "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
       check_output_path(options.video, "--video");
     }
-    device = backend.gpu_device();
+    if (const auto* gpu_sim = dynamic_cast<const gpu::GpuSimulation*>(&sim)) device = &gpu_sim->gpu_device();
     if (!device) {
       gpu::DeviceOptions d = gpu::headless(-1, false);
       d.graphics = true;
       own_device = std::make_unique<gpu::Device>(d);
       device = own_device.get();
       own_birds = std::make_unique<gpu::Buffer>(
-          *device, std::max<size_t>(backend.birds().size(), 1) * sizeof(gpu::GpuBird),
+          *device, std::max<size_t>(sim.bird_count(), 1) * sizeof(gpu::GpuBird),
           gpu::Memory::host);
     }
     const VkExtent2D size{options.width, options.height};
-    renderer = std::make_unique<render::Renderer>(*device, backend.scenario(),
+    renderer = std::make_unique<render::Renderer>(*device, sim.scenario(),
                                                   render::Offscreen::kFormat, size);
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
@@ -83,13 +84,13 @@ struct FrameOutput::Impl {
     if (video) pclose(video);
   }
 
-  std::vector<uint8_t> render(Backend& backend) {
-    const std::vector<BirdState>& birds = backend.birds();  // waits for the frame
+  std::vector<uint8_t> render(Simulation& sim) {
+    const std::vector<BirdState>& birds = sim.birds();  // waits for the frame
     const gpu::Buffer* bird_buffer = nullptr;
     uint32_t count = 0;
-    if (gpu::GpuSimulation* sim = backend.gpu_simulation()) {
-      bird_buffer = &sim->bird_buffer();
-      count = sim->bird_count();
+    if (const auto* gpu_sim = dynamic_cast<const gpu::GpuSimulation*>(&sim)) {
+      bird_buffer = &gpu_sim->bird_buffer();
+      count = uint32_t(gpu_sim->bird_count());
     } else {
       std::vector<gpu::GpuBird> packed;
       for (const BirdState& b : birds) packed.push_back(gpu::pack(b));
@@ -99,9 +100,9 @@ struct FrameOutput::Impl {
     }
     render::View view;
     view.camera = camera.update(birds);
-    view.time = float(backend.time());
-    World world = backend.scenario().world;
-    world.move_targets(backend.time());
+    view.time = float(sim.time());
+    World world = sim.scenario().world;
+    world.move_targets(sim.time());
     submitter->run([&](VkCommandBuffer cmd) {
       renderer->record(cmd, target->image(), target->view(), *bird_buffer, count, world, view,
                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -111,16 +112,16 @@ struct FrameOutput::Impl {
   }
 };
 
-FrameOutput::FrameOutput(const ImageOptions& options, Backend& backend)
-    : impl_(std::make_unique<Impl>(options, backend)) {}
+FrameOutput::FrameOutput(const ImageOptions& options, Simulation& sim)
+    : impl_(std::make_unique<Impl>(options, sim)) {}
 
 FrameOutput::~FrameOutput() = default;
 
-void FrameOutput::frame(Backend& backend, uint64_t index) {
+void FrameOutput::frame(Simulation& sim, uint64_t index) {
   Impl& o = *impl_;
   const bool to_dir = !o.options.frames_dir.empty() && index % o.options.every == 0;
   if (!to_dir && !o.video) return;
-  const std::vector<uint8_t> pixels = o.render(backend);
+  const std::vector<uint8_t> pixels = o.render(sim);
   if (to_dir) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06llu.png",
@@ -131,10 +132,10 @@ void FrameOutput::frame(Backend& backend, uint64_t index) {
     throw std::runtime_error("--video: ffmpeg stopped taking frames");
 }
 
-void FrameOutput::finish(Backend& backend) {
+void FrameOutput::finish(Simulation& sim) {
   Impl& o = *impl_;
   if (!o.options.png.empty())
-    write_png(o.options.png, o.options.width, o.options.height, o.render(backend));
+    write_png(o.options.png, o.options.width, o.options.height, o.render(sim));
   if (o.video) {
     const int status = pclose(o.video);
     o.video = nullptr;

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "backend.h"
+#include "model/simulation.h"
 #include "render/camera.h"
 
 namespace aeroflock {
@@ -36,12 +36,12 @@ class AutoCamera {
 class FrameOutput {
  public:
   // Checks that every output can be written (and that ffmpeg exists for a video) before the run.
-  FrameOutput(const ImageOptions& options, Backend& backend);
+  FrameOutput(const ImageOptions& options, Simulation& sim);
   ~FrameOutput();
   // After frame `index` (0-based) of the run.
-  void frame(Backend& backend, uint64_t index);
+  void frame(Simulation& sim, uint64_t index);
   // After the last frame: writes --png and closes the video.
-  void finish(Backend& backend);
+  void finish(Simulation& sim);
 
  private:
   struct Impl;

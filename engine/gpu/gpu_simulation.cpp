@@ -60,36 +60,37 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       routes_(buffer_with(device, pack(world()).routes, Memory::device_local)),
       route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local)),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local)),
-      forces_(std::make_unique<Buffer>(device, sizeof(GpuForces), Memory::device_local)),
       step_(device, shader_spirv("step"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-             kBindingBranches, kBindingForces},
-            sizeof(StepConstants), 4),
+             kBindingBranches},
+            sizeof(StepConstants), 2),
       slots_{{targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)},
              {targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
-  make_sets();
+  for (Slot& slot : slots_)
+    slot.set = step_.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_});
 }
 
 std::string GpuSimulation::device() const { return device_.name() + " (" + device_.driver() + ")"; }
 
-void GpuSimulation::make_sets() {
-  for (Slot& slot : slots_)
-    slot.set = step_.make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, forces_.get()});
-}
-
-// The forces buffers, made the first time a frame records forces (they are as large as the
-// flock's state again, three times over).
+// The forces pipeline and buffers, made the first time a frame records forces (the buffers are
+// as large as the flock's state again, three times over).
 void GpuSimulation::record_forces_buffers() {
-  if (slots_[0].forces) return;
-  submitter_.wait_all();  // the sets in flight name the stand-in
+  if (step_forces_) return;
   const VkDeviceSize bytes = std::max<VkDeviceSize>(count_, 1) * sizeof(GpuForces);
   check_storage_size(device_, bytes, sizeof(GpuForces), "birds' forces");
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
-  for (Slot& slot : slots_) slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
-  make_sets();
+  step_forces_ = std::make_unique<ComputePipeline>(
+      device_, shader_spirv("step_forces"),
+      std::vector<uint32_t>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
+                            kBindingRouteTargets, kBindingBranches, kBindingForces},
+      sizeof(StepConstants), 2);
+  for (Slot& slot : slots_) {
+    slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
+    slot.forces_set = step_forces_->make_set(
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, forces_.get()});
+  }
 }
 
 void GpuSimulation::step(uint32_t steps, bool record_forces) {
@@ -112,10 +113,12 @@ void GpuSimulation::step(uint32_t steps, bool record_forces) {
   c.bird_count = count_;
   c.turning = uint32_t(world().turning);
   c.ground_effect = world().ground_effect ? 1u : 0u;
-  c.record_forces = record_forces ? 1u : 0u;
   c.next_targets = uint32_t(next.size());
   barrier_to_compute(cmd);
-  step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+  if (record_forces)
+    step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+  else
+    step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
   record_readback(cmd, birds_, slot.readback);
   if (record_forces) record_readback(cmd, *forces_, *slot.forces);
   slot.fence = submitter_.submit();

@@ -42,14 +42,13 @@ class GpuSimulation final : public Simulation {
   struct Slot {
     Buffer targets, readback;
     std::unique_ptr<Buffer> forces;  // host copy of the forces, once asked for
-    VkDescriptorSet set = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     Snapshot snapshot;  // its frame, steps and time; the vectors below once unpacked
     bool unpacked = false, has_forces = false;
     std::vector<BirdState> birds;
     std::vector<StepForces> step_forces;
   };
-  void make_sets();
   void record_forces_buffers();
   Snapshot read(Slot& slot);
 
@@ -57,8 +56,10 @@ class GpuSimulation final : public Simulation {
   const Device& device_;
   uint32_t count_;
   Buffer birds_, species_, routes_, route_targets_, branches_;
-  std::unique_ptr<Buffer> forces_;  // written by step.comp when asked; until then a stand-in
   ComputePipeline step_;
+  // step_forces.comp and the forces it writes, made when a frame first records forces.
+  std::unique_ptr<ComputePipeline> step_forces_;
+  std::unique_ptr<Buffer> forces_;
   Slot slots_[2];
   int last_ = -1;  // the slot of the last frame (-1: none yet)
   std::vector<BirdState> initial_;

@@ -115,17 +115,17 @@ struct GpuForces {
   AF_V16 vec4 torque;       // body frame
 };
 
-// Push constants of step.comp.
+// Push constants of step.comp and step_forces.comp.
 struct StepConstants {
   AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
   float dt;
   float time;             // at the start of the dispatch
-  uint steps;             // steps this dispatch (0: only the forces)
+  uint steps;             // steps this dispatch (0: step_forces.comp records the forces only)
   uint bird_count;
   uint turning;           // TurningModel: 0 tail, 1 fixed-rate
   uint ground_effect;
-  uint record_forces;     // 1: write each bird's forces of the next step from the final state
-  uint next_targets;      // where the targets at the next frame's start begin in the targets buffer
+  uint next_targets;      // step_forces.comp: where the targets at the next frame's start begin
+  uint pad;
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

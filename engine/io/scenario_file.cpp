@@ -114,14 +114,21 @@ void validate_species(const TableReader& r, const Species& s) {
   }
 }
 
-// A [[species]] table: a copy of `base` (a preset or an earlier species) with fields overridden.
-Species read_species(const TableReader& r, const std::vector<Species>& known) {
+// The required, unique `name` of a table of `what`s (species, target, branch, route).
+template <class T>
+std::string unique_name(const TableReader& r, const std::vector<T>& known, const char* what) {
   r.require("name");
   const LocatedString name = *r.located_string("name");
-  io::check_unique(known, name, "species");
+  io::check_unique(known, name, what);
+  return name.value;
+}
+
+// A [[species]] table: a copy of `base` (a preset or an earlier species) with fields overridden.
+Species read_species(const TableReader& r, const std::vector<Species>& known) {
+  const std::string name = unique_name(r, known, "species");
   Species s;
   if (auto base = r.located_string("base")) s = known[io::index_by_name(known, *base, "species")];
-  s.name = name.value;
+  s.name = name;
   for (const io::SpeciesField& f : io::species_fields())
     if (r.find(f.name)) s.*f.member = from_unit(r.number(f.name, 0.0), f.unit);
   validate_species(r, s);
@@ -129,12 +136,9 @@ Species read_species(const TableReader& r, const std::vector<Species>& known) {
 }
 
 Target read_target(const TableReader& r, const std::vector<Target>& known) {
-  r.require("name");
-  r.require("centre");
   Target t;
-  const LocatedString name = *r.located_string("name");
-  io::check_unique(known, name, "target");
-  t.name = name.value;
+  t.name = unique_name(r, known, "target");
+  r.require("centre");
   t.centre = r.vec3("centre", t.centre);
   t.radius = r.number("radius", t.radius, Range::positive);
   t.velocity = r.vec3("velocity", t.velocity);
@@ -144,12 +148,9 @@ Target read_target(const TableReader& r, const std::vector<Target>& known) {
 }
 
 Branch read_branch(const TableReader& r, const std::vector<Branch>& known) {
-  r.require("name");
-  r.require("point");
   Branch b;
-  const LocatedString name = *r.located_string("name");
-  io::check_unique(known, name, "branch");
-  b.name = name.value;
+  b.name = unique_name(r, known, "branch");
+  r.require("point");
   b.point = r.vec3("point", b.point);
   const glm::dvec3 d = r.vec3("direction", b.direction);
   const double horizontal = std::hypot(d.x, d.z);
@@ -162,11 +163,8 @@ Branch read_branch(const TableReader& r, const std::vector<Branch>& known) {
 }
 
 Route read_route(const TableReader& r, const World& world) {
-  r.require("name");
   Route route;
-  const LocatedString name = *r.located_string("name");
-  io::check_unique(world.routes, name, "route");
-  route.name = name.value;
+  route.name = unique_name(r, world.routes, "route");
   for (const LocatedString& target : r.strings("targets"))
     route.targets.push_back(io::index_by_name(world.targets, target, "target"));
   route.loop = r.boolean("loop", route.loop);

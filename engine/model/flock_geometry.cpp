@@ -23,11 +23,18 @@ bool is_finite(const BirdState& bird) {
 FlockExtent flock_extent(const std::vector<BirdState>& birds) {
   FlockExtent e;
   for (const BirdState& b : birds)
-    if (is_finite(b)) e.centre += b.position, ++e.finite;
+    if (is_finite(b)) e.centre += b.position, e.mean_velocity += b.velocity, ++e.finite;
   if (e.finite == 0) return e;
   e.centre /= double(e.finite);
+  e.mean_velocity /= double(e.finite);
+  double spread = 0.0;
   for (const BirdState& b : birds)
-    if (is_finite(b)) e.radius = std::max(e.radius, glm::distance(b.position, e.centre));
+    if (is_finite(b)) {
+      const double d = glm::distance(b.position, e.centre);
+      e.radius = std::max(e.radius, d);
+      spread += d * d;
+    }
+  e.rms_radius = std::sqrt(spread / double(e.finite));
   return e;
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "gpu/gpu_simulation.h"
+#include "model/flock_geometry.h"
 #include "render/camera_control.h"
 #include "render/frame_ring.h"
 #include "render/renderer.h"
@@ -40,27 +41,14 @@ struct FlockSnapshot {
 FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, double time) {
   FlockSnapshot s;
   s.time = time;
-  glm::dvec3 sum(0.0), velocity(0.0);
-  size_t n = 0;
-  auto finite = [](const glm::dvec3& v) { return std::isfinite(v.x + v.y + v.z); };
-  auto usable = [&](const BirdState& b) { return finite(b.position) && finite(b.velocity); };
-  for (const BirdState& b : birds)
-    if (usable(b)) sum += b.position, velocity += b.velocity, ++n;
-  if (n == 0) return s;
-  const glm::dvec3 centroid = sum / double(n);
-  double spread = 0.0;
-  for (const BirdState& b : birds)
-    if (usable(b)) spread += glm::dot(b.position - centroid, b.position - centroid);
-  s.centroid = centroid;
-  s.mean_velocity = velocity / double(n);
-  s.radius = float(std::sqrt(spread / double(n)));
+  const FlockExtent flock = flock_extent(birds);
+  if (flock.finite == 0) return s;
+  s.centroid = flock.centre;
+  s.mean_velocity = flock.mean_velocity;
+  s.radius = float(flock.rms_radius);
   const BirdState& bird = birds.at(followed);
-  if (usable(bird)) {
-    s.bird = bird.position;
-    s.bird_velocity = bird.velocity;
-  } else {
-    s.bird = centroid;
-  }
+  s.bird = is_finite(bird) ? bird.position : flock.centre;
+  s.bird_velocity = is_finite(bird) ? bird.velocity : glm::dvec3(0.0);
   return s;
 }
 

@@ -1,0 +1,33 @@
+// One frame of the flock: each invocation steps one bird `steps` times with the fixed dt, its
+// state in registers throughout, and writes it back once. step.comp is this; step_forces.comp
+// (RECORD_FORCES) also writes the forces of the step each bird takes next (the exporters' and the
+// cross-check's forces): a pipeline of its own, so that the plain step carries none of it.
+
+#include "buffers.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform StepPush { StepConstants pc; };  // model.glsl reads pc
+#ifdef RECORD_FORCES
+layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuForces forces_out[]; };
+#endif
+
+#include "model.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.bird_count) return;
+  GpuBird b = birds[i];
+  GpuSpecies s = species[b.species];
+  Leg leg = load_leg(b, 0u);
+  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt);
+  birds[i] = b;
+#ifdef RECORD_FORCES
+  {
+    // The step is taken again by the next frame, with the targets where it sees them: only its
+    // forces are kept.
+    GpuBird next = b;
+    Leg next_leg = load_leg(next, pc.next_targets);
+    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt);
+  }
+#endif
+}
