@@ -22,12 +22,14 @@ const auto* const kValidation = ::testing::AddGlobalTestEnvironment(new Validati
 
 bool backend_available() {
   const auto& d = testing::test_device();
-  if (!d.device && !d.error.empty()) ADD_FAILURE() << "the Vulkan device did not start: " << d.error;
+  if (!d.device && !d.error.empty())
+    ADD_FAILURE() << "the Vulkan device did not start: " << d.error;
   return d.device != nullptr;
 }
 const char* backend_name() { return "vulkan"; }
 std::unique_ptr<Simulation> make_flight(Scenario scenario, uint32_t birds) {
-  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, std::move(scenario), birds);
+  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, std::move(scenario),
+                                              birds);
 }
 
 }  // namespace aeroflock

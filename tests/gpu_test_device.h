@@ -43,10 +43,12 @@ inline const TestDevice& test_device(bool graphics = false) {
 
 // Declares `gpu::Device& name`, or skips the test (no device) or fails it (a device that did not
 // start).
-#define AEROFLOCK_DEVICE_OR_SKIP(name, graphics)                                              \
-  const ::aeroflock::testing::TestDevice& name##_holder = ::aeroflock::testing::test_device(graphics); \
-  if (!name##_holder.device) {                                                               \
-    if (!name##_holder.error.empty()) FAIL() << "the Vulkan device did not start: " << name##_holder.error; \
-    GTEST_SKIP() << "no Vulkan device on this machine";                                      \
-  }                                                                                          \
+#define AEROFLOCK_DEVICE_OR_SKIP(name, graphics)                            \
+  const ::aeroflock::testing::TestDevice& name##_holder =                   \
+      ::aeroflock::testing::test_device(graphics);                          \
+  if (!name##_holder.device) {                                              \
+    if (!name##_holder.error.empty())                                       \
+      FAIL() << "the Vulkan device did not start: " << name##_holder.error; \
+    GTEST_SKIP() << "no Vulkan device on this machine";                     \
+  }                                                                         \
   ::aeroflock::gpu::Device& name = *name##_holder.device

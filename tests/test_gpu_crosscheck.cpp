@@ -8,9 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <random>
-#include <map>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -61,7 +61,8 @@ branch = "oak"
 [[flocks]]
 species = "starling"
 route = "tour"
-)", "probe.toml");
+)",
+                        "probe.toml");
 }
 
 // Random but valid birds: flying at all attitudes a bird takes, near the ground, taking off,
@@ -79,7 +80,8 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.target = static_cast<uint32_t>(i / 2 % 2);
     b.position = dvec3{in(-6000, 6000), in(500, 5000), in(-6000, 6000)};
     const double heading = in(-kPi, kPi);
-    b.attitude = glm::angleAxis(heading, dvec3{0, -1, 0}) * glm::angleAxis(in(-0.5, 0.5), dvec3{0, 0, 1}) *
+    b.attitude = glm::angleAxis(heading, dvec3{0, -1, 0}) *
+                 glm::angleAxis(in(-0.5, 0.5), dvec3{0, 0, 1}) *
                  glm::angleAxis(in(-0.7, 0.7), dvec3{1, 0, 0});
     b.velocity = b.attitude * dvec3{in(600, 1400), in(-150, 150), in(-100, 100)};
     b.omega = dvec3{in(-1, 1), in(-1, 1), in(-1, 1)};
@@ -122,19 +124,20 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
   return birds;
 }
 
-double max_abs(const dvec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+double max_abs(const dvec3& v) {
+  return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+}
 
 // How far apart two values of a state field are, in the field's unit (0 or infinity for ids).
 double difference(double a, double b) { return std::fabs(a - b); }
 double difference(const dvec3& a, const dvec3& b) { return max_abs(a - b); }
 double difference(const glm::dquat& a, const glm::dquat& b) {
-  return std::max({std::fabs(a.w - b.w), std::fabs(a.x - b.x), std::fabs(a.y - b.y), std::fabs(a.z - b.z)});
+  return std::max(
+      {std::fabs(a.w - b.w), std::fabs(a.x - b.x), std::fabs(a.y - b.y), std::fabs(a.z - b.z)});
 }
 template <class T>
-  requires std::is_integral_v<T> || std::is_enum_v<T>
-double difference(T a, T b) {
-  return a == b ? 0.0 : INFINITY;
-}
+requires std::is_integral_v<T> || std::is_enum_v<T>
+double difference(T a, T b) { return a == b ? 0.0 : INFINITY; }
 // The wingbeat phase wraps at 2 pi: a bird on either side of it is the same bird.
 template <class T>
 double field_difference(std::string_view name, const T& a, const T& b) {
@@ -147,12 +150,12 @@ double field_difference(std::string_view name, const T& a, const T& b) {
 // step of dt = 0.3 ms from the same float state). A field added to bird_state.def needs a line
 // here: the test fails for a field without one.
 const std::map<std::string, double> kStateTolerance = {
-    {"position", 1e-3},          // cm: a step moves a bird about 0.3 cm; floats hold 5e-4 at 60 m
-    {"phase", 1e-5},             // rad
-    {"velocity", 1e-2},          // cm/s
-    {"frequency", 1e-5},         // Hz
-    {"attitude", 1e-6},          // quaternion components
-    {"omega", 2e-5},             // rad/s: the bank command divides an angle by bank_time 0.1 s
+    {"position", 1e-3},   // cm: a step moves a bird about 0.3 cm; floats hold 5e-4 at 60 m
+    {"phase", 1e-5},      // rad
+    {"velocity", 1e-2},   // cm/s
+    {"frequency", 1e-5},  // Hz
+    {"attitude", 1e-6},   // quaternion components
+    {"omega", 2e-5},      // rad/s: the bank command divides an angle by bank_time 0.1 s
     {"amplitude", 1e-6},
     {"tail_bend", 1e-6},         // rad
     {"tail_twist", 1e-6},        // rad
@@ -194,9 +197,15 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
     const double force_scale = glm::length(f.total) + weight;
     const double torque_scale = glm::length(f.torque) + weight * 0.5 * sp.box_c;
     const StepForces& g = gpu_forces[i];
-    for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]}, {g.wing[1], f.wing[1]}, {g.wing[2], f.wing[2]},
-                                   {g.wing[3], f.wing[3]}, {g.tail, f.tail}, {g.ground, f.ground},
-                                   {g.legs, f.legs}, {g.gravity, f.gravity}, {g.total, f.total}})
+    for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]},
+                                   {g.wing[1], f.wing[1]},
+                                   {g.wing[2], f.wing[2]},
+                                   {g.wing[3], f.wing[3]},
+                                   {g.tail, f.tail},
+                                   {g.ground, f.ground},
+                                   {g.legs, f.legs},
+                                   {g.gravity, f.gravity},
+                                   {g.total, f.total}})
       worst_force = std::max(worst_force, max_abs(gpu - ref) / force_scale);
     for (const auto& [gpu, ref] : {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
       worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
@@ -231,7 +240,8 @@ class GpuTrajectory : public ::testing::TestWithParam<std::string> {};
 TEST_P(GpuTrajectory, FirstTwoSecondsFollowTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = load_scenario(GetParam());
-  std::vector<BirdState> start = spawn_birds(scenario, std::min<uint32_t>(64, uint32_t(spawn_birds(scenario).size())));
+  std::vector<BirdState> start =
+      spawn_birds(scenario, std::min<uint32_t>(64, uint32_t(spawn_birds(scenario).size())));
   for (BirdState& b : start) b = rounded(b);
   CpuSimulation cpu(scenario, start);
   gpu::GpuSimulation gpu_sim(device, scenario, start);
@@ -241,7 +251,8 @@ TEST_P(GpuTrajectory, FirstTwoSecondsFollowTheReference) {
   }
   const std::vector<BirdState>& g = gpu_sim.birds();
   double worst = 0;
-  for (size_t i = 0; i < g.size(); ++i) worst = std::max(worst, glm::distance(g[i].position, cpu.birds()[i].position));
+  for (size_t i = 0; i < g.size(); ++i)
+    worst = std::max(worst, glm::distance(g[i].position, cpu.birds()[i].position));
   RecordProperty("worst_position_difference_cm", std::to_string(worst));
   EXPECT_LT(worst, 20.0) << "1% of the 20 m flown in 2 s";
   EXPECT_EQ(device.validation_errors(), 0u);
@@ -285,7 +296,8 @@ TEST(GpuCrossCheck, RecordedForcesAreTheNextStepsWithTheNextFramesTargets) {
     const Species& sp = scenario.species[b.species];
     StepForces f;
     step_bird(b, sp, world, s.time, scenario.dt, &f);
-    worst = std::max(worst, max_abs((*s.forces)[i].total - f.total) / (glm::length(f.total) + sp.mass * kGravity));
+    worst = std::max(worst, max_abs((*s.forces)[i].total - f.total) /
+                                (glm::length(f.total) + sp.mass * kGravity));
   }
   RecordProperty("worst_force_relative", std::to_string(worst));
   EXPECT_LT(worst, 1e-5);

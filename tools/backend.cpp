@@ -10,23 +10,26 @@ namespace aeroflock {
 
 std::vector<std::string> vulkan_devices() {
   std::vector<std::string> lines;
-  for (const gpu::DeviceInfo& info : gpu::Device::list_devices()) lines.push_back(gpu::describe(info));
+  for (const gpu::DeviceInfo& info : gpu::Device::list_devices())
+    lines.push_back(gpu::describe(info));
   return lines;
 }
 
 std::unique_ptr<Simulation> make_simulation(const BackendOptions& options, Scenario scenario) {
-  if (options.name == "cpu") return std::make_unique<CpuSimulation>(std::move(scenario), options.birds);
+  if (options.name == "cpu")
+    return std::make_unique<CpuSimulation>(std::move(scenario), options.birds);
   if (options.name == "vulkan") {
     gpu::DeviceOptions device = gpu::headless(options.device, false);
     device.graphics = options.graphics;
-    return std::make_unique<gpu::GpuSimulation>(std::make_unique<gpu::Device>(device), std::move(scenario),
-                                                options.birds);
+    return std::make_unique<gpu::GpuSimulation>(std::make_unique<gpu::Device>(device),
+                                                std::move(scenario), options.birds);
   }
   throw std::runtime_error("unknown backend \"" + options.name + "\" (available: vulkan, cpu)");
 }
 
 std::string describe_device(const Simulation& simulation) {
-  return simulation.backend() == "cpu" ? simulation.device() + " on " + cpu_model() : simulation.device();
+  return simulation.backend() == "cpu" ? simulation.device() + " on " + cpu_model()
+                                       : simulation.device();
 }
 
 }  // namespace aeroflock

@@ -24,7 +24,8 @@ std::vector<GpuSpecies> pack_species(const Scenario& s) {
 
 // A frame's targets: where they are at its start, then at the next frame's start.
 Buffer targets_buffer(const Device& device, const World& world) {
-  return Buffer(device, std::max<size_t>(2 * world.targets.size(), 1) * sizeof(GpuTarget), Memory::host);
+  return Buffer(device, std::max<size_t>(2 * world.targets.size(), 1) * sizeof(GpuTarget),
+                Memory::host);
 }
 
 Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds) {
@@ -36,8 +37,10 @@ Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& bird
 }
 
 // The scenario's birds, once the device is known to hold that many (before spawning them).
-std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario, uint32_t birds_override) {
-  check_storage_size(device, spawn_count(scenario, birds_override) * sizeof(GpuBird), sizeof(GpuBird));
+std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario,
+                                     uint32_t birds_override) {
+  check_storage_size(device, spawn_count(scenario, birds_override) * sizeof(GpuBird),
+                     sizeof(GpuBird));
   return spawn_birds(scenario, birds_override);
 }
 
@@ -46,7 +49,8 @@ std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scena
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override)
     : GpuSimulation(device, scenario, spawn_fitting(device, scenario, birds_override)) {}
 
-GpuSimulation::GpuSimulation(std::unique_ptr<Device> device, Scenario scenario, uint32_t birds_override)
+GpuSimulation::GpuSimulation(std::unique_ptr<Device> device, Scenario scenario,
+                             uint32_t birds_override)
     : GpuSimulation(*device, std::move(scenario), birds_override) {
   owned_device_ = std::move(device);  // the members made on it are destroyed before it
 }
@@ -69,7 +73,8 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       initial_(std::move(birds)),
       submitter_(device, 2) {
   for (Slot& slot : slots_)
-    slot.set = step_.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_});
+    slot.set =
+        step_.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_});
 }
 
 std::string GpuSimulation::device() const { return device_.name() + " (" + device_.driver() + ")"; }
@@ -103,7 +108,8 @@ void GpuSimulation::step(uint32_t steps, bool record_forces) {
   std::vector<GpuTarget> targets = pack_targets(world(), start);
   const std::vector<GpuTarget> next = pack_targets(world(), frame_start(this->steps() + steps));
   targets.insert(targets.end(), next.begin(), next.end());
-  if (!targets.empty()) std::memcpy(slot.targets.mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
+  if (!targets.empty())
+    std::memcpy(slot.targets.mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
 
   StepConstants c{};
   c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));

@@ -24,20 +24,15 @@ vec3 to_gpu(const glm::dvec3& v) { return vec3(v); }
 vec4 to_gpu(const glm::dquat& q) { return vec4(float(q.x), float(q.y), float(q.z), float(q.w)); }
 uint to_gpu(uint32_t v) { return v; }
 template <class E>
-  requires std::is_enum_v<E>
-uint to_gpu(E e) {
-  return static_cast<uint>(e);
-}
+requires std::is_enum_v<E> uint to_gpu(E e) { return static_cast<uint>(e); }
 
 void from_gpu(float v, double& out) { out = v; }
 void from_gpu(const vec3& v, glm::dvec3& out) { out = glm::dvec3(v); }
 void from_gpu(const vec4& v, glm::dquat& out) { out = glm::dquat(v.w, v.x, v.y, v.z); }
 void from_gpu(uint v, uint32_t& out) { out = v; }
 template <class E>
-  requires std::is_enum_v<E>
-void from_gpu(uint v, E& out) {
-  out = static_cast<E>(v);
-}
+requires std::is_enum_v<E>
+void from_gpu(uint v, E& out) { out = static_cast<E>(v); }
 
 }  // namespace
 
@@ -100,7 +95,8 @@ StepForces unpack(const GpuForces& g) {
 std::vector<GpuTarget> pack_targets(const World& w, double time) {
   std::vector<GpuTarget> out;
   for (const Target& t : w.targets)
-    out.push_back({vec4(vec3(target_position(t, time)), float(t.radius)), vec4(vec3(t.velocity), 0.0f)});
+    out.push_back(
+        {vec4(vec3(target_position(t, time)), float(t.radius)), vec4(vec3(t.velocity), 0.0f)});
   return out;
 }
 

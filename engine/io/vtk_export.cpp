@@ -9,11 +9,11 @@
 #include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
-#include <vtkType.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkType.h>
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <glm/geometric.hpp>
@@ -153,7 +153,8 @@ const PointArray kPointArrays[] = {
     {"species", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.species; }},
     {"time", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.time; }},
     {"velocity", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
-    {"speed", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
+    {"speed", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
     {"attitude", VTK_DOUBLE, 4,
      [](const ExportedBird& e, double* v) {
        const glm::dquat& q = e.state.attitude;
@@ -165,11 +166,16 @@ const PointArray kPointArrays[] = {
        put(v, {degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(e.state.attitude)),
                degrees(bank_angle(e.state.attitude))});
      }},
-    {"wingbeat_phase", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
-    {"frequency", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
-    {"amplitude", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.amplitude; }},
-    {"tail_bend", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
-    {"tail_twist", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
+    {"wingbeat_phase", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
+    {"frequency", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
+    {"amplitude", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = e.state.amplitude; }},
+    {"tail_bend", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
+    {"tail_twist", VTK_DOUBLE, 1,
+     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
     {"tail_opening", VTK_DOUBLE, 1,
      [](const ExportedBird& e, double* v) { v[0] = degrees(tail_opening(e.species, e.state)); }},
     {"aero_force", VTK_DOUBLE, 3,
@@ -178,7 +184,8 @@ const PointArray kPointArrays[] = {
        put(v, f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail);
      }},
     {"tail_force", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
-    {"flight_state", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
+    {"flight_state", VTK_INT, 1,
+     [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
     {"target", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
 };
 
@@ -243,7 +250,7 @@ std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count
 struct VtkExporter::Writer {
   struct Frame {
     double time = 0.0;
-    std::vector<BirdState> birds;  // the selected birds, in the order of `ids`
+    std::vector<BirdState> birds;    // the selected birds, in the order of `ids`
     std::vector<StepForces> forces;  // theirs, of the next step
   };
 
@@ -322,7 +329,8 @@ struct VtkExporter::Writer {
     points->SetNumberOfPoints(n);
     std::vector<vtkSmartPointer<vtkDataArray>> arrays;
     for (const PointArray& a : kPointArrays) {
-      arrays.emplace_back(vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(a.type)));
+      arrays.emplace_back(
+          vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(a.type)));
       arrays.back()->SetName(a.name);
       arrays.back()->SetNumberOfComponents(a.components);
       arrays.back()->SetNumberOfTuples(n);

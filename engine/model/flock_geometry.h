@@ -15,11 +15,11 @@ namespace aeroflock {
 bool is_finite(const BirdState& bird);
 
 struct FlockExtent {
-  glm::dvec3 centre{0.0};  // mean position of the finite birds, cm (0 when there are none)
+  glm::dvec3 centre{0.0};         // mean position of the finite birds, cm (0 when there are none)
   glm::dvec3 mean_velocity{0.0};  // cm/s
-  double radius = 0.0;      // largest distance of a finite bird from the centre, cm
-  double rms_radius = 0.0;  // root mean square distance from the centre, cm
-  size_t finite = 0;        // how many birds are finite
+  double radius = 0.0;            // largest distance of a finite bird from the centre, cm
+  double rms_radius = 0.0;        // root mean square distance from the centre, cm
+  size_t finite = 0;              // how many birds are finite
 };
 
 FlockExtent flock_extent(const std::vector<BirdState>& birds);

@@ -54,8 +54,9 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
       b.attitude = heading_attitude(f.heading);
       b.frequency = std::clamp(std::isnan(f.frequency) ? 0.5 * (sp.f_min + sp.f_max) : f.frequency,
                                sp.f_min, sp.f_max);
-      b.amplitude = std::clamp(std::isnan(f.amplitude) ? 0.5 * (sp.amp_min + sp.amp_max) : f.amplitude,
-                               sp.amp_min, sp.amp_max);
+      b.amplitude =
+          std::clamp(std::isnan(f.amplitude) ? 0.5 * (sp.amp_min + sp.amp_max) : f.amplitude,
+                     sp.amp_min, sp.amp_max);
       b.phase = f.random_phase ? kPi * (unit(rng) + 1.0) : 0.0;
       if (f.standing) {
         b.mode = FlightMode::standing;
