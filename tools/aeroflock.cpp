@@ -130,6 +130,7 @@ int run(const RunOptions& opt) {
   // Before the run: a directory that cannot be written fails now.
   std::unique_ptr<VtkExporter> vtk;
   if (!opt.vtk_dir.empty()) {
+    sim->prepare_forces();  // the exported forces: a flock whose forces do not fit fails now
     VtkOptions vo;
     vo.dir = opt.vtk_dir;
     vo.every = opt.vtk_every;
@@ -155,7 +156,7 @@ int run(const RunOptions& opt) {
     // ready without waiting (on Vulkan the frame before the last) and writes on its own thread.
     sim->step_frame(vtk && vtk->due(sim->frames() + 1));
     if (images) images->frame(*sim, frame);
-    if (vtk) vtk->offer(sim->ready_snapshot());
+    if (vtk) vtk->offer_ready(*sim);
     if (progress.due() || frame + 1 == frames) {
       const double w = wall();
       char line[128];
@@ -166,7 +167,7 @@ int run(const RunOptions& opt) {
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
-  if (vtk) vtk->offer(sim->snapshot());  // the last frame, if due and still owed
+  if (vtk) vtk->offer_last(*sim);  // the last frame, if due and still owed
 
   summary.wall_seconds = wall();
   summary.steps = sim->steps();

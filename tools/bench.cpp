@@ -188,6 +188,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
     VtkOptions vo;
     vo.dir = vtk_dir.path;
     vo.every = kVtkEvery;
+    sim->prepare_forces();
     vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), sim->bird_count());
   }
   auto one_frame = [&] {
@@ -195,7 +196,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
     sim->step_frame(vtk && vtk->due(sim->frames() + 1));
     (void)sim->birds();
     if (render) render->frame();
-    if (vtk) vtk->offer(sim->ready_snapshot());
+    if (vtk) vtk->offer_ready(*sim);
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   };
   // With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of

@@ -127,17 +127,21 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_
   if (push_size != push_size_ || (push_size > 0 && !push))
     throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
                 " bytes for a block of " + std::to_string(push_size_));
-  const uint32_t max_groups = device_.limits().maxComputeWorkGroupCount[0];
-  if (groups_x > max_groups)
-    throw Error("compute dispatch of " + std::to_string(groups_x) + " work groups; " +
-                device_.name() + " allows " + std::to_string(max_groups) +
-                " (maxComputeWorkGroupCount[0])");
+  check_groups(groups_x);
   if (groups_x == 0) return;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set, 0, nullptr);
   if (push_size > 0)
     vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
   vkCmdDispatch(cmd, groups_x, 1, 1);
+}
+
+void ComputePipeline::check_groups(uint32_t groups_x) const {
+  const uint32_t max_groups = device_.limits().maxComputeWorkGroupCount[0];
+  if (groups_x > max_groups)
+    throw Error("compute dispatch of " + std::to_string(groups_x) + " work groups; " +
+                device_.name() + " allows " + std::to_string(max_groups) +
+                " (maxComputeWorkGroupCount[0])");
 }
 
 uint32_t group_count(uint64_t items, uint32_t local_size) {

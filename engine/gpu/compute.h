@@ -41,6 +41,9 @@ class ComputePipeline {
   void dispatch(VkCommandBuffer cmd, VkDescriptorSet set, uint32_t groups_x, const void* push,
                 uint32_t push_size) const;
 
+  // Throws Error when a dispatch of `groups_x` work groups exceeds maxComputeWorkGroupCount[0].
+  void check_groups(uint32_t groups_x) const;
+
   VkPipeline handle() const { return pipeline_; }
   VkPipelineLayout layout() const { return layout_; }
 

@@ -72,6 +72,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
              {targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
+  step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
   for (Slot& slot : slots_)
     slot.set =
         step_.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_});
@@ -81,7 +82,7 @@ std::string GpuSimulation::device() const { return device_.name() + " (" + devic
 
 // The forces pipeline and buffers, made the first time a frame records forces (the buffers are
 // as large as the flock's state again, three times over).
-void GpuSimulation::record_forces_buffers() {
+void GpuSimulation::prepare_forces() {
   if (step_forces_) return;
   const VkDeviceSize bytes = std::max<VkDeviceSize>(count_, 1) * sizeof(GpuForces);
   check_storage_size(device_, bytes, sizeof(GpuForces), "birds' forces");
@@ -99,7 +100,7 @@ void GpuSimulation::record_forces_buffers() {
 }
 
 void GpuSimulation::step(uint32_t steps, bool record_forces) {
-  if (record_forces) record_forces_buffers();
+  if (record_forces) prepare_forces();
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous frame only
   Slot& slot = slots_[submitter_.frame()];
   const double start = begin_frame();
@@ -161,7 +162,7 @@ Snapshot GpuSimulation::snapshot() {
 }
 
 Snapshot GpuSimulation::ready_snapshot() {
-  if (frames() < 2) return snapshot();
+  if (ready_frame() == frames()) return snapshot();
   return read(slots_[1 - last_]);
 }
 

@@ -31,6 +31,8 @@ class GpuSimulation final : public Simulation {
   void step(uint32_t steps, bool record_forces = false) override;
   Snapshot snapshot() override;
   Snapshot ready_snapshot() override;
+  uint64_t ready_frame() const override { return frames() < 2 ? frames() : frames() - 1; }
+  void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
@@ -49,7 +51,6 @@ class GpuSimulation final : public Simulation {
     std::vector<BirdState> birds;
     std::vector<StepForces> step_forces;
   };
-  void record_forces_buffers();
   Snapshot read(Slot& slot);
 
   std::unique_ptr<Device> owned_device_;

@@ -2,8 +2,10 @@
 // engine/render) and as GLSL (shaders/): every GPU-visible struct, binding index, push-constant
 // block and the workgroup size. Buffers are std430; in C++ every vec3 and vec4 member is aligned
 // to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
-// (engine/gpu/layout.cpp checks the sizes). All descriptors are storage buffers in set 0, and no
-// binding number serves two buffers, compute or render.
+// (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint,
+// vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid out
+// differently by C++. All descriptors are storage buffers in set 0, and no binding number serves
+// two buffers, compute or render.
 #ifndef AEROFLOCK_HOST_DEVICE_H
 #define AEROFLOCK_HOST_DEVICE_H
 

@@ -17,9 +17,8 @@ BirdState unpack(const GpuBird& g);
 GpuSpecies pack(const Species& s);
 StepForces unpack(const GpuForces& g);
 
-// The world's static tables; targets are packed at `time` (they move between frames).
+// The world's static tables (targets move between frames: pack_targets).
 struct GpuWorld {
-  std::vector<GpuTarget> targets;
   std::vector<GpuRoute> routes;
   std::vector<uint32_t> route_targets;
   std::vector<GpuBranch> branches;

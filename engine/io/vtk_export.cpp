@@ -191,6 +191,12 @@ const PointArray kPointArrays[] = {
 
 }  // namespace
 
+std::vector<std::string> vtk_point_arrays() {
+  std::vector<std::string> names;
+  for (const PointArray& a : kPointArrays) names.emplace_back(a.name);
+  return names;
+}
+
 VtkOptions::Compression parse_vtk_compression(std::string_view name) {
   if (name == "none") return VtkOptions::Compression::none;
   if (name == "lz4") return VtkOptions::Compression::lz4;
@@ -470,7 +476,7 @@ VtkExporter::~VtkExporter() {
 
 void VtkExporter::offer(const Snapshot& snapshot) {
   if (finished_) throw std::logic_error("VtkExporter::offer after finish()");
-  if (!due(snapshot.frame) || snapshot.frame <= last_frame_) return;
+  if (!wants(snapshot.frame)) return;
   const std::vector<BirdState>& birds = *snapshot.birds;
   if (birds.size() != bird_count_)
     throw std::invalid_argument("VtkExporter::offer: expected " + std::to_string(bird_count_) +

@@ -36,6 +36,9 @@ struct VtkOptions {
   enum class Compression { none, lz4, zlib } compression = Compression::lz4;
 };
 
+// The names of the point arrays of a frame file, in the order they are written.
+std::vector<std::string> vtk_point_arrays();
+
 // "none", "lz4" or "zlib"; throws std::invalid_argument otherwise.
 VtkOptions::Compression parse_vtk_compression(std::string_view name);
 
@@ -63,6 +66,15 @@ class VtkExporter {
   // last one at the end); returns at once. A due snapshot without forces is a logic_error. Does
   // nothing after the writer has failed (see failed()).
   void offer(const Snapshot& snapshot);
+  // After each frame of `sim`: offers the newest frame ready without waiting for the device,
+  // reading it only when it is wanted. After the run, offer_last: the last frame (waited for).
+  void offer_ready(Simulation& sim) {
+    if (wants(sim.ready_frame())) offer(sim.ready_snapshot());
+  }
+  void offer_last(Simulation& sim) {
+    if (wants(sim.frames())) offer(sim.snapshot());
+  }
+  bool wants(uint64_t frame) const { return due(frame) && frame > last_frame_; }
 
   // Waits for every queued frame, writes the final .pvd and trajectories and stops the writer.
   // Rethrows the writer's error, if any (std::runtime_error). Calling it again does nothing.

@@ -94,10 +94,6 @@ double Simulation::begin_frame() {
   return start;
 }
 
-const World& Simulation::targets_at(double time) {
-  scenario_.world.move_targets(time);
-  return scenario_.world;
-}
 
 CpuSimulation::CpuSimulation(Scenario scenario, uint32_t birds_override)
     : Simulation(std::move(scenario)), birds_(spawn_birds(this->scenario(), birds_override)) {}
@@ -127,7 +123,8 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   forces_current_ = record_forces;
   if (!record_forces) return;
   // The forces of the step each bird takes next, with the targets where it will see them.
-  const World& next = targets_at(frame_start(this->steps()));
+  World next = world;
+  next.move_targets(frame_start(this->steps()));
   forces_.resize(birds_.size());
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {

@@ -55,6 +55,11 @@ class Simulation {
   // device the frame before the last, done or nearly while the last one runs (before two frames,
   // the last, waited for). Exporters take this, so that the simulation never stalls for them.
   virtual Snapshot ready_snapshot() { return snapshot(); }
+  // The frame ready_snapshot() would return, without reading it.
+  virtual uint64_t ready_frame() const { return frames_; }
+  // Makes ready to record forces (on a device: allocates their buffers, throwing gpu::Error when
+  // the device cannot hold them), so that a run that will export fails before it starts.
+  virtual void prepare_forces() {}
   const std::vector<BirdState>& birds() { return *snapshot().birds; }
 
   const Scenario& scenario() const { return scenario_; }
@@ -70,8 +75,6 @@ class Simulation {
   double begin_frame();
   // When the frame that starts after `steps` steps per bird starts (targets move then).
   double frame_start(uint64_t steps) const;
-  // Moves the targets to `time`: where the next frame's birds see them, for recorded forces.
-  const World& targets_at(double time);
   // Called by step() after the work is submitted.
   void end_frame(uint32_t steps) { steps_ += steps; }
 
