@@ -448,6 +448,22 @@ TEST(Landing, NoIntersectionAheadGivesTheBranchPoint) {
   EXPECT_EQ(landing_point({0, 0, 0}, {0, 1, 0}, branch, {1, 0, 0}), branch);
 }
 
+TEST(Landing, NearlyLinedUpFliesStraightIn) {
+  const dvec3 branch{10, 0, 10};
+  // Within 2 degrees of the perpendicular (here the z axis): lined up, however far off to the
+  // side; the crossing would be 290 (1.5 degrees) and 570 (1 degree) ahead.
+  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(1.5)), 0, std::cos(radians(1.5))}, branch, {1, 0, 0}),
+            branch);
+  // 3 degrees off: the crossing 191 ahead is more than 4 times the 14.1 to the branch.
+  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(3.0)), 0, std::cos(radians(3.0))}, branch, {1, 0, 0}),
+            branch);
+  // 10 degrees off from (9, 0, 0): the crossing 5.8 ahead is within 4 times the 10.0 to the
+  // branch, so the curve goes through it.
+  const dvec3 h{std::sin(radians(10.0)), 0, std::cos(radians(10.0))};
+  const dvec3 q3 = dvec3{9, 0, 0} + h * (1.0 / h.x);
+  expect_vec_rel(landing_point({9, 0, 0}, h, branch, {1, 0, 0}), 0.25 * dvec3{9, 0, 0} + 0.5 * q3 + 0.25 * branch);
+}
+
 // ------------------------------------------------------------------------------------------------
 // Wingbeat kinematics (MODEL.md, replaces Fig. 6).
 

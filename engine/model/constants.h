@@ -17,6 +17,12 @@ AF_REAL(kGravity, 980.665)      // G, cm/s^2
 AF_REAL(kMissedTargetRadii, 3.0)
 // The landing gate stands this many approach distances out on the branch's perpendicular.
 AF_REAL(kGateApproaches, 5.0)
+// A bird whose heading is within asin(kLinedUpSine) (2 degrees) of the branch's perpendicular, or
+// whose heading line crosses it farther than kFarthestCrossing times its distance to the branch,
+// counts as lined up: it flies straight in. The crossing there is ill-conditioned (a float and a
+// double computation of it differ by metres) and would bend the curve kilometres out.
+AF_REAL(kLinedUpSine, 0.035)
+AF_REAL(kFarthestCrossing, 4.0)
 
 #ifdef __cplusplus
 inline constexpr double kPi = std::numbers::pi;

@@ -84,10 +84,10 @@ dvec3 landing_point(const dvec3& bird, const dvec3& heading, const dvec3& branch
   if (hn == 0.0) return branch_point;
   const double nx = -branch_direction.z, nz = branch_direction.x;
   const double det = (hx / hn) * (-nz) - (hz / hn) * (-nx);  // | h  -n |
-  if (std::fabs(det) < 1e-6) return branch_point;
+  if (std::fabs(det) < kLinedUpSine) return branch_point;
   const double dx = branch_point.x - bird.x, dz = branch_point.z - bird.z;
   const double s = (dx * (-nz) - dz * (-nx)) / det;  // Cramer's rule for s
-  if (s <= 0.0) return branch_point;
+  if (s <= 0.0 || s > kFarthestCrossing * std::hypot(dx, dz)) return branch_point;
   const dvec3 q3{bird.x + s * hx / hn, branch_point.y, bird.z + s * hz / hn};
   return 0.25 * bird + 0.5 * q3 + 0.25 * branch_point;
 }

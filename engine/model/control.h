@@ -59,7 +59,8 @@ double coordinated_bank(const Species& s, double turn_rate, double speed);
 // Landing path control (paper 4.4, Fig. 14): Q1 the bird, Q2 the branch point, Q3 where the line
 // from Q1 along the bird's horizontal heading meets the horizontal line from Q2 perpendicular to
 // the branch (at the branch's height). P = 0.25 Q1 + 0.5 Q3 + 0.25 Q2, the middle of the
-// quadratic Bezier curve Q1 Q3 Q2. Without an intersection ahead of the bird, P = Q2.
+// quadratic Bezier curve Q1 Q3 Q2. Without an intersection ahead of the bird, or lined up with the
+// perpendicular (constants.h: kLinedUpSine, kFarthestCrossing), P = Q2: straight in.
 glm::dvec3 landing_point(const glm::dvec3& bird, const glm::dvec3& heading,
                          const glm::dvec3& branch_point, const glm::dvec3& branch_direction);
 

@@ -175,10 +175,10 @@ vec3 landing_point(vec3 bird, vec3 heading, vec3 branch_point, vec3 branch_direc
   float hx = heading.x / hn, hz = heading.z / hn;
   float nx = -branch_direction.z, nz = branch_direction.x;
   float det = hx * (-nz) - hz * (-nx);
-  if (abs(det) < 1e-6) return branch_point;
+  if (abs(det) < kLinedUpSine) return branch_point;
   float dx = branch_point.x - bird.x, dz = branch_point.z - bird.z;
   float s = (dx * (-nz) - dz * (-nx)) / det;
-  if (s <= 0.0) return branch_point;
+  if (s <= 0.0 || s > kFarthestCrossing * length(vec2(dx, dz))) return branch_point;
   vec3 q3 = vec3(bird.x + s * hx, branch_point.y, bird.z + s * hz);
   return 0.25 * bird + 0.5 * q3 + 0.25 * branch_point;
 }
