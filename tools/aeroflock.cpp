@@ -18,6 +18,7 @@
 
 #include "backend.h"
 #include "bench.h"
+#include "envelope.h"
 #include "frame_output.h"
 #include "io/paths.h"
 #include "io/scenario_file.h"
@@ -299,6 +300,19 @@ int main(int argc, char** argv) {
       ->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(CLI::NonNegativeNumber);
 
+  EnvelopeOptions envelope_opt;
+  CLI::App* envelope_cmd = app.add_subcommand(
+      "envelope", "Fly a species through a grid of starts, targets, winds, take-offs and landings");
+  envelope_cmd->add_option("--species", envelope_opt.species, "A preset (eagle, starling) or FILE.toml (its last [[species]])")
+      ->capture_default_str();
+  envelope_cmd->add_option("--backend", envelope_opt.backend, "cpu (reference) or vulkan")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
+      ->capture_default_str();
+  envelope_cmd->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(CLI::NonNegativeNumber);
+  envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE");
+  envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -311,6 +325,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (view_cmd->parsed()) return view(view_opt);
+    if (envelope_cmd->parsed()) return run_envelope(envelope_opt);
     if (bench_cmd->parsed()) {
       bench_opt.backends.clear();
       std::string item;

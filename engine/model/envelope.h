@@ -1,0 +1,64 @@
+// The flight envelope of a species: a grid of single-bird flights (start speed, pitch and bank,
+// where the target is, crosswind, take-offs, branch landings), each flown and judged. A user who
+// defines a species learns from it whether the species flies (aeroflock envelope).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "simulation.h"
+#include "species.h"
+
+namespace aeroflock {
+
+struct EnvelopeCase {
+  enum class Kind { flight, takeoff, landing } kind = Kind::flight;
+  double speed = 1000.0;    // at the start, along the head, cm/s (take-off: 0)
+  double pitch = 0.0;       // at the start, rad
+  double bank = 0.0;        // at the start, rad (right wing down > 0)
+  double rise = 0.0;        // the target (branch) above the start, cm
+  double bearing = 0.0;     // the target (branch) off the start heading, rad (right > 0)
+  double distance = 0.0;    // to the target (branch), horizontal, cm
+  double crosswind = 0.0;   // from the bird's left at the start, cm/s
+  std::string describe() const;
+};
+
+enum class Outcome {
+  reached,       // the target passed (landing: perched) in time, within the limits throughout
+  late,          // within the limits, but not there in time
+  over_bank,     // banked past bank_max + 5 degrees once settled
+  over_pitch,    // pitched past 60 degrees once settled
+  below_ground,  // the body centre below the ground
+  not_finite,    // NaN or infinity in its state
+};
+const char* name(Outcome o);
+
+struct EnvelopeResult {
+  EnvelopeCase c;
+  Outcome outcome = Outcome::late;
+  double time = 0.0;         // s: when it reached the target, or failed, or the time limit
+  double worst_bank = 0.0;   // rad, largest |bank| once settled
+  double worst_pitch = 0.0;  // rad, largest |pitch| once settled
+  double lowest = 0.0;       // cm, lowest body centre above the ground
+};
+
+// The grid: every combination of start speed 5-20 m/s, pitch -30..30 and bank -60..60 degrees,
+// target 50 m above to 150 m below, 0 to 180 degrees off the heading, 50 m to 2 km away (crosswind
+// 0, 5, 8 m/s in turn), then take-offs and branch landings from several directions and winds.
+// `quick`: a subset of short flights (tests).
+std::vector<EnvelopeCase> envelope_cases(bool quick = false);
+
+// Makes the simulation that flies the cases (the CPU reference or the compute shaders).
+using SimulationFactory =
+    std::function<std::unique_ptr<Simulation>(Scenario scenario, std::vector<BirdState> birds)>;
+
+// Flies every case (one bird each; the birds do not meet) and judges it, one simulation per
+// crosswind. `progress` (may be empty) is told the simulated seconds of each frame.
+std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
+                                         const SimulationFactory& make,
+                                         const std::function<void(double)>& progress = {});
+
+}  // namespace aeroflock

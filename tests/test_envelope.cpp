@@ -1,0 +1,59 @@
+// The envelope's machinery (engine/model/envelope.h): the grid, and the judge on flights whose
+// outcome is known. Whether a species passes it is the flight-envelope issue's test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "model/constants.h"
+#include "model/envelope.h"
+
+namespace aeroflock {
+namespace {
+
+SimulationFactory cpu() {
+  return [](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
+    return std::make_unique<CpuSimulation>(std::move(s), std::move(birds));
+  };
+}
+
+TEST(Envelope, GridCoversTheIssuesRanges) {
+  const std::vector<EnvelopeCase> cases = envelope_cases();
+  EXPECT_GE(cases.size(), 1000u);
+  double min_speed = 1e9, max_speed = 0, max_rise = -1e9, min_rise = 1e9, max_distance = 0;
+  int takeoffs = 0, landings = 0;
+  for (const EnvelopeCase& c : cases) {
+    if (c.kind == EnvelopeCase::Kind::takeoff) ++takeoffs;
+    if (c.kind == EnvelopeCase::Kind::landing) ++landings;
+    if (c.kind != EnvelopeCase::Kind::flight) continue;
+    min_speed = std::min(min_speed, c.speed), max_speed = std::max(max_speed, c.speed);
+    min_rise = std::min(min_rise, c.rise), max_rise = std::max(max_rise, c.rise);
+    max_distance = std::max(max_distance, c.distance);
+  }
+  EXPECT_EQ(min_speed, 500.0);
+  EXPECT_EQ(max_speed, 2000.0);
+  EXPECT_EQ(max_rise, 5000.0);
+  EXPECT_EQ(min_rise, -15000.0);
+  EXPECT_EQ(max_distance, 200000.0);
+  EXPECT_GT(takeoffs, 0);
+  EXPECT_GT(landings, 0);
+}
+
+TEST(Envelope, JudgesAReachedTargetAndADiveIntoTheGround) {
+  EnvelopeCase easy;  // level at cruise, the target 50 m straight ahead and 5 m down
+  easy.speed = 1000.0;
+  easy.rise = -500.0;
+  easy.distance = 5000.0;
+  EnvelopeCase dive;  // 20 m/s straight down from 200 m with a target 150 m below: the ground
+  dive.speed = 2000.0;
+  dive.pitch = radians(-89.0);
+  dive.rise = -15000.0;
+  dive.distance = 200000.0;
+  const std::vector<EnvelopeResult> r = fly_envelope(starling(), {easy, dive}, cpu());
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].outcome, Outcome::reached) << name(r[0].outcome);
+  EXPECT_LT(r[0].time, 10.0);
+  EXPECT_NE(r[1].outcome, Outcome::reached) << name(r[1].outcome);
+}
+
+}  // namespace
+}  // namespace aeroflock

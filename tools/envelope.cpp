@@ -1,0 +1,143 @@
+#include "envelope.h"
+
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "backend.h"
+#include "gpu/device.h"
+#include "gpu/gpu_simulation.h"
+#include "io/atomic_file.h"
+#include "io/paths.h"
+#include "io/scenario_file.h"
+#include "model/constants.h"
+#include "model/envelope.h"
+#include "progress.h"
+
+namespace aeroflock {
+namespace {
+
+Species species_named(const std::string& name) {
+  if (name.size() > 5 && name.ends_with(".toml")) {
+    const Scenario s = read_scenario_file(name);
+    return s.species.back();  // the file's own, after the presets
+  }
+  for (const Species& s : species_presets())
+    if (s.name == name) return s;
+  throw std::runtime_error("--species: no preset named \"" + name + "\" (eagle, starling, or a FILE.toml)");
+}
+
+// One row of a table: how many of the cases with this value of a dimension succeed.
+struct Tally {
+  int reached = 0, total = 0;
+  std::map<std::string, int> failures;  // by outcome
+};
+
+void print_table(const char* dimension, const std::map<std::string, Tally>& rows) {
+  std::printf("\nby %s:\n", dimension);
+  for (const auto& [value, t] : rows) {
+    std::printf("  %-22s %5d / %-5d", value.c_str(), t.reached, t.total);
+    for (const auto& [outcome, n] : t.failures) std::printf("  %s %d", outcome.c_str(), n);
+    std::printf("\n");
+  }
+}
+
+std::string kind_name(EnvelopeCase::Kind k) {
+  return k == EnvelopeCase::Kind::flight ? "flight" : k == EnvelopeCase::Kind::takeoff ? "takeoff" : "landing";
+}
+
+}  // namespace
+
+int run_envelope(const EnvelopeOptions& options) {
+  if (!options.json.empty()) check_output_path(options.json, "--json");
+  if (options.backend != "cpu" && options.backend != "vulkan")
+    throw std::runtime_error("--backend: expected cpu or vulkan, got " + options.backend);
+  const Species species = species_named(options.species);
+  const std::vector<EnvelopeCase> cases = envelope_cases(options.quick);
+  std::printf("aeroflock envelope: %s, %zu cases on the %s backend\n", species.name.c_str(), cases.size(),
+              options.backend.c_str());
+  std::fflush(stdout);
+
+  std::unique_ptr<gpu::Device> device;
+  if (options.backend == "vulkan") device = std::make_unique<gpu::Device>(gpu::headless(options.device, false));
+  const SimulationFactory make = [&](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
+    if (device) return std::make_unique<gpu::GpuSimulation>(*device, std::move(s), std::move(birds));
+    return std::make_unique<CpuSimulation>(std::move(s), std::move(birds));
+  };
+  Progress progress;
+  const std::vector<EnvelopeResult> results = fly_envelope(species, cases, make, [&](double t) {
+    if (progress.due()) progress.show("t = " + std::to_string(int(t)) + " s");
+  });
+  progress.finish();
+
+  std::map<std::string, Tally> by_kind, by_speed, by_pitch, by_bank, by_rise, by_bearing, by_distance, by_wind;
+  int reached = 0;
+  for (const EnvelopeResult& r : results) {
+    const bool ok = r.outcome == Outcome::reached;
+    reached += ok;
+    auto count = [&](std::map<std::string, Tally>& rows, const std::string& value) {
+      Tally& t = rows[value];
+      ++t.total;
+      if (ok) ++t.reached;
+      else ++t.failures[name(r.outcome)];
+    };
+    auto fmt = [](const char* f, double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, f, v);
+      return std::string(text);
+    };
+    count(by_kind, kind_name(r.c.kind));
+    count(by_wind, fmt("%2.0f m/s", r.c.crosswind / 100));
+    if (r.c.kind != EnvelopeCase::Kind::flight) continue;
+    count(by_speed, fmt("%2.0f m/s", r.c.speed / 100));
+    count(by_pitch, fmt("%+3.0f deg", degrees(r.c.pitch)));
+    count(by_bank, fmt("%+3.0f deg", degrees(r.c.bank)));
+    count(by_rise, fmt("%+4.0f m", r.c.rise / 100));
+    count(by_bearing, fmt("%3.0f deg", degrees(r.c.bearing)));
+    count(by_distance, fmt("%5.0f m", r.c.distance / 100));
+  }
+  std::printf("\n%d of %zu cases succeed\n", reached, results.size());
+  print_table("kind", by_kind);
+  print_table("crosswind", by_wind);
+  print_table("start speed (flights)", by_speed);
+  print_table("start pitch (flights)", by_pitch);
+  print_table("start bank (flights)", by_bank);
+  print_table("target height (flights)", by_rise);
+  print_table("target bearing (flights)", by_bearing);
+  print_table("target distance (flights)", by_distance);
+  int shown = 0;
+  for (const EnvelopeResult& r : results)
+    if (r.outcome != Outcome::reached && shown++ < 10)
+      std::printf("%s  %s: %s at %.1f s (bank %.0f, pitch %.0f deg, lowest %.1f m)\n", shown == 1 ? "\nfailing, e.g.\n" : "",
+                  r.c.describe().c_str(), name(r.outcome), r.time, degrees(r.worst_bank), degrees(r.worst_pitch),
+                  r.lowest / 100);
+
+  if (!options.json.empty()) {
+    nlohmann::json j = {{"species", species.name}, {"backend", options.backend}, {"cases", results.size()},
+                        {"reached", reached}};
+    nlohmann::json list = nlohmann::json::array();
+    for (const EnvelopeResult& r : results)
+      list.push_back({{"kind", kind_name(r.c.kind)},
+                      {"speed_m_s", r.c.speed / 100},
+                      {"pitch_deg", degrees(r.c.pitch)},
+                      {"bank_deg", degrees(r.c.bank)},
+                      {"rise_m", r.c.rise / 100},
+                      {"bearing_deg", degrees(r.c.bearing)},
+                      {"distance_m", r.c.distance / 100},
+                      {"crosswind_m_s", r.c.crosswind / 100},
+                      {"outcome", name(r.outcome)},
+                      {"time_s", r.time},
+                      {"worst_bank_deg", degrees(r.worst_bank)},
+                      {"worst_pitch_deg", degrees(r.worst_pitch)},
+                      {"lowest_m", r.lowest / 100}});
+    j["results"] = list;
+    write_text_atomically(options.json, j.dump(2) + "\n");
+    std::printf("\njson     %s\n", options.json.c_str());
+  }
+  return reached == int(results.size()) ? 0 : 1;
+}
+
+}  // namespace aeroflock
