@@ -14,5 +14,7 @@ namespace aeroflock {
 bool backend_available();
 const char* backend_name();
 std::unique_ptr<Simulation> make_flight(Scenario scenario, uint32_t birds_override = 0);
+// The same with the birds given (their routes and species index the scenario's).
+std::unique_ptr<Simulation> make_flight_with(Scenario scenario, std::vector<BirdState> birds);
 
 }  // namespace aeroflock

@@ -27,6 +27,10 @@ bool backend_available() {
   return d.device != nullptr;
 }
 const char* backend_name() { return "vulkan"; }
+std::unique_ptr<Simulation> make_flight_with(Scenario scenario, std::vector<BirdState> birds) {
+  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, std::move(scenario),
+                                              std::move(birds));
+}
 std::unique_ptr<Simulation> make_flight(Scenario scenario, uint32_t birds) {
   return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, std::move(scenario),
                                               birds);

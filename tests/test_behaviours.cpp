@@ -11,6 +11,7 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "io/scenario_file.h"
 #include "model/body.h"
@@ -219,24 +220,69 @@ TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
   EXPECT_NEAR(std::fabs(turned) / 0.5, sp.turn_rate, 0.1 * sp.turn_rate);
 }
 
-// --- 4. Ground effect (Fig. 17): descending to a target on the ground, the starling never goes
-// below y = 0 with k = 10, and does without ground effect.
-double lowest_height(const std::string& scenario) {
+// --- 4. Ground effect (Fig. 17): descending to a target on the ground, the starling is held off
+// it with k = 10 (it never touches down); without ground effect it meets the ground and touches
+// down. The ground is solid: the body centre is never below it.
+struct GroundPass {
+  double lowest = 1e9;     // cm, body centre, every step
+  bool touched_down = false;
+};
+GroundPass ground_pass(const std::string& scenario) {
   const auto flight = make_flight(load_scenario(scenario));
   Simulation& sim = *flight;
-  double lowest = 1e9;
-  run_steps(sim, sim.scenario().duration, [&](Simulation& s) { lowest = std::min(lowest, s.birds()[0].position.y); });
-  return lowest;
+  GroundPass g;
+  run_steps(sim, sim.scenario().duration, [&](Simulation& s) {
+    g.lowest = std::min(g.lowest, s.birds()[0].position.y);
+    g.touched_down = g.touched_down || s.birds()[0].mode == FlightMode::standing;
+  });
+  return g;
 }
 
-TEST(GroundEffect, KeepsTheStarlingAboveTheGroundOnlyWhenOn) {
+TEST(GroundEffect, HoldsTheStarlingOffTheGroundOnlyWhenOn) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
-  const double with = lowest_height("fig17-ground-effect");
-  const double without = lowest_height("fig17-no-ground-effect");
-  RecordProperty("lowest_with_cm", std::to_string(with));
-  RecordProperty("lowest_without_cm", std::to_string(without));
-  EXPECT_GE(with, 0.0);
-  EXPECT_LT(without, 0.0);
+  const GroundPass with = ground_pass("fig17-ground-effect");
+  const GroundPass without = ground_pass("fig17-no-ground-effect");
+  RecordProperty("lowest_with_cm", std::to_string(with.lowest));
+  RecordProperty("lowest_without_cm", std::to_string(without.lowest));
+  EXPECT_GE(with.lowest, 0.0);
+  EXPECT_FALSE(with.touched_down);
+  EXPECT_TRUE(without.touched_down);
+  EXPECT_GE(without.lowest, 0.0);
+}
+
+// The ground is solid: a starling diving at it from 3 m touches down, stands, and takes off again
+// after its rest (its route goes on); its body is never lower than standing, crouched for the
+// take-off, checked every step.
+TEST(SolidGround, ADivingBirdTouchesDownAndTakesOffAgain) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  Scenario s = load_scenario("fig17-no-ground-effect");
+  s.world.targets[0].centre = {5000.0, 1000.0, 0.0};
+  s.world.targets[0].radius = 200.0;
+  s.world.target_now = {s.world.targets[0].centre};
+  BirdState b;
+  b.species = s.flocks[0].species;
+  b.route = s.flocks[0].route;
+  b.position = {0.0, 300.0, 0.0};
+  b.attitude = glm::angleAxis(radians(-60.0), dvec3{0, 0, 1});
+  b.velocity = b.attitude * dvec3{1500.0, 0.0, 0.0};
+  const Species& sp = s.species[b.species];
+  b.frequency = sp.f_max;
+  b.amplitude = sp.amp_max;
+  const auto flight = make_flight_with(s, {b});
+  Simulation& sim = *flight;
+  double lowest = 1e9, touched_at = -1, took_off_at = -1;
+  run_steps(sim, 3.0, [&](Simulation& x) {
+    const BirdState& now = x.birds()[0];
+    ASSERT_TRUE(std::isfinite(now.position.y));
+    lowest = std::min(lowest, now.position.y);
+    if (touched_at < 0 && now.mode == FlightMode::standing) touched_at = x.time();
+    if (touched_at >= 0 && took_off_at < 0 && now.mode == FlightMode::taking_off) took_off_at = x.time();
+  });
+  RecordProperty("touched_down_s", std::to_string(touched_at));
+  RecordProperty("took_off_s", std::to_string(took_off_at));
+  EXPECT_GE(lowest, s.world.ground_height + sp.stand_height - sp.crouch_depth - 1e-6);
+  ASSERT_GT(touched_at, 0.0) << "never touched down";
+  EXPECT_NEAR(took_off_at - touched_at, kRestAfterTouchdown, 2 * s.dt);
 }
 
 // --- 5. Take-off (Figs. 19, 20): higher at 0.3 s and 0.7 s with the leg force than without.

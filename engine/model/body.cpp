@@ -40,4 +40,16 @@ dquat heading_attitude(double heading) {
   return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0});
 }
 
+void come_to_rest(BirdState& b, const glm::dvec3& at) {
+  const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
+  b.position = at;
+  b.velocity = glm::dvec3{0.0};
+  b.omega = glm::dvec3{0.0};
+  b.attitude = heading_attitude(std::atan2(head.z, head.x));
+  b.amplitude = 0.0;
+  b.tail_bend = 0.0;
+  b.tail_twist = 0.0;
+  b.mode_time = 0.0;
+}
+
 }  // namespace aeroflock

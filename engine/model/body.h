@@ -4,6 +4,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
+#include "bird.h"
 #include "species.h"
 
 namespace aeroflock {
@@ -27,5 +28,9 @@ inline glm::dvec3 horizontal(const glm::dvec3& v) { return {v.x, 0.0, v.z}; }
 
 // The attitude of a bird facing `heading` (from +x towards +z), level.
 glm::dquat heading_attitude(double heading);
+
+// Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded, its
+// mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the mode.
+void come_to_rest(BirdState& b, const glm::dvec3& at);
 
 }  // namespace aeroflock

@@ -71,16 +71,8 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
 }
 
 void perch(BirdState& b, const Species& s, const Branch& br) {
-  const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
-  b.position = perch_point(s, br);
-  b.velocity = dvec3{0.0};
-  b.omega = dvec3{0.0};
-  b.attitude = heading_attitude(std::atan2(head.z, head.x));
-  b.amplitude = 0.0;
-  b.tail_bend = 0.0;
-  b.tail_twist = 0.0;
+  come_to_rest(b, perch_point(s, br));
   b.mode = FlightMode::perched;
-  b.mode_time = 0.0;
   ++b.targets_reached;
 }
 

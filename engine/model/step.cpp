@@ -155,6 +155,14 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     b.mode = FlightMode::flying;
     b.mode_time = 0.0;
   }
+  // The ground is solid: a bird in the air whose legs reach it touches down, stands, and takes
+  // off again when it has rested (its route goes on).
+  if (!on_legs && b.position.y < w.ground_height + sp.stand_height) {
+    come_to_rest(b, dvec3{b.position.x, w.ground_height + sp.stand_height, b.position.z});
+    b.mode = FlightMode::standing;
+    b.takeoff_time = time + dt + kRestAfterTouchdown;
+    b.landing_stage = LandingStage::none;
+  }
   if (out) *out = f;
 }
 

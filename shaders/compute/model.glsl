@@ -287,17 +287,21 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
 }
 
-void perch(inout GpuBird b, GpuSpecies s, uint branch) {
+void come_to_rest(inout GpuBird b, vec3 at) {
   vec3 head = rotate(b.attitude, vec3(1, 0, 0));
-  b.position = perch_point(s, branch);
+  b.position = at;
   b.velocity = vec3(0.0);
   b.omega = vec3(0.0);
   b.attitude = heading_attitude(atan_p(head.z, head.x));
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
-  b.mode = mode_perched;
   b.mode_time = 0.0;
+}
+
+void perch(inout GpuBird b, GpuSpecies s, uint branch) {
+  come_to_rest(b, perch_point(s, branch));
+  b.mode = mode_perched;
   b.targets_reached += 1u;
 }
 
@@ -472,6 +476,14 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
+  }
+  // The ground is solid: touch down, stand, take off again when rested (step.cpp).
+  float ground = pc.wind_ground.w;
+  if (!on_legs && b.position.y < ground + s.stand_height) {
+    come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));
+    b.mode = mode_standing;
+    b.takeoff_time = time + dt + kRestAfterTouchdown;
+    b.landing_stage = stage_none;
   }
   return f;
 }
