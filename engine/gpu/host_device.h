@@ -174,5 +174,10 @@ struct MeshVertex {
 }  // namespace aeroflock::gpu
 #endif
 #undef AF_UINT
+#undef AF_V16
+#undef AF_GPU_float
+#undef AF_GPU_uint
+#undef AF_GPU_vec3
+#undef AF_GPU_vec4
 
 #endif  // AEROFLOCK_HOST_DEVICE_H

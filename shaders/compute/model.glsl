@@ -72,21 +72,18 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
 void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, out WingPoint arm,
                        out WingPoint hand) {
   WingAngles w = wing_angles(s, phase, amp);
-  float cp = w.cos_phase, sp = w.sin_phase, sh = w.sin_hand_phase;
-  float flap_arm = w.flap_arm, flap_hand = w.flap_hand;
-  float feather_arm = w.feather_arm, feather_hand = w.feather_hand, leadlag = w.leadlag;
   float phase_rate = 2.0 * kPi * frequency;
-  float leadlag_rate = s.C_leadlag * cp * phase_rate;
-  float flap_arm_rate = -amp * s.A_arm * sp * phase_rate;
-  float flap_hand_rate = -amp * s.A_hand * sh * phase_rate;
+  float leadlag_rate = s.C_leadlag * w.cos_phase * phase_rate;
+  float flap_arm_rate = -amp * s.A_arm * w.sin_phase * phase_rate;
+  float flap_hand_rate = -amp * s.A_hand * w.sin_hand_phase * phase_rate;
 
-  vec2 l = sin_cos(leadlag);
+  vec2 l = sin_cos(w.leadlag);
   float cl = l.y, sl = l.x;
   vec3 sx = vec3(cl, 0.0, -sl), sy = vec3(0.0, 1.0, 0.0), sz = vec3(sl, 0.0, cl);
   vec3 ax = sx, ay = sy, az = sz;
-  flap(ay, az, flap_arm);
+  flap(ay, az, w.flap_arm);
   vec3 hx = ax, hy = ay, hz = az;
-  flap(hy, hz, flap_hand);
+  flap(hy, hz, w.flap_hand);
 
   vec3 shoulder = vec3(s.shoulder_x, 0.0, s.shoulder_z);
   vec3 wrist = shoulder + az * s.arm_length;
@@ -96,8 +93,8 @@ void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, ou
   vec3 omega_wrist = -ax * flap_hand_rate;
   arm.velocity = cross(omega_shoulder, arm.position - shoulder);
   hand.velocity = cross(omega_shoulder, hand.position - shoulder) + cross(omega_wrist, hand.position - wrist);
-  feather(ax, ay, feather_arm, arm.chord, arm.normal);
-  feather(hx, hy, feather_arm + feather_hand, hand.chord, hand.normal);
+  feather(ax, ay, w.feather_arm, arm.chord, arm.normal);
+  feather(hx, hy, w.feather_arm + w.feather_hand, hand.chord, hand.normal);
   arm.area = s.arm_area;
   hand.area = s.hand_area;
 }

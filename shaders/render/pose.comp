@@ -38,22 +38,20 @@ void main() {
   vec3 position = b.position;
 
   // Body: the box a x b x b.
-  store(i, 0u, attitude * mat3(-2.0 * s.tail_hinge_x, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
+  store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
 
   // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
-  WingAngles w = wing_angles(s, b.phase, folded ? 0.0 : b.amplitude);
-  float flap_arm = w.flap_arm, flap_hand = w.flap_hand, feather_arm = w.feather_arm;
-  float feather_hand = w.feather_hand, leadlag = w.leadlag;
+  WingAngles w = wing_angles(s, b.phase, b.amplitude);
   if (folded) {
-    flap_arm = 0.0; flap_hand = 0.0; feather_arm = 0.0; feather_hand = 0.0; leadlag = -1.3;
+    w.flap_arm = 0.0; w.flap_hand = 0.0; w.feather_arm = 0.0; w.feather_hand = 0.0; w.leadlag = -1.3;
   }
-  mat3 shoulder = rot_y(leadlag) * rot_x(-flap_arm);
+  mat3 shoulder = rot_y(w.leadlag) * rot_x(-w.flap_arm);
   vec3 shoulder_at = vec3(s.shoulder_x, 0.0, s.shoulder_z);
   // Segment meshes span z in 0..1 and chord x in -0.5..0.5: scale by length and mean chord.
   mat3 arm_scale = mat3(s.arm_area / s.arm_length, 0, 0, 0, 1, 0, 0, 0, s.arm_length);
   mat3 hand_scale = mat3(s.hand_area / s.hand_length, 0, 0, 0, 1, 0, 0, 0, s.hand_length);
-  mat3 arm = shoulder * rot_z(-feather_arm);
-  mat3 hand = shoulder * rot_x(-flap_hand) * rot_z(-(feather_arm + feather_hand));
+  mat3 arm = shoulder * rot_z(-w.feather_arm);
+  mat3 hand = shoulder * rot_x(-w.flap_hand) * rot_z(-(w.feather_arm + w.feather_hand));
   vec3 wrist = shoulder_at + shoulder * vec3(0.0, 0.0, s.arm_length);
   store(i, 1u, attitude * arm * arm_scale, position + attitude * shoulder_at);
   store(i, 2u, attitude * hand * hand_scale, position + attitude * wrist);
@@ -63,11 +61,10 @@ void main() {
   store(i, 5u, attitude * mirror * hand * hand_scale, position + attitude * (mirror * wrist));
 
   // Tail: hinged at x = -a/2, bent up by incidence + bend, twisted about x; scaled by lr.
-  float lr = sqrt(2.0 * s.tail_area_per_radian);
   mat3 tail = rot_x(b.tail_twist) * rot_z(-(s.tail_incidence + b.tail_bend));
-  store(i, 3u, attitude * tail * lr, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
+  store(i, 3u, attitude * tail * s.tail_length, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
   // Detailed or distant: how wide the bird is on screen (its span about three body lengths).
-  float span = 3.0 * -2.0 * s.tail_hinge_x;
+  float span = 3.0 * s.box_a;
   uint list = distance(position, pc.eye.xyz) > span * pc.lod_scale ? 1u : 0u;
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
