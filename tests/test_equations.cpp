@@ -240,6 +240,31 @@ TEST(Tail, PositiveTwistTiltsTheNormalTowardsRight) {
 // ------------------------------------------------------------------------------------------------
 // eqs. 11, 12: the box's inertia and angular acceleration.
 
+// level_attitude is heading_attitude at the heading of the head's horizontal direction, whatever
+// the pitch and bank; straight up it faces +x, straight back -x.
+TEST(Body, LevelAttitudeFacesWhereTheHeadPoints) {
+  for (double heading = -179.0; heading <= 180.0; heading += 17.0)
+    for (double pitch : {-80.0, -30.0, 0.0, 45.0, 89.0})
+      for (double bank : {-60.0, 0.0, 35.0}) {
+        const glm::dquat q = glm::angleAxis(radians(heading), dvec3{0, -1, 0}) *
+                             glm::angleAxis(radians(pitch), dvec3{0, 0, 1}) *
+                             glm::angleAxis(radians(bank), dvec3{1, 0, 0});
+        const glm::dquat level = level_attitude(q);
+        const glm::dquat expected = heading_attitude(radians(heading));
+        // q and -q are the same attitude.
+        const double d = std::min(glm::length(glm::dvec4(level.x - expected.x, level.y - expected.y,
+                                                         level.z - expected.z, level.w - expected.w)),
+                                  glm::length(glm::dvec4(level.x + expected.x, level.y + expected.y,
+                                                         level.z + expected.z, level.w + expected.w)));
+        EXPECT_LT(d, 1e-12) << heading << " " << pitch << " " << bank;
+      }
+  const glm::dquat up = glm::angleAxis(radians(90.0), dvec3{0, 0, 1});
+  EXPECT_EQ(level_attitude(up), glm::dquat(1.0, 0.0, 0.0, 0.0));
+  const glm::dvec3 back = level_attitude(heading_attitude(kPi)) * dvec3{1, 0, 0};
+  EXPECT_NEAR(back.x, -1.0, 1e-12);
+  EXPECT_NEAR(back.z, 0.0, 1e-12);
+}
+
 TEST(Body, InertiaEagle) {
   const Inertia i = box_inertia(eagle());  // m 2000, a 80, b 20, c 220
   expect_rel(i.x, 8133333.333333333);  // 2000 (20^2 + 220^2) / 12 = 2000 * 48800 / 12

@@ -40,12 +40,24 @@ dquat heading_attitude(double heading) {
   return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0});
 }
 
+glm::dquat level_attitude(const glm::dquat& q) {
+  const glm::dvec3 head = q * glm::dvec3{1.0, 0.0, 0.0};
+  const double n = std::hypot(head.x, head.z);
+  if (!(n > 0.0)) return glm::dquat{1.0, 0.0, 0.0, 0.0};  // head straight up or down: facing +x
+  const double hx = head.x / n, hz = head.z / n;
+  // The half-way quaternion between +x and h, (w, y) = (1 + hx, -hz) normalised; facing back
+  // (hx < 0) the same rotation as (|hz|, -sgn(hz) (1 - hx)), which has no cancellation.
+  const double w = hx >= 0.0 ? 1.0 + hx : std::fabs(hz);
+  const double y = hx >= 0.0 ? -hz : (hz < 0.0 ? 1.0 - hx : hx - 1.0);
+  const double len = std::hypot(w, y);
+  return glm::dquat{w / len, 0.0, y / len, 0.0};
+}
+
 void come_to_rest(BirdState& b, const glm::dvec3& at) {
-  const glm::dvec3 head = b.attitude * glm::dvec3{1.0, 0.0, 0.0};
   b.position = at;
   b.velocity = glm::dvec3{0.0};
   b.omega = glm::dvec3{0.0};
-  b.attitude = heading_attitude(std::atan2(head.z, head.x));
+  b.attitude = level_attitude(b.attitude);
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;

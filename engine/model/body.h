@@ -29,6 +29,11 @@ inline glm::dvec3 horizontal(const glm::dvec3& v) { return {v.x, 0.0, v.z}; }
 // The attitude of a bird facing `heading` (from +x towards +z), level.
 glm::dquat heading_attitude(double heading);
 
+// Level, facing where `attitude`'s head points horizontally (+x when it points straight up or
+// down): heading_attitude of that heading, computed without trigonometry (the compute shader does
+// it inside its step loop).
+glm::dquat level_attitude(const glm::dquat& attitude);
+
 // Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded, its
 // mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the mode.
 void come_to_rest(BirdState& b, const glm::dvec3& at);

@@ -16,11 +16,19 @@ vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
 
 float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
 float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
-vec4 heading_attitude(float heading) {
-  vec2 sc = sin_cos(0.5 * heading);
-  return vec4(0.0, -sc.x, 0.0, sc.y);
-}
 vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
+
+// Level, facing where q's head points (body.cpp: level_attitude): the turn about the vertical
+// from +x to the head's horizontal direction h, as the half-way quaternion.
+vec4 level_attitude(vec4 q) {
+  vec3 head = rotate(q, vec3(1, 0, 0));
+  float n = length(head.xz);
+  if (!(n > 0.0)) return vec4(0.0, 0.0, 0.0, 1.0);  // head straight up or down: facing +x
+  float hx = head.x / n, hz = head.z / n;
+  float w = hx >= 0.0 ? 1.0 + hx : abs(hz);
+  float y = hx >= 0.0 ? -hz : (hz < 0.0 ? 1.0 - hx : hx - 1.0);
+  return vec4(0.0, y, 0.0, w) / length(vec2(w, y));
+}
 
 // eq. 15
 float ground_effect_force(GpuSpecies s, float height) {
@@ -285,11 +293,10 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
-  vec3 head = rotate(b.attitude, vec3(1, 0, 0));
   b.position = at;
   b.velocity = vec3(0.0);
   b.omega = vec3(0.0);
-  b.attitude = heading_attitude(atan_p(head.z, head.x));
+  b.attitude = level_attitude(b.attitude);
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
