@@ -24,14 +24,15 @@ double steer_share(const Species& s, double heading_error) {
 }
 
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity, const dvec3& goal) {
+  // The bird steers its track, not its head: in a crosswind it crabs. Slower than kTrackSpeed
+  // (just off the ground) it steers its head.
   const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
+  const double speed = std::hypot(velocity.x, velocity.z);
+  const dvec3 track = speed > kTrackSpeed ? velocity : head;
   const dvec3 to_goal = goal - position;
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
-  auto angle_to_goal = [&](const dvec3& d) {
-    return std::atan2(-d.z * to_goal.x + d.x * to_goal.z, d.x * to_goal.x + d.z * to_goal.z);
-  };
-  const double heading_error = angle_to_goal(head);
-  const double speed = std::hypot(velocity.x, velocity.z);
+  const double heading_error = std::atan2(-track.z * to_goal.x + track.x * to_goal.z,
+                                          track.x * to_goal.x + track.z * to_goal.z);
   // The turn the bank is making, g tan(bank) / v.
   const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / speed : 0.0;
   return {heading_error, heading_error - s.heading_lead * turn_rate,
@@ -53,9 +54,68 @@ double amplitude_step(const Species& s, double amplitude, double dy, double dt) 
   return rate_step(amplitude, s.amp_min, s.amp_max, s.K_a, dy, dt);
 }
 
-TailCommand tail_command(const Species& s, const Steering& st, bool fixed_rate) {
-  return {sign_outside(st.height_error, s.height_band) * s.bend_max,
-          steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max};
+double tail_twist_command(const Species& s, const Steering& st, bool fixed_rate) {
+  return steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max;
+}
+
+double commanded_airspeed(const Species& s, double command, const dvec3& wind, const dvec3& to_goal,
+                          double to_branch) {
+  double v = std::clamp(command, s.min_speed, s.max_speed);
+  if (!(command > 0.0)) {
+    // No command: the airspeed that makes cruise_speed over the ground towards the goal.
+    const dvec3 way = horizontal(to_goal);
+    const double length = glm::length(way);
+    const dvec3 ground = length > 0.0 ? way * (s.cruise_speed / length) : dvec3{0.0};
+    v = std::clamp(glm::length(ground - horizontal(wind)), s.min_speed, s.max_speed);
+    if (length == 0.0) v = s.cruise_speed;
+  }
+  if (to_branch >= 0.0) {
+    const double room = std::max(0.0, to_branch - s.perch_radius);
+    v = std::min(v, std::sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
+  }
+  return v;
+}
+
+Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded) {
+  const double deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
+  return {height_error + deficit,
+          std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
+}
+
+double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height) {
+  const double pitch = std::clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
+  const double floor = std::min(s.clearance, goal_height);
+  if (height >= floor) return pitch;
+  return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
+}
+
+PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double rate) {
+  const double error = pitch_command - pitch - s.pitch_damping * rate;
+  return {std::clamp(s.pitch_gain * error, -s.bend_max, s.bend_max),
+          std::clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max)};
+}
+
+// The head (body x) and right wing (body z) turn at omega_world x axis; pitch = asin(head.y),
+// bank = asin(-right.y).
+double pitch_rate(const glm::dquat& attitude, const dvec3& omega) {
+  const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
+  const double c = std::sqrt(std::max(1.0 - head.y * head.y, 1e-6));
+  return glm::cross(attitude * omega, head).y / c;
+}
+
+double bank_rate(const glm::dquat& attitude, const dvec3& omega) {
+  const dvec3 right = attitude * dvec3{0.0, 0.0, 1.0};
+  const double c = std::sqrt(std::max(1.0 - right.y * right.y, 1e-6));
+  return -glm::cross(attitude * omega, right).y / c;
+}
+
+double roll_for_bank(const Species& s, const glm::dquat& attitude, const dvec3& omega, double bank_command) {
+  const double wanted = (bank_command - bank_angle(attitude)) / s.bank_time;
+  const dvec3 others{0.0, omega.y, omega.z};
+  // The bank rate is linear in omega.x: d(bank rate)/d(omega.x) = bank_rate of a pure roll.
+  const double per_roll = bank_rate(attitude, dvec3{1.0, 0.0, 0.0});
+  const double roll = std::fabs(per_roll) > 0.1 ? (wanted - bank_rate(attitude, others)) / per_roll : wanted;
+  return std::clamp(roll, -s.roll_rate, s.roll_rate);
 }
 
 double approach(double angle, double command, double rate, double dt) {
@@ -63,13 +123,9 @@ double approach(double angle, double command, double rate, double dt) {
   return angle + std::clamp(command - angle, -step, step);
 }
 
-double pursuit_bank(const Species& s, double heading_error, double distance, double speed) {
+double heading_bank(const Species& s, double heading_error, double speed) {
   if (std::fabs(heading_error) <= s.dead_band) return 0.0;
-  if (std::fabs(heading_error) >= 0.5 * kPi || distance <= 0.0)
-    return heading_error > 0.0 ? s.bank_max : -s.bank_max;
-  // No tighter than the circle the bird flies at full bank.
-  const double tightest = speed * speed / (kGravity * std::tan(s.bank_max));
-  return coordinated_bank(s, 2.0 * speed * std::sin(heading_error) / std::max(distance, tightest), speed);
+  return coordinated_bank(s, heading_error / s.turn_time, speed);
 }
 
 double coordinated_bank(const Species& s, double turn_rate, double speed) {

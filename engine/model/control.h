@@ -13,7 +13,8 @@ namespace aeroflock {
 // sgn with a dead band: 0 while |x| <= band.
 double sign_outside(double x, double band);
 
-// heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
+// heading_error, phi (Fig. 11): the horizontal angle from the track (the head direction when
+// slower than kTrackSpeed) to the goal,
 // target on the right > 0; the bank steers by it. heading_error_ahead: the same, less the turn the
 // bank is making (g tan(bank) / v) over heading_lead seconds; the tail twist steers by it, which
 // damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the bird's height predicted
@@ -31,30 +32,65 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::
 double steer_share(const Species& s, double heading_error);
 
 // eq. 4 and eq. 5: frequency and amplitude move at K_f, K_a towards more lift when the goal is
-// above (dy > 0), less when below, and stay within [min, max].
+// above (dy > 0), less when below, and stay within [min, max]. The controller passes the total
+// energy error as dy, so that a bird too slow for its command beats harder too.
 double frequency_step(const Species& s, double frequency, double dy, double dt);
 double amplitude_step(const Species& s, double amplitude, double dy, double dt);
 
-// The tail's commanded bend and twist (4.1): the goal above (by more than height_band) bends the
-// tail up; the goal on the right rolls it right side down, towards the turn. The air, meeting the
-// body from below, then presses on the tail's upper surface and pushes it left: the nose turns
-// right (MODEL.md: pushing the tail left turns the nose right).
-struct TailCommand {
-  double bend, twist;
-};
-// With fixed-rate turning (eq. 3 turns the body) the twist follows heading_error instead.
-TailCommand tail_command(const Species& s, const Steering& steering, bool fixed_rate);
+// The tail's commanded twist (4.1; the bend is the elevator's): the goal on the right rolls it
+// right side down, towards the turn. The air, meeting the body from below, then presses on the
+// tail's upper surface and pushes it left: the nose turns right (MODEL.md: pushing the tail left
+// turns the nose right). With fixed-rate turning (eq. 3 turns the body) the twist follows
+// heading_error instead.
+double tail_twist_command(const Species& s, const Steering& steering, bool fixed_rate);
 
 // Moves `angle` towards `command` by at most rate dt.
 double approach(double angle, double command, double rate, double dt);
 
-// Tail model: the bank that flies the circle through the goal tangent to the flight direction
-// (pure pursuit: curvature 2 sin(phi) / distance), at most bank_max; 0 inside the dead band.
-double pursuit_bank(const Species& s, double heading_error, double distance, double speed);
+// Tail model: the bank that turns the heading at heading_error / turn_time (whatever the goal's
+// distance), at most bank_max; 0 inside the dead band.
+double heading_bank(const Species& s, double heading_error, double speed);
 
 // The bank that makes lift supply the centripetal force of a turn at `turn_rate` (rad/s, to the
 // right > 0) and `speed`, at most bank_max: the bird banks into the turn to avoid skidding (3.4).
 double coordinated_bank(const Species& s, double turn_rate, double speed);
+
+// Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
+// The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0)
+// the airspeed that makes cruise_speed over the ground towards its goal in the `wind` (within
+// the same range). On the way to a branch no faster than it can still brake to touchdown_speed
+// at brake_decel over `to_branch` (cm, < 0: no branch ahead).
+double commanded_airspeed(const Species& s, double command, const glm::dvec3& wind,
+                          const glm::dvec3& to_goal, double to_branch);
+
+// The energy errors, cm: `total` (height error plus the airspeed's kinetic-energy deficit over
+// g) feeds the wingbeat (eqs. 4, 5); `balance` (height error within balance_band less the same
+// deficit) is what the pitch corrects: > 0, too little height for the speed it has.
+struct Energy {
+  double total, balance;
+};
+Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded);
+
+// The pitch the bird holds: its integral trim plus balance_gain times the balance, within
+// [pitch_min, pitch_max]; `height` (cm above the ground) below the clearance, and the goal not
+// lower, no less than climb_pitch in proportion to how far below.
+double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
+
+// The tail bend (the elevator) and the sweep that hold `pitch_command`: pitch_gain and
+// sweep_gain times the pitch error less pitch_damping times the pitch rate, within bend_max and
+// sweep_max.
+struct PitchControl {
+  double bend, sweep;
+};
+PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double pitch_rate);
+
+// How fast the body's pitch and bank angles change with body rates `omega` (rad/s).
+double pitch_rate(const glm::dquat& attitude, const glm::dvec3& omega);
+double bank_rate(const glm::dquat& attitude, const glm::dvec3& omega);
+
+// The body roll rate omega.x that turns the bank towards `bank_command` with time constant
+// bank_time (at most roll_rate), allowing for the bank the other two body rates make.
+double roll_for_bank(const Species& s, const glm::dquat& attitude, const glm::dvec3& omega, double bank_command);
 
 // Landing path control (paper 4.4, Fig. 14): Q1 the bird, Q2 the branch point, Q3 where the line
 // from Q1 along the bird's horizontal heading meets the horizontal line from Q2 perpendicular to

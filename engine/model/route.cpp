@@ -105,12 +105,17 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   return r.path_control ? landing_goal(b, s, br) : perch_point(s, br);  // or straight in
 }
 
+double distance_to_perch(const BirdState& b, const Species& s, const World& w) {
+  const Branch* br = route_branch(b, w);
+  return br ? glm::distance(perch_point(s, *br), b.position) : -1.0;
+}
+
 bool approach_branch(BirdState& b, const Species& s, const World& w) {
   const Branch* br = route_branch(b, w);
   if (!br) return false;
   const dvec3 to_perch = perch_point(s, *br) - b.position;
   const double distance = glm::length(to_perch);
-  if (distance <= s.perch_radius) {
+  if (distance <= s.perch_radius && glm::length(b.velocity) <= s.touchdown_speed) {
     perch(b, s, *br);
     return true;
   }

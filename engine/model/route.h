@@ -12,6 +12,10 @@ namespace aeroflock {
 // Where the bird sits when perched on `branch`.
 glm::dvec3 perch_point(const Species& s, const Branch& branch);
 
+// How far the bird is from where it perches on its route's branch, cm, once the branch is its
+// goal; -1 before then, or without one.
+double distance_to_perch(const BirdState& b, const Species& s, const World& w);
+
 // The bird's goal this step: the current target of its route, or the point it steers for on its
 // way to the branch. Passes targets and places the landing curve as the bird goes.
 glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);

@@ -115,6 +115,9 @@ void validate(const Species& s) {
   if (s.box_c < 2 * s.wing_length) fail("box_c (full span) must be >= 2 wing_length");
   if (s.Cd_90 < s.Cd_0) fail("Cd_90 must be >= Cd_0");
   if (s.perch_radius > s.brake_distance) fail("perch_radius must be <= brake_distance");
+  if (!(s.min_speed <= s.cruise_speed && s.cruise_speed <= s.max_speed))
+    fail("min_speed <= cruise_speed <= max_speed must hold");
+  if (s.pitch_min >= s.pitch_max) fail("pitch_min must be < pitch_max");
 }
 
 Inertia box_inertia(const Species& s) {

@@ -24,9 +24,12 @@ const dvec3 kUp{0.0, 1.0, 0.0};
 // What the controller decides from the state at time t (paper 3.4, 4.1-4.4).
 struct Commands {
   Steering steering;
-  TailCommand tail;   // where the tail moves to
-  double opening;     // the tail's opening now, eq. 10 (fully open while braking)
-  dvec3 omega;        // body rates used this step, with the controller's kinematic ones
+  double energy_error;  // what eqs. 4, 5 follow, cm
+  double balance;       // what the pitch trim integrates, cm
+  double bend, twist;   // where the tail moves to
+  double sweep;         // where the wings' sweep moves to
+  double opening;       // the tail's opening now, eq. 10 (fully open while braking)
+  dvec3 omega;          // body rates used this step, with the controller's kinematic ones
 };
 
 Commands control(const BirdState& b, const Species& sp, const World& w, const dvec3& goal) {
@@ -38,14 +41,27 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
-  c.tail = tail_command(sp, c.steering, fixed_rate);
   const double bank = bank_angle(b.attitude);
-  c.tail.twist = std::clamp(c.tail.twist, std::min(0.0, -sp.tail_roll_max - bank),
-                            std::max(0.0, sp.tail_roll_max - bank));
+  c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
+                       std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
 
+  // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
+  const double airspeed = glm::length(b.velocity - w.wind);
+  const double commanded = commanded_airspeed(sp, b.airspeed, w.wind, goal - b.position, distance_to_perch(b, sp, w));
+  const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
+  c.energy_error = e.total;
+  c.balance = e.balance;
+  const double ground = w.ground_height + sp.stand_height;
+  const double pitch_command =
+      braking ? sp.brake_pitch
+              : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
+  const PitchControl p = pitch_control(sp, pitch_command, pitch_angle(b.attitude), pitch_rate(b.attitude, b.omega));
+  c.bend = p.bend;
+  c.sweep = p.sweep;
+
   // Kinematic body rates: the bank (both turning models), the yaw at the standard rate R
-  // (fixed-rate model, eq. 3), the pitch-up to brake (landing). The rest comes from the torque.
+  // (fixed-rate model, eq. 3). Pitch and the rest come from the torque.
   c.omega = b.omega;
   if (on_legs) {
     c.omega = dvec3{0.0};
@@ -57,17 +73,14 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
-    bank_cmd = pursuit_bank(sp, c.steering.heading_error, glm::length(horizontal(goal - b.position)), speed);
+    bank_cmd = heading_bank(sp, c.steering.heading_error, speed);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
     dvec3 world_rate = b.attitude * c.omega;
     world_rate.y = -turn_rate;
     c.omega = glm::conjugate(b.attitude) * world_rate;
   }
-  c.omega.x = std::clamp((bank_cmd - bank) / sp.bank_time, -sp.roll_rate, sp.roll_rate);
-  if (braking)
-    c.omega.z = std::clamp((sp.brake_pitch - pitch_angle(b.attitude)) / sp.bank_time,
-                           -sp.roll_rate, sp.roll_rate);
+  c.omega.x = roll_for_bank(sp, b.attitude, c.omega, bank_cmd);
   return c;
 }
 
@@ -78,7 +91,7 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * w.wind;
-  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, body_wind - body_velocity, c.omega);
+  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, body_wind - body_velocity, c.omega);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
@@ -146,10 +159,15 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
 
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
   b.phase = std::fmod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
-  b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.steering.height_error, dt);
-  b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.steering.height_error, dt);
-  b.tail_bend = approach(b.tail_bend, c.tail.bend, sp.tail_rate, dt);
-  b.tail_twist = approach(b.tail_twist, c.tail.twist, sp.tail_rate, dt);
+  b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
+  b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
+  // The pitch trim integrates the energy balance.
+  if (!on_legs)
+    b.pitch_trim = std::clamp(b.pitch_trim + sp.balance_gain * c.balance / sp.trim_time * dt, sp.pitch_min,
+                              sp.pitch_max);
+  b.tail_bend = approach(b.tail_bend, c.bend, sp.tail_rate, dt);
+  b.tail_twist = approach(b.tail_twist, c.twist, sp.tail_rate, dt);
+  b.sweep = approach(b.sweep, c.sweep, sp.sweep_rate, dt);
   b.mode_time += dt;
   if (on_legs && b.mode_time >= sp.crouch_time + sp.leg_time) {
     b.mode = FlightMode::flying;

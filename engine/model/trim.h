@@ -10,12 +10,12 @@ namespace aeroflock {
 
 // Both wings' force averaged over one wingbeat at `phases` evenly spaced phases; the body flies
 // level along +x at `speed` (cm/s), nose up by `pitch` (rad), not rotating. World frame, dyn:
-// x is thrust (> 0 forward), y is lift.
+// x is thrust (> 0 forward), y is lift. `sweep`: the wings' mean lead-lag.
 struct WingbeatAverage {
   glm::dvec3 force;   // world frame, dyn: x thrust, y lift
   glm::dvec3 torque;  // body frame, about the centre of mass, dyn cm
 };
 WingbeatAverage average_wing_force(const Species& s, double speed, double frequency, double amp,
-                                   double pitch, int phases = 120);
+                                   double pitch, double sweep = 0.0, int phases = 120);
 
 }  // namespace aeroflock

@@ -9,11 +9,12 @@ namespace aeroflock {
 
 // Joint angles at wingbeat phase psi, radians. Arm angles relative to the body, hand angles
 // relative to the arm. Flapping up > 0, feathering leading edge down > 0, lead-lag forward > 0.
-// The arm feathers as B_arm sin(psi) - twist_bias: twist_bias is its mean incidence.
+// The arm feathers as B_arm sin(psi) - twist_bias: twist_bias is its mean incidence. `sweep` is
+// the bird's mean lead-lag (forward > 0), its pitch trim: it moves the wings' lift fore and aft.
 struct WingbeatAngles {
   double flap_arm, flap_hand, feather_arm, feather_hand, leadlag;
 };
-WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp);
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep);
 
 // One force point of a wing segment (paper Fig. 9), body frame, relative to the centre of mass.
 struct WingPoint {
@@ -24,8 +25,9 @@ struct WingPoint {
   double area;          // cm^2
 };
 
-// The right wing's points: [0] the middle of the arm, [1] the middle of the hand.
-void right_wing_points(const Species& s, double phase, double amp, double frequency,
+// The right wing's points: [0] the middle of the arm, [1] the middle of the hand. The sweep moves
+// slowly against the wingbeat: its rate is left out of the points' velocities.
+void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
                        WingPoint out[2]);
 // The left wing is the right wing mirrored through the body's x-y plane.
 WingPoint mirror_to_left(const WingPoint& p);
