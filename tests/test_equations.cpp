@@ -365,7 +365,7 @@ Steering steer_level(Species s, const dvec3& goal, double vy = 0.0, double bank 
   s.heading_lead = 0.5;
   s.height_lead = 1.5;
   const dquat attitude = heading_attitude(0.0) * glm::angleAxis(bank, dvec3{1, 0, 0});
-  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal);
+  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal, dvec3{0.0});
 }
 
 TEST(Steering, HeadingErrorSign) {

@@ -25,8 +25,6 @@ AF_REAL(kLinedUpSine, 0.035)
 AF_REAL(kFarthestCrossing, 4.0)
 // A bird that touches down on the ground stands this long before it takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)
-// Faster than this over the ground (cm/s) a bird steers its track, slower its head.
-AF_REAL(kTrackSpeed, 100.0)
 
 #ifdef __cplusplus
 inline constexpr double kPi = std::numbers::pi;

@@ -23,20 +23,24 @@ double steer_share(const Species& s, double heading_error) {
   return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
 
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity, const dvec3& goal) {
-  // The bird steers its track, not its head: in a crosswind it crabs. Slower than kTrackSpeed
-  // (just off the ground) it steers its head.
+dvec3 crab_aim(const Species& s, const dvec3& to_goal, const dvec3& wind) {
+  const dvec3 way = horizontal(to_goal);
+  const double length = glm::length(way);
+  if (length == 0.0) return way;
+  return way * (s.cruise_speed / length) - horizontal(wind);
+}
+
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity,
+                       const dvec3& goal, const dvec3& wind) {
   const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
-  const double speed = std::hypot(velocity.x, velocity.z);
-  const dvec3 track = speed > kTrackSpeed ? velocity : head;
   const dvec3 to_goal = goal - position;
+  const dvec3 aim = crab_aim(s, to_goal, wind);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
-  const double heading_error = std::atan2(-track.z * to_goal.x + track.x * to_goal.z,
-                                          track.x * to_goal.x + track.z * to_goal.z);
+  const double heading_error = std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
+  const double speed = std::hypot(velocity.x, velocity.z);
   // The turn the bank is making, g tan(bank) / v.
   const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / speed : 0.0;
-  return {heading_error, heading_error - s.heading_lead * turn_rate,
-          to_goal.y - s.height_lead * velocity.y};
+  return {heading_error, heading_error - s.heading_lead * turn_rate, to_goal.y - s.height_lead * velocity.y};
 }
 
 namespace {
@@ -63,11 +67,8 @@ double commanded_airspeed(const Species& s, double command, const dvec3& wind, c
   double v = std::clamp(command, s.min_speed, s.max_speed);
   if (!(command > 0.0)) {
     // No command: the airspeed that makes cruise_speed over the ground towards the goal.
-    const dvec3 way = horizontal(to_goal);
-    const double length = glm::length(way);
-    const dvec3 ground = length > 0.0 ? way * (s.cruise_speed / length) : dvec3{0.0};
-    v = std::clamp(glm::length(ground - horizontal(wind)), s.min_speed, s.max_speed);
-    if (length == 0.0) v = s.cruise_speed;
+    const dvec3 aim = crab_aim(s, to_goal, wind);
+    v = glm::length(aim) > 0.0 ? std::clamp(glm::length(aim), s.min_speed, s.max_speed) : s.cruise_speed;
   }
   if (to_branch >= 0.0) {
     const double room = std::max(0.0, to_branch - s.perch_radius);
@@ -91,7 +92,8 @@ double commanded_pitch(const Species& s, double pitch_trim, double balance, doub
 
 PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double rate) {
   const double error = pitch_command - pitch - s.pitch_damping * rate;
-  return {std::clamp(s.pitch_gain * error, -s.bend_max, s.bend_max),
+  const double beyond = error - std::clamp(error, -s.pitch_band, s.pitch_band);
+  return {std::clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max),
           std::clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max)};
 }
 
@@ -123,9 +125,20 @@ double approach(double angle, double command, double rate, double dt) {
   return angle + std::clamp(command - angle, -step, step);
 }
 
-double heading_bank(const Species& s, double heading_error, double speed) {
+double heading_bank(const Species& s, double heading_error, double distance, double speed) {
   if (std::fabs(heading_error) <= s.dead_band) return 0.0;
-  return coordinated_bank(s, heading_error / s.turn_time, speed);
+  if (std::fabs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
+  double rate = heading_error / s.turn_time;
+  // Pure pursuit, curvature 2 sin(phi) / distance: the circle through a near goal.
+  // No tighter than the circle the bird flies at full bank.
+  const double tightest = speed * speed / (kGravity * std::tan(s.bank_max));
+  const double pursuit = 2.0 * speed * std::sin(heading_error) / std::max(distance, tightest);
+  if (std::fabs(pursuit) > std::fabs(rate)) rate = pursuit;
+  return coordinated_bank(s, rate, speed);
+}
+
+double ground_bank(const Species& s, double height) {
+  return std::asin(std::clamp(height / s.wing_length, 0.0, 1.0));
 }
 
 double coordinated_bank(const Species& s, double turn_rate, double speed) {

@@ -13,19 +13,23 @@ namespace aeroflock {
 // sgn with a dead band: 0 while |x| <= band.
 double sign_outside(double x, double band);
 
-// heading_error, phi (Fig. 11): the horizontal angle from the track (the head direction when
-// slower than kTrackSpeed) to the goal,
-// target on the right > 0; the bank steers by it. heading_error_ahead: the same, less the turn the
-// bank is making (g tan(bank) / v) over heading_lead seconds; the tail twist steers by it, which
-// damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the bird's height predicted
-// height_lead seconds ahead so that the bang-bang height control settles instead of oscillating.
+// heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
+// target on the right > 0; in a wind, to where the head must point for the bird to fly over the
+// ground towards the goal at its cruise speed (crab_aim): it crabs. heading_error_ahead: the
+// same, less the turn the bank is making (g tan(bank) / v) over heading_lead seconds; the tail
+// twist steers by it, which damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the
+// bird's height predicted height_lead seconds ahead so that the height control settles.
 struct Steering {
   double heading_error;
   double heading_error_ahead;
   double height_error;
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
-                       const glm::dvec3& goal);
+                       const glm::dvec3& goal, const glm::dvec3& wind);
+
+// The horizontal air velocity that makes cruise_speed over the ground towards the goal:
+// cruise_speed along the way to it, less the wind (0 at the goal).
+glm::dvec3 crab_aim(const Species& s, const glm::dvec3& to_goal, const glm::dvec3& wind);
 
 // How hard the bird steers, in [-1, 1]: 0 inside the dead band, then in proportion to the
 // heading error, fully from steer_full_error on. Scales the tail twist and the bank.
@@ -47,9 +51,13 @@ double tail_twist_command(const Species& s, const Steering& steering, bool fixed
 // Moves `angle` towards `command` by at most rate dt.
 double approach(double angle, double command, double rate, double dt);
 
-// Tail model: the bank that turns the heading at heading_error / turn_time (whatever the goal's
-// distance), at most bank_max; 0 inside the dead band.
-double heading_bank(const Species& s, double heading_error, double speed);
+// Tail model: the bank that turns the heading at heading_error / turn_time (however far the goal
+// is), or tighter onto the pure-pursuit circle through a near goal (curvature 2 sin(phi) /
+// distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band.
+double heading_bank(const Species& s, double heading_error, double distance, double speed);
+
+// The largest bank `height` (cm, body above the ground) allows: the wingtip stays above it.
+double ground_bank(const Species& s, double height);
 
 // The bank that makes lift supply the centripetal force of a turn at `turn_rate` (rad/s, to the
 // right > 0) and `speed`, at most bank_max: the bird banks into the turn to avoid skidding (3.4).
@@ -76,9 +84,10 @@ Energy energy_errors(const Species& s, double height_error, double airspeed, dou
 // lower, no less than climb_pitch in proportion to how far below.
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
 
-// The tail bend (the elevator) and the sweep that hold `pitch_command`: pitch_gain and
-// sweep_gain times the pitch error less pitch_damping times the pitch rate, within bend_max and
-// sweep_max.
+// The tail bend (the elevator) and the sweep that hold `pitch_command`, from the pitch error
+// less pitch_damping times the pitch rate: the sweep sweep_gain times it (within sweep_max), the
+// tail pitch_gain times what exceeds pitch_band (within bend_max), so that in steady flight the
+// tail stays closed.
 struct PitchControl {
   double bend, sweep;
 };

@@ -38,8 +38,8 @@ Species eagle() {
   s.leg_force = 8.4e6;  // the starling's push scaled by mass
   s.leg_time = 0.1;
   s.approach_distance = 1200;
-  s.brake_distance = 500;
-  s.brake_pitch = radians(50);
+  s.brake_distance = 800;
+  s.brake_pitch = radians(60);
   s.perch_radius = 200;
   return s;
 }
@@ -71,8 +71,8 @@ Species starling() {
   s.leg_force = 2.1e6;  // paper section 5
   s.leg_time = 0.1;
   s.approach_distance = 600;
-  s.brake_distance = 250;
-  s.brake_pitch = radians(50);
+  s.brake_distance = 400;
+  s.brake_pitch = radians(60);
   s.perch_radius = 100;
   return s;
 }

@@ -37,7 +37,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   const bool braking = b.mode == FlightMode::landing;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, w.wind);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
@@ -50,7 +50,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   const double airspeed = glm::length(b.velocity - w.wind);
   const double commanded = commanded_airspeed(sp, b.airspeed, w.wind, goal - b.position, distance_to_perch(b, sp, w));
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
-  c.energy_error = e.total;
+  // Braking, the pitch is fixed and the air slows the bird: the wingbeat holds its height (eqs. 4,
+  // 5 as the paper has them).
+  c.energy_error = braking ? c.steering.height_error : e.total;
   c.balance = e.balance;
   const double ground = w.ground_height + sp.stand_height;
   const double pitch_command =
@@ -73,7 +75,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
-    bank_cmd = heading_bank(sp, c.steering.heading_error, speed);
+    bank_cmd = heading_bank(sp, c.steering.heading_error, glm::length(horizontal(goal - b.position)), speed);
+  const double wingtip = ground_bank(sp, b.position.y - w.ground_height);
+  bank_cmd = std::clamp(bank_cmd, -wingtip, wingtip);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
     dvec3 world_rate = b.attitude * c.omega;
@@ -173,9 +177,9 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     b.mode = FlightMode::flying;
     b.mode_time = 0.0;
   }
-  // The ground is solid: a bird in the air whose legs reach it touches down, stands, and takes
+  // The ground is solid: a bird in the air whose legs reach it on the way down touches down, stands, and takes
   // off again when it has rested (its route goes on).
-  if (!on_legs && b.position.y < w.ground_height + sp.stand_height) {
+  if (!on_legs && b.position.y < w.ground_height + sp.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, dvec3{b.position.x, w.ground_height + sp.stand_height, b.position.z});
     b.mode = FlightMode::standing;
     b.takeoff_time = time + dt + kRestAfterTouchdown;

@@ -60,8 +60,9 @@ struct WingAngles {
   float flap_arm, flap_hand, feather_arm, feather_hand, leadlag;  // rad
 };
 
-// The right wing's joint angles at wingbeat phase `phase` and amplitude `amp` (MODEL.md).
-WingAngles wing_angles(GpuSpecies s, float phase, float amp) {
+// The right wing's joint angles at wingbeat phase `phase`, amplitude `amp` and mean lead-lag
+// `sweep` (MODEL.md; wingbeat.cpp).
+WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep) {
   WingAngles w;
   vec2 p = sin_cos(phase), h = sin_cos(phase - s.lag_hand);
   w.sin_phase = p.x;
@@ -72,7 +73,7 @@ WingAngles wing_angles(GpuSpecies s, float phase, float amp) {
   w.flap_hand = amp * s.A_hand * w.cos_hand_phase;
   w.feather_arm = s.B_arm * w.sin_phase - s.twist_bias;
   w.feather_hand = s.B_hand * w.sin_hand_phase;
-  w.leadlag = s.C_leadlag * w.sin_phase;
+  w.leadlag = sweep + s.C_leadlag * w.sin_phase;
   return w;
 }
 

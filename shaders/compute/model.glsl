@@ -77,9 +77,9 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
   normal = s * fx + c * fy;
 }
 
-void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, out WingPoint arm,
+void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep, out WingPoint arm,
                        out WingPoint hand) {
-  WingAngles w = wing_angles(s, phase, amp);
+  WingAngles w = wing_angles(s, phase, amp, sweep);
   float phase_rate = 2.0 * kPi * frequency;
   float leadlag_rate = s.C_leadlag * w.cos_phase * phase_rate;
   float flap_arm_rate = -amp * s.A_arm * w.sin_phase * phase_rate;
@@ -142,11 +142,17 @@ struct Steering {
   float heading_error, heading_error_ahead, height_error;
 };
 
-Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal) {
+vec2 crab_aim(GpuSpecies s, vec3 to_goal, vec3 wind) {
+  float len = length(to_goal.xz);
+  return len == 0.0 ? vec2(0.0) : to_goal.xz * (s.cruise_speed / len) - wind.xz;
+}
+
+Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal, vec3 wind) {
   vec3 head = rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
+  vec2 aim = crab_aim(s, to_goal, wind);
   Steering st;
-  st.heading_error = atan_p(-head.z * to_goal.x + head.x * to_goal.z, head.x * to_goal.x + head.z * to_goal.z);
+  st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
   float speed = length(velocity.xz);
   float turn_rate = speed > 1.0 ? kGravity * tan_p(bank) / speed : 0.0;
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
@@ -167,11 +173,68 @@ float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
   return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
-float pursuit_bank(GpuSpecies s, float heading_error, float distance, float speed) {
+float heading_bank(GpuSpecies s, float heading_error, float distance, float speed) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
-  if (abs(heading_error) >= 0.5 * kPi || distance <= 0.0) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
+  if (abs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
+  float rate = heading_error / s.turn_time;
   float tightest = speed * speed / (kGravity * s.tan_bank_max);
-  return coordinated_bank(s, 2.0 * speed * sin_p(heading_error) / max(distance, tightest), speed);
+  float pursuit = 2.0 * speed * sin_p(heading_error) / max(distance, tightest);
+  if (abs(pursuit) > abs(rate)) rate = pursuit;
+  return coordinated_bank(s, rate, speed);
+}
+
+float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.wing_length, 0.0, 1.0)); }
+
+// --- Airspeed, pitch and sweep (control.cpp) ---
+
+float commanded_airspeed(GpuSpecies s, float command, vec3 wind, vec3 to_goal, float to_branch) {
+  float v = clamp(command, s.min_speed, s.max_speed);
+  if (!(command > 0.0)) {
+    vec2 aim = crab_aim(s, to_goal, wind);
+    v = length(aim) > 0.0 ? clamp(length(aim), s.min_speed, s.max_speed) : s.cruise_speed;
+  }
+  if (to_branch >= 0.0) {
+    float room = max(0.0, to_branch - s.perch_radius);
+    v = min(v, sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
+  }
+  return v;
+}
+
+// x: the total energy error, y: the balance, cm.
+vec2 energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
+  precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
+  return vec2(height_error + deficit, clamp(height_error, -s.balance_band, s.balance_band) - deficit);
+}
+
+float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height, float goal_height) {
+  float pitch = clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
+  float floor_height = min(s.clearance, goal_height);
+  if (height >= floor_height) return pitch;
+  return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
+}
+
+// x: the tail bend, y: the sweep.
+vec2 pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
+  float error = pitch_command - pitch - s.pitch_damping * rate;
+  float beyond = error - clamp(error, -s.pitch_band, s.pitch_band);
+  return vec2(clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max), clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max));
+}
+
+float pitch_rate(vec4 attitude, vec3 omega) {
+  vec3 head = rotate(attitude, vec3(1, 0, 0));
+  return cross(rotate(attitude, omega), head).y / sqrt(max(1.0 - head.y * head.y, 1e-6));
+}
+
+float bank_rate(vec4 attitude, vec3 omega) {
+  vec3 right = rotate(attitude, vec3(0, 0, 1));
+  return -cross(rotate(attitude, omega), right).y / sqrt(max(1.0 - right.y * right.y, 1e-6));
+}
+
+float roll_for_bank(GpuSpecies s, vec4 attitude, vec3 omega, float bank, float bank_command) {
+  float wanted = (bank_command - bank) / s.bank_time;
+  float per_roll = bank_rate(attitude, vec3(1, 0, 0));
+  float roll = abs(per_roll) > 0.1 ? (wanted - bank_rate(attitude, vec3(0.0, omega.y, omega.z))) / per_roll : wanted;
+  return clamp(roll, -s.roll_rate, s.roll_rate);
 }
 
 vec3 landing_point(vec3 bird, vec3 heading, vec3 branch_point, vec3 branch_direction) {
@@ -315,7 +378,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
   uint branch = r.branch - 1u;
   vec3 to_perch = perch_point(s, branch) - b.position;
   float d = length(to_perch);
-  if (d <= s.perch_radius) {
+  if (d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed) {
     perch(b, s, branch);
     return true;
   }
@@ -335,22 +398,44 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
 
 struct Commands {
   Steering steering;
-  float bend, twist;  // where the tail moves to
+  float energy_error;  // what eqs. 4, 5 follow, cm
+  float balance;       // what the pitch trim integrates, cm
+  float bend, twist;   // where the tail moves to
+  float sweep;         // where the wings' sweep moves to
   float opening;
   vec3 omega;
 };
 
-Commands control(GpuBird b, GpuSpecies s, vec3 goal) {
+// How far the bird is from where it perches, once the branch is its goal; -1 before (route.cpp).
+float distance_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
+  if (leg.route.branch == 0u || b.target < leg.route.count) return -1.0;
+  return distance(perch_point(s, leg.route.branch - 1u), b.position);
+}
+
+Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   bool fixed_rate = pc.turning == 1u && !braking;
   Commands c;
   float bank = bank_angle(b.attitude);
-  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal);
-  c.bend = sign_outside(c.steering.height_error, s.height_band) * s.bend_max;
+  float pitch = pitch_angle(b.attitude);
+  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, pc.wind_ground.xyz);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
+
+  float airspeed = length(b.velocity - pc.wind_ground.xyz);
+  float commanded = commanded_airspeed(s, b.airspeed, pc.wind_ground.xyz, goal - b.position, to_perch);
+  vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
+  c.energy_error = braking ? c.steering.height_error : e.x;
+  c.balance = e.y;
+  float ground = pc.wind_ground.w + s.stand_height;
+  float pitch_command = braking ? s.brake_pitch
+                                : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
+  vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
+  c.bend = p.x;
+  c.sweep = p.y;
+
   c.omega = b.omega;
   if (on_legs) {
     c.omega = vec3(0.0);
@@ -362,15 +447,15 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal) {
   if (fixed_rate)
     bank_cmd = coordinated_bank(s, turn_rate, speed);
   else if (!braking)
-    bank_cmd = pursuit_bank(s, c.steering.heading_error, length(goal.xz - b.position.xz), speed);
+    bank_cmd = heading_bank(s, c.steering.heading_error, length(goal.xz - b.position.xz), speed);
+  float wingtip = ground_bank(s, b.position.y - pc.wind_ground.w);
+  bank_cmd = clamp(bank_cmd, -wingtip, wingtip);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
     world_rate.y = -turn_rate;
     c.omega = rotate_back(b.attitude, world_rate);
   }
-  c.omega.x = clamp((bank_cmd - bank) / s.bank_time, -s.roll_rate, s.roll_rate);
-  if (braking)
-    c.omega.z = clamp((s.brake_pitch - pitch_angle(b.attitude)) / s.bank_time, -s.roll_rate, s.roll_rate);
+  c.omega.x = roll_for_bank(s, b.attitude, c.omega, bank, bank_cmd);
   return c;
 }
 
@@ -380,7 +465,7 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz - b.velocity);
   WingPoint right[2];
-  right_wing_points(s, b.phase, b.amplitude, b.frequency, right[0], right[1]);
+  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, right[0], right[1]);
   // The aerodynamic forces are summed in the body frame and turned to the world once.
   precise vec3 body_force = vec3(0.0);
   precise vec3 torque = vec3(0.0);
@@ -458,7 +543,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   }
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg)) return no_forces();
-  Commands c = control(b, s, goal);
+  Commands c = control(b, s, goal, distance_to_perch(b, s, leg));
   GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;
@@ -472,10 +557,12 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   if (on_legs) stand_on_legs(b, s, dt);
 
   b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
-  b.frequency = on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.steering.height_error, dt);
-  b.amplitude = on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.steering.height_error, dt);
+  b.frequency = on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.energy_error, dt);
+  b.amplitude = on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.energy_error, dt);
+  if (!on_legs) b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min, s.pitch_max);
   b.tail_bend = approach(b.tail_bend, c.bend, s.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
+  b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);
   b.mode_time += dt;
   if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
     b.mode = mode_flying;
@@ -483,7 +570,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   }
   // The ground is solid: touch down, stand, take off again when rested (step.cpp).
   float ground = pc.wind_ground.w;
-  if (!on_legs && b.position.y < ground + s.stand_height) {
+  if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));
     b.mode = mode_standing;
     b.takeoff_time = time + dt + kRestAfterTouchdown;
