@@ -90,6 +90,12 @@ double commanded_pitch(const Species& s, double pitch_trim, double balance, doub
   return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
 }
 
+double flare_pitch(const Species& s, double pitch_trim, double speed, double to_perch) {
+  const double room = std::max(to_perch - 0.5 * s.perch_radius, 0.1 * s.perch_radius);
+  const double needed = std::max(0.0, speed * speed - s.touchdown_speed * s.touchdown_speed) / (2.0 * room);
+  return std::clamp(pitch_trim + (s.brake_pitch - pitch_trim) * needed / s.flare_decel, s.pitch_min, s.brake_pitch);
+}
+
 PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double rate) {
   const double error = pitch_command - pitch - s.pitch_damping * rate;
   const double beyond = error - std::clamp(error, -s.pitch_band, s.pitch_band);

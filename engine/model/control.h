@@ -84,6 +84,11 @@ Energy energy_errors(const Species& s, double height_error, double airspeed, dou
 // lower, no less than climb_pitch in proportion to how far below.
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
 
+// Braking for the branch (the flare): from the pitch trim towards brake_pitch in proportion to
+// the deceleration that stops the bird at touchdown_speed where it perches, brake_pitch giving
+// flare_decel; within [pitch_min, brake_pitch].
+double flare_pitch(const Species& s, double pitch_trim, double speed, double to_perch);
+
 // The tail bend (the elevator) and the sweep that hold `pitch_command`, from the pitch error
 // less pitch_damping times the pitch rate: the sweep sweep_gain times it (within sweep_max), the
 // tail pitch_gain times what exceeds pitch_band (within bend_max), so that in steady flight the

@@ -119,7 +119,8 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  const bool closing = glm::dot(to_perch, b.velocity) > 0.0;
+  // Overshot: flown past the branch (horizontally; a braking bird may sink a little).
+  const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
   if (b.mode == FlightMode::landing && !closing) {
     b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
     b.mode_time = 0.0;

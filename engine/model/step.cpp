@@ -32,7 +32,10 @@ struct Commands {
   dvec3 omega;          // body rates used this step, with the controller's kinematic ones
 };
 
-Commands control(const BirdState& b, const Species& sp, const World& w, const dvec3& goal) {
+Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal) {
+  // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
+  const double ground = w.ground_height + sp.stand_height;
+  goal.y = std::max(goal.y, ground);
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
@@ -42,7 +45,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
-  c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
+  // Braking, the tail spreads straight behind (an air brake) and no longer yaws the body.
+  c.twist = braking ? 0.0 : std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
                        std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
 
@@ -54,9 +58,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, const dv
   // 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
   c.balance = e.balance;
-  const double ground = w.ground_height + sp.stand_height;
   const double pitch_command =
-      braking ? sp.brake_pitch
+      braking ? flare_pitch(sp, b.pitch_trim, glm::length(b.velocity), distance_to_perch(b, sp, w))
               : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
   const PitchControl p = pitch_control(sp, pitch_command, pitch_angle(b.attitude), pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;

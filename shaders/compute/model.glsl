@@ -213,6 +213,12 @@ float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float heigh
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
 
+float flare_pitch(GpuSpecies s, float pitch_trim, float speed, float to_perch) {
+  float room = max(to_perch - 0.5 * s.perch_radius, 0.1 * s.perch_radius);
+  float needed = max(0.0, speed * speed - s.touchdown_speed * s.touchdown_speed) / (2.0 * room);
+  return clamp(pitch_trim + (s.brake_pitch - pitch_trim) * needed / s.flare_decel, s.pitch_min, s.brake_pitch);
+}
+
 // x: the tail bend, y: the sweep.
 vec2 pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
   float error = pitch_command - pitch - s.pitch_damping * rate;
@@ -382,7 +388,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     perch(b, s, branch);
     return true;
   }
-  bool closing = dot(to_perch, b.velocity) > 0.0;
+  bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // flown past horizontally (route.cpp)
   if (b.mode == mode_landing && !closing) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
@@ -413,6 +419,8 @@ float distance_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
 }
 
 Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
+  float ground = pc.wind_ground.w + s.stand_height;
+  goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   bool fixed_rate = pc.turning == 1u && !braking;
@@ -421,7 +429,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   float pitch = pitch_angle(b.attitude);
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, pc.wind_ground.xyz);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
-  c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
+  c.twist = braking ? 0.0 : clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
 
   float airspeed = length(b.velocity - pc.wind_ground.xyz);
@@ -429,8 +437,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   c.balance = e.y;
-  float ground = pc.wind_ground.w + s.stand_height;
-  float pitch_command = braking ? s.brake_pitch
+  float pitch_command = braking ? flare_pitch(s, b.pitch_trim, length(b.velocity), to_perch)
                                 : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
   vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.x;
