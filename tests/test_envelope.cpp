@@ -38,21 +38,23 @@ TEST(Envelope, GridCoversTheIssuesRanges) {
   EXPECT_GT(landings, 0);
 }
 
-TEST(Envelope, JudgesAReachedTargetAndADiveIntoTheGround) {
+TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
   EnvelopeCase easy;  // level at cruise, the target 50 m straight ahead and 5 m down
   easy.speed = 1000.0;
   easy.rise = -500.0;
   easy.distance = 5000.0;
-  EnvelopeCase dive;  // 20 m/s straight down from 200 m with a target 150 m below: the ground
-  dive.speed = 2000.0;
-  dive.pitch = radians(-89.0);
-  dive.rise = -15000.0;
-  dive.distance = 200000.0;
-  const std::vector<EnvelopeResult> r = fly_envelope(starling(), {easy, dive}, cpu());
+  EnvelopeCase climb = easy;  // 20 m up
+  climb.rise = 2000.0;
+  const std::vector<EnvelopeResult> r = fly_envelope(starling(), {easy, climb}, cpu());
   ASSERT_EQ(r.size(), 2u);
   EXPECT_EQ(r[0].outcome, Outcome::reached) << name(r[0].outcome);
   EXPECT_LT(r[0].time, 10.0);
-  EXPECT_NE(r[1].outcome, Outcome::reached) << name(r[1].outcome);
+  EXPECT_EQ(r[1].outcome, Outcome::reached) << name(r[1].outcome);
+  // Five times as heavy on the same wings: it cannot climb, nor hold its height.
+  Species heavy = starling();
+  heavy.mass *= 5.0;
+  const std::vector<EnvelopeResult> h = fly_envelope(heavy, {easy, climb}, cpu());
+  EXPECT_NE(h[1].outcome, Outcome::reached) << name(h[1].outcome);
 }
 
 }  // namespace

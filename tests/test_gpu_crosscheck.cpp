@@ -91,6 +91,9 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.amplitude = in(sp.amp_min, sp.amp_max);
     b.tail_bend = in(-sp.bend_max, sp.bend_max);
     b.tail_twist = in(-sp.rot_max, sp.rot_max);
+    b.sweep = in(-sp.sweep_max, sp.sweep_max);
+    b.pitch_trim = in(0.0, radians(20));
+    b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
     const Route& tour = s.world.routes[0];
     const Branch& br = s.world.branches[0];
     switch (i % 12) {
@@ -187,6 +190,9 @@ const std::map<std::string, double> kStateTolerance = {
     {"amplitude", 1e-6},
     {"tail_bend", 1e-6},         // rad
     {"tail_twist", 1e-6},        // rad
+    {"sweep", 1e-6},             // rad
+    {"pitch_trim", 1e-6},        // rad
+    {"airspeed", 0},             // cm/s: a command, kept
     {"mode_time", 1e-6},         // s
     {"takeoff_time", 1e-6},      // s
     {"landing_start", 1e-3},     // cm: placed at the bird's position
@@ -261,9 +267,9 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
     const auto tolerance = kStateTolerance.find(name);
     ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
     EXPECT_LE(worst, tolerance->second) << name;
-    // Every field but the bird's species and route changes in a step for some of these birds
-    // (the take-off time when a bird near the ground touches down).
-    if (name != "species" && name != "route") {
+    // Every field but the bird's species, route and commanded airspeed changes in a step for some
+    // of these birds (the take-off time when a bird near the ground touches down).
+    if (name != "species" && name != "route" && name != "airspeed") {
       EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
     }
   }

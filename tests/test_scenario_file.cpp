@@ -238,7 +238,7 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:2:19: error: simulation.steps_per_frame: expected a positive integer, got 0"},
       {"loop over one target", replace(kValid, "targets = [\"t1\"]", "targets = [\"t1\"]\nloop = true"),
        "bad.toml:11:8: error: routes[0].loop: a looping route needs at least two targets"},
-      {"perch beyond braking", kValid + species + "perch_radius = 500.0\n",
+      {"perch beyond braking", kValid + species + "perch_radius = 900.0\n",
        "bad.toml:20:16: error: species[0].perch_radius: species 'x': perch_radius must be <= brake_distance"},
       {"turning", replace(kValid, "dt = 0.0003", "turning = \"left\""),
        "bad.toml:2:11: error: simulation.turning: expected \"tail\" or \"fixed-rate\""},

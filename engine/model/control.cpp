@@ -66,9 +66,9 @@ double commanded_airspeed(const Species& s, double command, const dvec3& wind, c
                           double to_branch) {
   double v = std::clamp(command, s.min_speed, s.max_speed);
   if (!(command > 0.0)) {
-    // No command: the airspeed that makes cruise_speed over the ground towards the goal.
-    const dvec3 aim = crab_aim(s, to_goal, wind);
-    v = glm::length(aim) > 0.0 ? std::clamp(glm::length(aim), s.min_speed, s.max_speed) : s.cruise_speed;
+    // No command: cruise_speed, or faster where that makes cruise_speed over the ground towards
+    // the goal against the wind.
+    v = std::clamp(glm::length(crab_aim(s, to_goal, wind)), s.cruise_speed, s.max_speed);
   }
   if (to_branch >= 0.0) {
     const double room = std::max(0.0, to_branch - s.perch_radius);

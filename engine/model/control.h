@@ -65,8 +65,8 @@ double coordinated_bank(const Species& s, double turn_rate, double speed);
 
 // Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
 // The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0)
-// the airspeed that makes cruise_speed over the ground towards its goal in the `wind` (within
-// the same range). On the way to a branch no faster than it can still brake to touchdown_speed
+// cruise_speed, or faster (up to max_speed) where that makes cruise_speed over the ground towards
+// its goal against the `wind`. On the way to a branch no faster than it can still brake to touchdown_speed
 // at brake_decel over `to_branch` (cm, < 0: no branch ahead).
 double commanded_airspeed(const Species& s, double command, const glm::dvec3& wind,
                           const glm::dvec3& to_goal, double to_branch);

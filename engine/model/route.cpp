@@ -67,7 +67,10 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
   }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
                                         b.position, s.approach_distance);
-  return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+  // Along the curve at the perch's height: a bird that placed it from low down climbs back first.
+  dvec3 on_curve = landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+  on_curve.y = q2.y;
+  return on_curve;
 }
 
 void perch(BirdState& b, const Species& s, const Branch& br) {

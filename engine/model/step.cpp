@@ -52,14 +52,15 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - w.wind);
-  const double commanded = commanded_airspeed(sp, b.airspeed, w.wind, goal - b.position, distance_to_perch(b, sp, w));
+  const double to_perch = distance_to_perch(b, sp, w);
+  const double commanded = commanded_airspeed(sp, b.airspeed, w.wind, goal - b.position, to_perch);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the pitch is fixed and the air slows the bird: the wingbeat holds its height (eqs. 4,
   // 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
   c.balance = e.balance;
   const double pitch_command =
-      braking ? flare_pitch(sp, b.pitch_trim, glm::length(b.velocity), distance_to_perch(b, sp, w))
+      braking ? flare_pitch(sp, b.pitch_trim, glm::length(b.velocity), to_perch)
               : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
   const PitchControl p = pitch_control(sp, pitch_command, pitch_angle(b.attitude), pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
@@ -78,7 +79,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
-    bank_cmd = heading_bank(sp, c.steering.heading_error, glm::length(horizontal(goal - b.position)), speed);
+    bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
   const double wingtip = ground_bank(sp, b.position.y - w.ground_height);
   bank_cmd = std::clamp(bank_cmd, -wingtip, wingtip);
   if (fixed_rate) {

@@ -190,8 +190,7 @@ float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.w
 float commanded_airspeed(GpuSpecies s, float command, vec3 wind, vec3 to_goal, float to_branch) {
   float v = clamp(command, s.min_speed, s.max_speed);
   if (!(command > 0.0)) {
-    vec2 aim = crab_aim(s, to_goal, wind);
-    v = length(aim) > 0.0 ? clamp(length(aim), s.min_speed, s.max_speed) : s.cruise_speed;
+    v = clamp(length(crab_aim(s, to_goal, wind)), s.cruise_speed, s.max_speed);
   }
   if (to_branch >= 0.0) {
     float room = max(0.0, to_branch - s.perch_radius);
@@ -317,7 +316,8 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch) {
   }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
                                         b.position, s.approach_distance);
-  return landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+  vec3 on_curve = landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
+  return vec3(on_curve.x, q2.y, on_curve.z);  // at the perch's height (route.cpp)
 }
 
 // What a bird's route asks of it now: the route and its current (or, past the end, last)
@@ -454,7 +454,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   if (fixed_rate)
     bank_cmd = coordinated_bank(s, turn_rate, speed);
   else if (!braking)
-    bank_cmd = heading_bank(s, c.steering.heading_error, length(goal.xz - b.position.xz), speed);
+    bank_cmd = heading_bank(s, c.steering.heading_error_ahead, length(goal.xz - b.position.xz), speed);
   float wingtip = ground_bank(s, b.position.y - pc.wind_ground.w);
   bank_cmd = clamp(bank_cmd, -wingtip, wingtip);
   if (fixed_rate) {
