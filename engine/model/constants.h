@@ -23,6 +23,8 @@ AF_REAL(kGateApproaches, 5.0)
 // double computation of it differ by metres) and would bend the curve kilometres out.
 AF_REAL(kLinedUpSine, 0.035)
 AF_REAL(kFarthestCrossing, 4.0)
+// Pitched this steeply (rad, up or down) a bird levels its wings (control.h: recovery_bank).
+AF_REAL(kSteepPitch, 1.0471975511965976)
 // A bird that touches down on the ground stands this long before it takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)
 

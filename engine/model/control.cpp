@@ -143,6 +143,10 @@ double heading_bank(const Species& s, double heading_error, double distance, dou
   return coordinated_bank(s, rate, speed);
 }
 
+double recovery_bank(const Species& s, double pitch) {
+  return s.bank_max * std::clamp((kSteepPitch - std::fabs(pitch)) / (kSteepPitch - kSteepPitch / 2.0), 0.0, 1.0);
+}
+
 double ground_bank(const Species& s, double height) {
   return std::asin(std::clamp(height / s.wing_length, 0.0, 1.0));
 }

@@ -33,6 +33,7 @@ Species eagle() {
   // run away nose-up at full amplitude (lead-lag 7.5 deg).
   s.C_leadlag = radians(7.5);
   s.shoulder_x = -4;
+  s.pitch_max = radians(25);  // the eagle's pitch runs past 60 deg in steep banked descents at 35
   s.stand_height = 25;
   s.crouch_depth = 8;
   s.leg_force = 8.4e6;  // the starling's push scaled by mass

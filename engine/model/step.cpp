@@ -80,8 +80,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
     bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
-  const double wingtip = ground_bank(sp, b.position.y - w.ground_height);
-  bank_cmd = std::clamp(bank_cmd, -wingtip, wingtip);
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch_angle(b.attitude)));
+  bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
     dvec3 world_rate = b.attitude * c.omega;

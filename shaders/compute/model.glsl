@@ -183,6 +183,10 @@ float heading_bank(GpuSpecies s, float heading_error, float distance, float spee
   return coordinated_bank(s, rate, speed);
 }
 
+float recovery_bank(GpuSpecies s, float pitch) {
+  return s.bank_max * clamp((kSteepPitch - abs(pitch)) / (kSteepPitch - kSteepPitch / 2.0), 0.0, 1.0);
+}
+
 float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.wing_length, 0.0, 1.0)); }
 
 // --- Airspeed, pitch and sweep (control.cpp) ---
@@ -455,8 +459,8 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
     bank_cmd = coordinated_bank(s, turn_rate, speed);
   else if (!braking)
     bank_cmd = heading_bank(s, c.steering.heading_error_ahead, length(goal.xz - b.position.xz), speed);
-  float wingtip = ground_bank(s, b.position.y - pc.wind_ground.w);
-  bank_cmd = clamp(bank_cmd, -wingtip, wingtip);
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch));
+  bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
     world_rate.y = -turn_rate;
