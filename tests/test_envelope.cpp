@@ -2,6 +2,8 @@
 // outcome is known. Whether a species passes it is the flight-envelope issue's test.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <cmath>
 
 #include "model/constants.h"
@@ -55,6 +57,37 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
   heavy.mass *= 5.0;
   const std::vector<EnvelopeResult> h = fly_envelope(heavy, {easy, climb}, cpu());
   EXPECT_NE(h[1].outcome, Outcome::reached) << name(h[1].outcome);
+}
+
+// Issue 10: the envelope does not rest on single calibrated values. Every flight and take-off of
+// the quick grid still succeeds for the starling with the shoulder 2 cm further forward or back,
+// the mass 30 % lighter or heavier and the lead-lag 3 degrees smaller or larger. The eagle does
+// not yet (14 of its 102 such flights pitch past 60 degrees, 9 of them with the lead-lag 3 degrees
+// larger): README "Flight envelope" gives the full grid's figures for both.
+TEST(Envelope, QuickGridSurvivesMovedCalibrations) {
+  struct Change {
+    const char* what;
+    std::function<void(Species&)> apply;
+  };
+  const std::vector<Change> changes = {
+      {"shoulder +2 cm", [](Species& s) { s.shoulder_x += 2.0; }},
+      {"shoulder -2 cm", [](Species& s) { s.shoulder_x -= 2.0; }},
+      {"mass +30 %", [](Species& s) { s.mass *= 1.3; }},
+      {"mass -30 %", [](Species& s) { s.mass *= 0.7; }},
+      {"lead-lag +3 deg", [](Species& s) { s.C_leadlag += radians(3.0); }},
+      {"lead-lag -3 deg", [](Species& s) { s.C_leadlag -= radians(3.0); }},
+  };
+  std::vector<EnvelopeCase> cases;
+  for (const EnvelopeCase& c : envelope_cases(true))
+    if (c.kind != EnvelopeCase::Kind::landing) cases.push_back(c);
+  for (const Species& preset : {starling()})
+    for (const Change& change : changes) {
+      Species s = preset;
+      change.apply(s);
+      for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
+        EXPECT_EQ(r.outcome, Outcome::reached)
+            << preset.name << ", " << change.what << ": " << r.c.describe() << ": " << name(r.outcome);
+    }
 }
 
 }  // namespace

@@ -34,6 +34,8 @@ Species eagle() {
   s.C_leadlag = radians(7.5);
   s.shoulder_x = -4;
   s.pitch_max = radians(25);  // the eagle's pitch runs past 60 deg in steep banked descents at 35
+  s.min_speed = 800;          // the airspeeds it holds level (7 and 14 m/s: it sinks)
+  s.max_speed = 1300;
   s.stand_height = 25;
   s.crouch_depth = 8;
   s.leg_force = 8.4e6;  // the starling's push scaled by mass
