@@ -23,6 +23,7 @@
 #include "io/scenario_file.h"
 #include "model/body.h"
 #include "model/constants.h"
+#include "model/envelope.h"
 #include "model/route.h"
 #include "model/simulation.h"
 #include "model/step.h"
@@ -273,6 +274,37 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
       EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
     }
   }
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// Issue 10: the flight envelope judged on both backends gives the same outcomes: every fifth
+// flight of the grid up to 300 m away (216) and every take-off (24); landings, a perch or a
+// go-round decided by centimetres, are left out.
+TEST(GpuEnvelope, SameOutcomesAsTheReference) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  std::vector<EnvelopeCase> cases;
+  size_t k = 0;
+  for (const EnvelopeCase& c : envelope_cases()) {
+    if (c.kind == EnvelopeCase::Kind::takeoff) cases.push_back(c);
+    if (c.kind == EnvelopeCase::Kind::flight && c.distance <= 30000.0 && k++ % 5 == 0) cases.push_back(c);
+  }
+  ASSERT_GE(cases.size(), 200u);
+  const SimulationFactory cpu = [](Scenario s, std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
+    return std::make_unique<CpuSimulation>(std::move(s), std::move(b));
+  };
+  const SimulationFactory gpu = [&](Scenario s, std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
+    return std::make_unique<gpu::GpuSimulation>(device, std::move(s), std::move(b));
+  };
+  const Species sp = starling();
+  const std::vector<EnvelopeResult> a = fly_envelope(sp, cases, cpu);
+  const std::vector<EnvelopeResult> b = fly_envelope(sp, cases, gpu);
+  size_t same = 0;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    same += a[i].outcome == b[i].outcome;
+    EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome) << ", vulkan "
+                                          << name(b[i].outcome);
+  }
+  RecordProperty("same_outcomes", std::to_string(same) + " of " + std::to_string(cases.size()));
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
