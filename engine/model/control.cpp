@@ -40,7 +40,8 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const double speed = std::hypot(velocity.x, velocity.z);
   // The turn the bank is making, g tan(bank) / v.
   const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / speed : 0.0;
-  return {heading_error, heading_error - s.heading_lead * turn_rate, to_goal.y - s.height_lead * velocity.y};
+  return {heading_error, heading_error - s.heading_lead * turn_rate, to_goal.y - s.height_lead * velocity.y,
+          glm::length(aim)};
 }
 
 namespace {
@@ -62,13 +63,12 @@ double tail_twist_command(const Species& s, const Steering& st, bool fixed_rate)
   return steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max;
 }
 
-double commanded_airspeed(const Species& s, double command, const dvec3& wind, const dvec3& to_goal,
-                          double to_branch) {
+double commanded_airspeed(const Species& s, double command, double aim_speed, double to_branch) {
   double v = std::clamp(command, s.min_speed, s.max_speed);
   if (!(command > 0.0)) {
     // No command: cruise_speed, or faster where that makes cruise_speed over the ground towards
     // the goal against the wind.
-    v = std::clamp(glm::length(crab_aim(s, to_goal, wind)), s.cruise_speed, s.max_speed);
+    v = std::clamp(aim_speed, s.cruise_speed, s.max_speed);
   }
   if (to_branch >= 0.0) {
     const double room = std::max(0.0, to_branch - s.perch_radius);

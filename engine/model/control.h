@@ -23,6 +23,7 @@ struct Steering {
   double heading_error;
   double heading_error_ahead;
   double height_error;
+  double aim_speed;  // |crab_aim|, cm/s: the airspeed that makes cruise_speed towards the goal
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
                        const glm::dvec3& goal, const glm::dvec3& wind);
@@ -71,10 +72,9 @@ double coordinated_bank(const Species& s, double turn_rate, double speed);
 // Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
 // The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0)
 // cruise_speed, or faster (up to max_speed) where that makes cruise_speed over the ground towards
-// its goal against the `wind`. On the way to a branch no faster than it can still brake to touchdown_speed
+// its goal against the wind (`aim_speed`, Steering's). On the way to a branch no faster than it can still brake to touchdown_speed
 // at brake_decel over `to_branch` (cm, < 0: no branch ahead).
-double commanded_airspeed(const Species& s, double command, const glm::dvec3& wind,
-                          const glm::dvec3& to_goal, double to_branch);
+double commanded_airspeed(const Species& s, double command, double aim_speed, double to_branch);
 
 // The energy errors, cm: `total` (height error plus the airspeed's kinetic-energy deficit over
 // g) feeds the wingbeat (eqs. 4, 5); `balance` (height error within balance_band less the same

@@ -45,6 +45,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
+  const double pitch = pitch_angle(b.attitude);
   // Braking, the tail spreads straight behind (an air brake) and no longer yaws the body.
   c.twist = braking ? 0.0 : std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
                        std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
@@ -53,7 +54,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - w.wind);
   const double to_perch = distance_to_perch(b, sp, w);
-  const double commanded = commanded_airspeed(sp, b.airspeed, w.wind, goal - b.position, to_perch);
+  const double commanded = commanded_airspeed(sp, b.airspeed, c.steering.aim_speed, to_perch);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the pitch is fixed and the air slows the bird: the wingbeat holds its height (eqs. 4,
   // 5 as the paper has them).
@@ -62,7 +63,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const double pitch_command =
       braking ? flare_pitch(sp, b.pitch_trim, glm::length(b.velocity), to_perch)
               : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
-  const PitchControl p = pitch_control(sp, pitch_command, pitch_angle(b.attitude), pitch_rate(b.attitude, b.omega));
+  const PitchControl p = pitch_control(sp, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
   c.sweep = p.sweep;
 
@@ -80,7 +81,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else if (!braking)
     bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch_angle(b.attitude)));
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.

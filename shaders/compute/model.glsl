@@ -140,6 +140,7 @@ float steer_share(GpuSpecies s, float heading_error) {
 
 struct Steering {
   float heading_error, heading_error_ahead, height_error;
+  float aim_speed;  // |crab_aim| (control.h)
 };
 
 vec2 crab_aim(GpuSpecies s, vec3 to_goal, vec3 wind) {
@@ -157,6 +158,7 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, v
   float turn_rate = speed > 1.0 ? kGravity * tan_p(bank) / speed : 0.0;
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
+  st.aim_speed = length(aim);
   return st;
 }
 
@@ -191,10 +193,10 @@ float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.w
 
 // --- Airspeed, pitch and sweep (control.cpp) ---
 
-float commanded_airspeed(GpuSpecies s, float command, vec3 wind, vec3 to_goal, float to_branch) {
+float commanded_airspeed(GpuSpecies s, float command, float aim_speed, float to_branch) {
   float v = clamp(command, s.min_speed, s.max_speed);
   if (!(command > 0.0)) {
-    v = clamp(length(crab_aim(s, to_goal, wind)), s.cruise_speed, s.max_speed);
+    v = clamp(aim_speed, s.cruise_speed, s.max_speed);
   }
   if (to_branch >= 0.0) {
     float room = max(0.0, to_branch - s.perch_radius);
@@ -437,7 +439,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   c.opening = tail_opening(s, b);
 
   float airspeed = length(b.velocity - pc.wind_ground.xyz);
-  float commanded = commanded_airspeed(s, b.airspeed, pc.wind_ground.xyz, goal - b.position, to_perch);
+  float commanded = commanded_airspeed(s, b.airspeed, c.steering.aim_speed, to_perch);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   c.balance = e.y;
