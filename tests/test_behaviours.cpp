@@ -172,7 +172,7 @@ TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
     if (bank_angle(b.attitude) * centre_side > 0) ++banked_in;
     const Route& route = s.world().routes[b.route];
     const dvec3 goal = s.world().target_now[route.targets[b.target % route.targets.size()]];
-    const Steering st = steer_towards(sp, b.attitude, b.position, b.velocity, goal, s.world().wind);
+    const Steering st = steer_towards(sp, b.attitude, b.position, b.velocity, goal, s.world().wind, sp.cruise_speed, false);
     if (std::fabs(st.heading_error) > sp.dead_band) {
       ++turning;
       if (b.tail_twist * centre_side > 0) ++twisted_in;

@@ -365,7 +365,7 @@ Steering steer_level(Species s, const dvec3& goal, double vy = 0.0, double bank 
   s.heading_lead = 0.5;
   s.height_lead = 1.5;
   const dquat attitude = heading_attitude(0.0) * glm::angleAxis(bank, dvec3{1, 0, 0});
-  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal, dvec3{0.0});
+  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal, dvec3{0.0}, s.cruise_speed, false);
 }
 
 TEST(Steering, HeadingErrorSign) {
@@ -505,7 +505,7 @@ TEST(Wingbeat, AnglesAtPhaseZero) {
   // amp 0.7: flap arm 0.7*40 + 10 = 38; flap hand 0.7*20 cos(-30) = 12.124355652982143;
   // feather arm 10 sin 0 - 3 = -3 (leading edge up); feather hand 25 sin(-30) = -12.5;
   // lead-lag 10 sin 0 = 0 (degrees)
-  expect_angles(wingbeat_angles(s, 0.0, 0.7, 0.0),
+  expect_angles(wingbeat_angles(s, 0.0, 0.7, 0.0, 0.0),
                 {radians(38), radians(12.124355652982143), radians(-3), radians(-12.5), 0.0});
 }
 
@@ -513,14 +513,14 @@ TEST(Wingbeat, AnglesAtQuarterPhase) {
   const Species s = starling_with_default_kinematics();
   // psi 90 deg, amp 0.7: flap arm 28 cos 90 + 10 = 10; flap hand 14 cos 60 = 7;
   // feather arm 10 - 3 = 7; feather hand 25 sin 60 = 21.650635094610966; lead-lag 10
-  const WingbeatAngles a = wingbeat_angles(s, kPi / 2, 0.7, 0.0);
+  const WingbeatAngles a = wingbeat_angles(s, kPi / 2, 0.7, 0.0, 0.0);
   expect_angles(a, {radians(10), radians(7), radians(7), radians(21.650635094610966), radians(10)});
 }
 
 TEST(Wingbeat, PointsSitAtTheMiddleOfArmAndHand) {
   const Species s = starling_with_default_kinematics();
   WingPoint p[2];
-  right_wing_points(s, 0.0, 0.7, 9.0, 0.0, p);
+  right_wing_points(s, 0.0, 0.7, 9.0, 0.0, 0.0, p);
   // Shoulder (-2, 0, 100/2 - 40) = (-2, 0, 10); arm 0.45 * 40 = 18, hand 22. At psi 0 there is
   // no lead-lag: the arm is flapped up 38 deg, the hand another 12.1244 deg (50.1244 in all).
   // Arm point: shoulder + 9 (0, sin 38, cos 38) = (-2, 5.540953, 17.092097)
@@ -545,7 +545,7 @@ TEST(Wingbeat, StraightWingAtZeroAngles) {
   s.flap_bias = 0.0;
   s.C_leadlag = 0.0;
   WingPoint p[2];
-  right_wing_points(s, 0.0, 0.0, 9.0, 0.0, p);
+  right_wing_points(s, 0.0, 0.0, 9.0, 0.0, 0.0, p);
   // The wing lies along +z from the shoulder (-2, 0, 10): arm point at 9, hand point at
   // 18 + 11 = 29 from the shoulder.
   expect_vec_rel(p[0].position, {-2.0, 0.0, 19.0});
@@ -569,9 +569,9 @@ TEST(Wingbeat, PointVelocityMatchesFiniteDifference) {
     for (int k = 0; k < 12; ++k) {
       const double psi = 2.0 * kPi * k / 12.0 + 0.1;
       WingPoint now[2], plus[2], minus[2];
-      right_wing_points(s, psi, amp, f, 0.0, now);
-      right_wing_points(s, psi + h, amp, f, 0.0, plus);
-      right_wing_points(s, psi - h, amp, f, 0.0, minus);
+      right_wing_points(s, psi, amp, f, 0.0, 0.0, now);
+      right_wing_points(s, psi + h, amp, f, 0.0, 0.0, plus);
+      right_wing_points(s, psi - h, amp, f, 0.0, 0.0, minus);
       for (int i = 0; i < 2; ++i) {
         const dvec3 fd = (plus[i].position - minus[i].position) / (2.0 * h) * (2.0 * kPi * f);
         expect_vec_near(now[i].velocity, fd, 1e-3 * glm::length(fd) + 1e-6);

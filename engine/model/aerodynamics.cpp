@@ -44,11 +44,11 @@ dvec3 aerodynamic_force(const Species& s, const dvec3& air_velocity, const dvec3
   return q_area * (c.lift * lift_dir + c.drag * drag_dir);
 }
 
-WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
                        const dvec3& body_air, const dvec3& omega) {
   WingForces out{};
   WingPoint right[2];
-  right_wing_points(s, phase, amp, frequency, sweep, right);
+  right_wing_points(s, phase, amp, frequency, sweep, incidence, right);
   for (int i = 0; i < 2; ++i) {
     const WingPoint points[2] = {right[i], mirror_to_left(right[i])};
     for (int side = 0; side < 2; ++side) {

@@ -30,7 +30,7 @@ struct WingForces {
   glm::dvec3 force[4];
   glm::dvec3 torque;
 };
-WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
                        const glm::dvec3& body_air, const glm::dvec3& omega);
 
 // Signed attack angle alpha of the same in-plane air velocity, radians (for tests and export).

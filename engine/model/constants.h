@@ -25,6 +25,13 @@ AF_REAL(kLinedUpSine, 0.035)
 AF_REAL(kFarthestCrossing, 4.0)
 // Pitched this steeply (rad, up or down) a bird levels its wings (control.h: recovery_bank).
 AF_REAL(kSteepPitch, 1.0471975511965976)
+// A braking bird slower than this through the air (cm/s, horizontally) steers by where its head
+// points, faster by its course through the air (control.h: steer_towards).
+AF_REAL(kSteerAirspeed, 100.0)
+// A landing bird plans to meet its branch at this fraction of touchdown_speed (control.h).
+AF_REAL(kTouchdownAim, 0.5)
+// A bird flares once it must brake at this share of its full flare to stop in time (route.h).
+AF_REAL(kBrakeShare, 0.5)
 // A bird that touches down on the ground stands this long before it takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)
 

@@ -23,18 +23,28 @@ double steer_share(const Species& s, double heading_error) {
   return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
 
-dvec3 crab_aim(const Species& s, const dvec3& to_goal, const dvec3& wind) {
+dvec3 crab_aim(const dvec3& to_goal, const dvec3& wind, double ground_speed) {
   const dvec3 way = horizontal(to_goal);
   const double length = glm::length(way);
   if (length == 0.0) return way;
-  return way * (s.cruise_speed / length) - horizontal(wind);
+  return way * (ground_speed / length) - horizontal(wind);
+}
+
+double approach_speed(const Species& s, double to_branch) {
+  if (to_branch < 0.0) return s.cruise_speed;
+  const double room = std::max(0.0, to_branch - s.perch_radius);
+  return std::min(s.cruise_speed, std::sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
 }
 
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity,
-                       const dvec3& goal, const dvec3& wind) {
-  const dvec3 head = attitude * dvec3{1.0, 0.0, 0.0};
+                       const dvec3& goal, const dvec3& wind, double ground_speed, bool by_course) {
+  // Braking, the bird steers its course through the air (not its head, which a sideslip turns
+  // away from it) onto the crab aim, so that it is not blown off the branch; barely moving
+  // through the air, its head.
+  const dvec3 air = velocity - wind;
+  const dvec3 head = by_course && std::hypot(air.x, air.z) > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
-  const dvec3 aim = crab_aim(s, to_goal, wind);
+  const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double heading_error = std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
   const double speed = std::hypot(velocity.x, velocity.z);
@@ -63,18 +73,12 @@ double tail_twist_command(const Species& s, const Steering& st, bool fixed_rate)
   return steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max;
 }
 
-double commanded_airspeed(const Species& s, double command, double aim_speed, double to_branch) {
-  double v = std::clamp(command, s.min_speed, s.max_speed);
-  if (!(command > 0.0)) {
-    // No command: cruise_speed, or faster where that makes cruise_speed over the ground towards
-    // the goal against the wind.
-    v = std::clamp(aim_speed, s.cruise_speed, s.max_speed);
-  }
-  if (to_branch >= 0.0) {
-    const double room = std::max(0.0, to_branch - s.perch_radius);
-    v = std::min(v, std::sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
-  }
-  return v;
+double commanded_airspeed(const Species& s, double command, double aim_speed, bool to_branch) {
+  if (to_branch) return std::clamp(aim_speed, s.min_speed, s.max_speed);
+  if (command > 0.0) return std::clamp(command, s.min_speed, s.max_speed);
+  // No command: cruise_speed, or faster where that makes cruise_speed over the ground towards the
+  // goal against the wind.
+  return std::clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded) {
@@ -90,10 +94,18 @@ double commanded_pitch(const Species& s, double pitch_trim, double balance, doub
   return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
 }
 
-double flare_pitch(const Species& s, double pitch_trim, double speed, double to_perch) {
+double perch_airspeed(const Species& s, const dvec3& to_perch, const dvec3& wind) {
+  return glm::length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
+}
+
+double flare_share(const Species& s, double airspeed, double to_airspeed, double to_perch) {
   const double room = std::max(to_perch - 0.5 * s.perch_radius, 0.1 * s.perch_radius);
-  const double needed = std::max(0.0, speed * speed - s.touchdown_speed * s.touchdown_speed) / (2.0 * room);
-  return std::clamp(pitch_trim + (s.brake_pitch - pitch_trim) * needed / s.flare_decel, s.pitch_min, s.brake_pitch);
+  const double needed = std::max(0.0, airspeed * airspeed - to_airspeed * to_airspeed) / (2.0 * room);
+  return std::min(needed / s.flare_decel, 1.0);
+}
+
+double flare_pitch(const Species& s, double pitch_trim, double share) {
+  return std::clamp(pitch_trim + (s.brake_pitch - pitch_trim) * share, s.pitch_min, s.brake_pitch);
 }
 
 PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double rate) {

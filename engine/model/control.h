@@ -15,7 +15,8 @@ double sign_outside(double x, double band);
 
 // heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
 // target on the right > 0; in a wind, to where the head must point for the bird to fly over the
-// ground towards the goal at its cruise speed (crab_aim): it crabs. heading_error_ahead: the
+// ground towards the goal at `ground_speed` (crab_aim): it crabs. With `by_course` (braking) the
+// angle is from its course through the air instead of its head (kSteerAirspeed). heading_error_ahead: the
 // same, less the turn the bank is making (g tan(bank) / v) over heading_lead seconds; the tail
 // twist steers by it, which damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the
 // bird's height predicted height_lead seconds ahead so that the height control settles.
@@ -23,14 +24,19 @@ struct Steering {
   double heading_error;
   double heading_error_ahead;
   double height_error;
-  double aim_speed;  // |crab_aim|, cm/s: the airspeed that makes cruise_speed towards the goal
+  double aim_speed;  // |crab_aim|, cm/s: the airspeed that makes ground_speed towards the goal
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
-                       const glm::dvec3& goal, const glm::dvec3& wind);
+                       const glm::dvec3& goal, const glm::dvec3& wind, double ground_speed, bool by_course);
 
-// The horizontal air velocity that makes cruise_speed over the ground towards the goal:
-// cruise_speed along the way to it, less the wind (0 at the goal).
-glm::dvec3 crab_aim(const Species& s, const glm::dvec3& to_goal, const glm::dvec3& wind);
+// The horizontal air velocity that makes `ground_speed` over the ground towards the goal:
+// ground_speed along the way to it, less the wind (0 at the goal).
+glm::dvec3 crab_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double ground_speed);
+
+// The ground speed the bird makes towards its goal: cruise_speed, or on the way to a branch
+// (`to_branch` cm from its perch, < 0: no branch ahead) no faster than it can brake to
+// touchdown_speed at brake_decel by perch_radius.
+double approach_speed(const Species& s, double to_branch);
 
 // How hard the bird steers, in [-1, 1]: 0 inside the dead band, then in proportion to the
 // heading error, fully from steer_full_error on. Scales the tail twist and the bank.
@@ -70,11 +76,10 @@ double ground_bank(const Species& s, double height);
 double coordinated_bank(const Species& s, double turn_rate, double speed);
 
 // Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
-// The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0)
-// cruise_speed, or faster (up to max_speed) where that makes cruise_speed over the ground towards
-// its goal against the wind (`aim_speed`, Steering's). On the way to a branch no faster than it can still brake to touchdown_speed
-// at brake_decel over `to_branch` (cm, < 0: no branch ahead).
-double commanded_airspeed(const Species& s, double command, double aim_speed, double to_branch);
+// The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0),
+// or on the way to a branch, the crab aim's (`aim_speed`, Steering's) within [cruise_speed,
+// max_speed], or within [min_speed, max_speed] approaching the branch (it lands into the wind).
+double commanded_airspeed(const Species& s, double command, double aim_speed, bool to_branch);
 
 // The energy errors, cm: `total` (height error plus the airspeed's kinetic-energy deficit over
 // g) feeds the wingbeat (eqs. 4, 5); `balance` (height error within balance_band less the same
@@ -89,10 +94,16 @@ Energy energy_errors(const Species& s, double height_error, double airspeed, dou
 // lower, no less than climb_pitch in proportion to how far below.
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
 
-// Braking for the branch (the flare): from the pitch trim towards brake_pitch in proportion to
-// the deceleration that stops the bird at touchdown_speed where it perches, brake_pitch giving
-// flare_decel; within [pitch_min, brake_pitch].
-double flare_pitch(const Species& s, double pitch_trim, double speed, double to_perch);
+// The airspeed at which a bird makes kTouchdownAim touchdown_speed over the ground towards its
+// perch (`to_perch` away) in the wind: what it brakes to.
+double perch_airspeed(const Species& s, const glm::dvec3& to_perch, const glm::dvec3& wind);
+// Braking for the branch (the flare): how hard, in [0, 1]: the deceleration through the air that
+// slows the bird from `airspeed` to `to_airspeed` (perch_airspeed) by half perch_radius from its perch
+// (`to_perch` cm away), over flare_decel.
+double flare_share(const Species& s, double airspeed, double to_airspeed, double to_perch);
+// The flare's pitch: from the pitch trim towards brake_pitch by the share; within
+// [pitch_min, brake_pitch].
+double flare_pitch(const Species& s, double pitch_trim, double share);
 
 // The tail bend (the elevator) and the sweep that hold `pitch_command`, from the pitch error
 // less pitch_damping times the pitch rate: the sweep sweep_gain times it (within sweep_max), the

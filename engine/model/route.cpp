@@ -20,21 +20,32 @@ const Branch* route_branch(const BirdState& b, const World& w) {
   return &w.branches[static_cast<uint32_t>(r.branch)];
 }
 
-// A point on the branch's horizontal perpendicular, on the bird's side, five approach distances
-// out (kGateApproaches): where a bird that cannot turn onto the landing curve goes first.
-dvec3 landing_gate(const Species& s, const Branch& br, const dvec3& q2, const dvec3& position) {
-  const dvec3 across{-br.direction.z, 0.0, br.direction.x};
-  const double side = glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+// The side of the branch (+1 or -1 along its horizontal perpendicular `across`) a bird lands
+// from: into the wind where the wind blows along the perpendicular faster than kTouchdownAim
+// touchdown_speed (landing downwind, it could not slow to grip), else from where it is.
+bool into_wind(const Species& s, const dvec3& across, const dvec3& wind) {
+  return std::fabs(glm::dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
+}
+double landing_side(const Species& s, const dvec3& across, const dvec3& q2, const dvec3& position, const dvec3& wind) {
+  if (into_wind(s, across, wind)) return glm::dot(wind, across) < 0.0 ? -1.0 : 1.0;
+  return glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+}
+
+// A point on the branch's horizontal perpendicular, on the side it is landed from, five approach
+// distances out (kGateApproaches): where a bird that cannot turn onto the landing curve goes first.
+dvec3 landing_gate(const Species& s, const dvec3& across, const dvec3& q2, double side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
 // becomes the goal, and the bird steers approach_distance ahead along the curve, which ends
 // perpendicular to the branch. Where the bird's heading line does not cross the branch's
-// perpendicular ahead (after a missed landing, say), it first flies to a gate on that
-// perpendicular, then lands from there.
-dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
+// perpendicular ahead (after a missed landing, say), or is not well out on the side it lands from,
+// it first flies to a gate on that perpendicular, then lands from there.
+dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3& wind) {
   const dvec3 q2 = perch_point(s, br);
+  const dvec3 across{-br.direction.z, 0.0, br.direction.x};
+  const double side = landing_side(s, across, q2, b.position, wind);
   auto place_curve = [&] {
     b.landing_start = b.position;
     b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
@@ -44,11 +55,14 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br) {
     place_curve();
     // No crossing ahead: lined up with the branch and heading in, or go round through the gate.
     const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    b.landing_stage = b.via_point != q2 || heading_in ? LandingStage::curve : LandingStage::gate;
+    // Into the wind the bird must be well out on its side to come in along the perpendicular.
+    const double out = into_wind(s, across, wind) ? s.approach_distance : 0.0;
+    const bool on_side = glm::dot(b.position - q2, across) * side >= out;
+    b.landing_stage = on_side && (b.via_point != q2 || heading_in) ? LandingStage::curve : LandingStage::gate;
   }
   if (b.landing_stage == LandingStage::gate) {
     // Reached within approach_distance, or flown past close by (as a target, route_goal).
-    const dvec3 gate = landing_gate(s, br, q2, b.position);
+    const dvec3 gate = landing_gate(s, across, q2, side);
     const dvec3 to_gate = horizontal(gate - b.position);
     const double distance = glm::length(to_gate);
     const bool flown_past = glm::dot(to_gate, b.velocity) < 0.0;
@@ -105,7 +119,7 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   if (b.target < n) return w.target_now[r.targets[b.target]];
   if (r.branch < 0) return w.target_now[r.targets[n - 1]];
   const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
-  return r.path_control ? landing_goal(b, s, br) : perch_point(s, br);  // or straight in
+  return r.path_control ? landing_goal(b, s, br, w.wind) : perch_point(s, br);  // or straight in
 }
 
 double distance_to_perch(const BirdState& b, const Species& s, const World& w) {
@@ -122,13 +136,16 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  // Overshot: flown past the branch (horizontally; a braking bird may sink a little).
+  // Overshot: flown past the branch (horizontally, out of perch_radius; a braking bird may sink a
+  // little, and one nearly still over the branch in a wind may drift to and fro).
   const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
-  if (b.mode == FlightMode::landing && !closing) {
+  if (b.mode == FlightMode::landing && !closing && glm::length(horizontal(to_perch)) > s.perch_radius) {
     b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
     b.mode_time = 0.0;
     b.landing_stage = LandingStage::none;
-  } else if (b.mode == FlightMode::flying && closing && distance <= s.brake_distance) {
+  } else if (b.mode == FlightMode::flying && closing &&
+             (distance <= s.brake_distance ||
+              flare_share(s, glm::length(b.velocity - w.wind), perch_airspeed(s, to_perch, w.wind), distance) >= kBrakeShare)) {
     b.mode = FlightMode::landing;
     b.mode_time = 0.0;
   }

@@ -20,8 +20,10 @@ double distance_to_perch(const BirdState& b, const Species& s, const World& w);
 // way to the branch. Passes targets and places the landing curve as the bird goes.
 glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);
 
-// For a bird whose route has brought it to its branch: starts braking within brake_distance,
-// goes round when it overshoots, and perches within perch_radius. Returns true once perched.
+// For a bird whose route has brought it to its branch: starts braking (the flare) within
+// brake_distance, or sooner where it must already brake at kBrakeShare of its full flare; goes
+// round when it overshoots (flown past, out of perch_radius); perches within perch_radius at
+// touchdown_speed or slower. Returns true once perched.
 bool approach_branch(BirdState& b, const Species& s, const World& w);
 
 }  // namespace aeroflock

@@ -42,7 +42,7 @@ Species eagle() {
   s.leg_time = 0.1;
   s.approach_distance = 1200;
   s.brake_distance = 800;
-  s.brake_pitch = radians(75);
+  s.brake_pitch = radians(45);
   s.perch_radius = 200;
   return s;
 }
@@ -75,7 +75,7 @@ Species starling() {
   s.leg_time = 0.1;
   s.approach_distance = 600;
   s.brake_distance = 400;
-  s.brake_pitch = radians(75);
+  s.brake_pitch = radians(45);
   s.perch_radius = 100;
   return s;
 }

@@ -28,6 +28,7 @@ struct Commands {
   double balance;       // what the pitch trim integrates, cm
   double bend, twist;   // where the tail moves to
   double sweep;         // where the wings' sweep moves to
+  double incidence;     // the arms' added incidence (braking)
   double opening;       // the tail's opening now, eq. 10 (fully open while braking)
   dvec3 omega;          // body rates used this step, with the controller's kinematic ones
 };
@@ -39,29 +40,33 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
+  const double to_perch = distance_to_perch(b, sp, w);
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, w.wind);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, w.wind, approach_speed(sp, to_perch), braking);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
   const double pitch = pitch_angle(b.attitude);
-  // Braking, the tail spreads straight behind (an air brake) and no longer yaws the body.
-  c.twist = braking ? 0.0 : std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
+  c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
                        std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - w.wind);
-  const double to_perch = distance_to_perch(b, sp, w);
-  const double commanded = commanded_airspeed(sp, b.airspeed, c.steering.aim_speed, to_perch);
+  const double commanded = commanded_airspeed(sp, b.airspeed, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
-  // Braking, the pitch is fixed and the air slows the bird: the wingbeat holds its height (eqs. 4,
-  // 5 as the paper has them).
+  // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
+  // (eqs. 4, 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
   c.balance = e.balance;
+  // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
+  // the arms' incidence rises by brake_incidence at full flare, over bank_time.
+  const double flare =
+      braking ? flare_share(sp, airspeed, perch_airspeed(sp, goal - b.position, w.wind), to_perch) : 0.0;
+  c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
   const double pitch_command =
-      braking ? flare_pitch(sp, b.pitch_trim, glm::length(b.velocity), to_perch)
+      braking ? flare_pitch(sp, b.pitch_trim, flare)
               : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
   const PitchControl p = pitch_control(sp, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
@@ -74,12 +79,13 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     c.omega = dvec3{0.0};
     return c;
   }
-  const double speed = glm::length(horizontal(b.velocity));
+  // A coordinated turn banks for the speed through the air.
+  const double speed = glm::length(horizontal(b.velocity - w.wind));
   const double turn_rate = sign_outside(c.steering.heading_error, sp.dead_band) * sp.turn_rate;
   double bank_cmd = 0.0;
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
-  else if (!braking)
+  else
     bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
   const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch));
   bank_cmd = std::clamp(bank_cmd, -most, most);
@@ -100,7 +106,7 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * w.wind;
-  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, body_wind - body_velocity, c.omega);
+  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_wind - body_velocity, c.omega);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);

@@ -36,20 +36,20 @@ void feather(const Frame& f, double angle, dvec3& chord, dvec3& normal) {
 
 }  // namespace
 
-WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep) {
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep, double incidence) {
   const double hand_phase = phase - s.lag_hand;
   return {
       amp * s.A_arm * std::cos(phase) + s.flap_bias,
       amp * s.A_hand * std::cos(hand_phase),
-      s.B_arm * std::sin(phase) - s.twist_bias,
+      s.B_arm * std::sin(phase) - s.twist_bias - incidence,
       s.B_hand * std::sin(hand_phase),
       sweep + s.C_leadlag * std::sin(phase),
   };
 }
 
-void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
+void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
                        WingPoint out[2]) {
-  const WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep);
+  const WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, incidence);
   const double phase_rate = 2.0 * kPi * frequency;
   const double hand_phase = phase - s.lag_hand;
   // Angle rates: d(angle)/dpsi * dpsi/dt.

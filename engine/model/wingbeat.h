@@ -9,12 +9,13 @@ namespace aeroflock {
 
 // Joint angles at wingbeat phase psi, radians. Arm angles relative to the body, hand angles
 // relative to the arm. Flapping up > 0, feathering leading edge down > 0, lead-lag forward > 0.
-// The arm feathers as B_arm sin(psi) - twist_bias: twist_bias is its mean incidence. `sweep` is
-// the bird's mean lead-lag (forward > 0), its pitch trim: it moves the wings' lift fore and aft.
+// The arm feathers as B_arm sin(psi) - twist_bias - incidence: twist_bias is its mean incidence,
+// `incidence` what the bird adds braking to land. `sweep` is the bird's mean lead-lag (forward
+// > 0), its pitch trim: it moves the wings' lift fore and aft.
 struct WingbeatAngles {
   double flap_arm, flap_hand, feather_arm, feather_hand, leadlag;
 };
-WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep);
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep, double incidence);
 
 // One force point of a wing segment (paper Fig. 9), body frame, relative to the centre of mass.
 struct WingPoint {
@@ -27,7 +28,7 @@ struct WingPoint {
 
 // The right wing's points: [0] the middle of the arm, [1] the middle of the hand. The sweep moves
 // slowly against the wingbeat: its rate is left out of the points' velocities.
-void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
+void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
                        WingPoint out[2]);
 // The left wing is the right wing mirrored through the body's x-y plane.
 WingPoint mirror_to_left(const WingPoint& p);

@@ -60,9 +60,9 @@ struct WingAngles {
   float flap_arm, flap_hand, feather_arm, feather_hand, leadlag;  // rad
 };
 
-// The right wing's joint angles at wingbeat phase `phase`, amplitude `amp` and mean lead-lag
-// `sweep` (MODEL.md; wingbeat.cpp).
-WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep) {
+// The right wing's joint angles at wingbeat phase `phase`, amplitude `amp`, mean lead-lag `sweep`
+// and the arm's added incidence (MODEL.md; wingbeat.cpp).
+WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep, float incidence) {
   WingAngles w;
   vec2 p = sin_cos(phase), h = sin_cos(phase - s.lag_hand);
   w.sin_phase = p.x;
@@ -71,7 +71,7 @@ WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep) {
   w.cos_hand_phase = h.y;
   w.flap_arm = amp * s.A_arm * w.cos_phase + s.flap_bias;
   w.flap_hand = amp * s.A_hand * w.cos_hand_phase;
-  w.feather_arm = s.B_arm * w.sin_phase - s.twist_bias;
+  w.feather_arm = s.B_arm * w.sin_phase - s.twist_bias - incidence;
   w.feather_hand = s.B_hand * w.sin_hand_phase;
   w.leadlag = sweep + s.C_leadlag * w.sin_phase;
   return w;

@@ -77,9 +77,9 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
   normal = s * fx + c * fy;
 }
 
-void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep, out WingPoint arm,
-                       out WingPoint hand) {
-  WingAngles w = wing_angles(s, phase, amp, sweep);
+void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep, float incidence,
+                       out WingPoint arm, out WingPoint hand) {
+  WingAngles w = wing_angles(s, phase, amp, sweep, incidence);
   float phase_rate = 2.0 * kPi * frequency;
   float leadlag_rate = s.C_leadlag * w.cos_phase * phase_rate;
   float flap_arm_rate = -amp * s.A_arm * w.sin_phase * phase_rate;
@@ -143,15 +143,24 @@ struct Steering {
   float aim_speed;  // |crab_aim| (control.h)
 };
 
-vec2 crab_aim(GpuSpecies s, vec3 to_goal, vec3 wind) {
+vec2 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
   float len = length(to_goal.xz);
-  return len == 0.0 ? vec2(0.0) : to_goal.xz * (s.cruise_speed / len) - wind.xz;
+  return len == 0.0 ? vec2(0.0) : to_goal.xz * (ground_speed / len) - wind.xz;
 }
 
-Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal, vec3 wind) {
-  vec3 head = rotate(attitude, vec3(1, 0, 0));
+float approach_speed(GpuSpecies s, float to_branch) {
+  if (to_branch < 0.0) return s.cruise_speed;
+  float room = max(0.0, to_branch - s.perch_radius);
+  return min(s.cruise_speed, sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
+}
+
+Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal, vec3 wind,
+                       float ground_speed, bool by_course) {
+  // Braking: the course through the air, or the head's direction when the bird barely moves through it.
+  vec3 air = velocity - wind;
+  vec3 head = by_course && length(air.xz) > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
-  vec2 aim = crab_aim(s, to_goal, wind);
+  vec2 aim = crab_aim(to_goal, wind, ground_speed);
   Steering st;
   st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
   float speed = length(velocity.xz);
@@ -193,16 +202,10 @@ float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.w
 
 // --- Airspeed, pitch and sweep (control.cpp) ---
 
-float commanded_airspeed(GpuSpecies s, float command, float aim_speed, float to_branch) {
-  float v = clamp(command, s.min_speed, s.max_speed);
-  if (!(command > 0.0)) {
-    v = clamp(aim_speed, s.cruise_speed, s.max_speed);
-  }
-  if (to_branch >= 0.0) {
-    float room = max(0.0, to_branch - s.perch_radius);
-    v = min(v, sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
-  }
-  return v;
+float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_branch) {
+  if (to_branch) return clamp(aim_speed, s.min_speed, s.max_speed);
+  if (command > 0.0) return clamp(command, s.min_speed, s.max_speed);
+  return clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
 // x: the total energy error, y: the balance, cm.
@@ -218,10 +221,18 @@ float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float heigh
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
 
-float flare_pitch(GpuSpecies s, float pitch_trim, float speed, float to_perch) {
+float perch_airspeed(GpuSpecies s, vec3 to_perch, vec3 wind) {
+  return length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
+}
+
+float flare_share(GpuSpecies s, float airspeed, float to_airspeed, float to_perch) {
   float room = max(to_perch - 0.5 * s.perch_radius, 0.1 * s.perch_radius);
-  float needed = max(0.0, speed * speed - s.touchdown_speed * s.touchdown_speed) / (2.0 * room);
-  return clamp(pitch_trim + (s.brake_pitch - pitch_trim) * needed / s.flare_decel, s.pitch_min, s.brake_pitch);
+  float needed = max(0.0, airspeed * airspeed - to_airspeed * to_airspeed) / (2.0 * room);
+  return min(needed / s.flare_decel, 1.0);
+}
+
+float flare_pitch(GpuSpecies s, float pitch_trim, float share) {
+  return clamp(pitch_trim + (s.brake_pitch - pitch_trim) * share, s.pitch_min, s.brake_pitch);
 }
 
 // x: the tail bend, y: the sweep.
@@ -285,10 +296,16 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 
 vec3 perch_point(GpuSpecies s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
 
-vec3 landing_gate(GpuSpecies s, uint branch, vec3 q2, vec3 position) {
-  vec3 direction = branches[branch].direction.xyz;
-  vec3 across = vec3(-direction.z, 0.0, direction.x);
-  float side = dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
+  return abs(dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
+}
+
+float landing_side(GpuSpecies s, vec3 across, vec3 q2, vec3 position, vec3 wind) {
+  if (into_wind(s, across, wind)) return dot(wind, across) < 0.0 ? -1.0 : 1.0;
+  return dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
+}
+
+vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
@@ -298,15 +315,20 @@ void place_curve(inout GpuBird b, uint branch, vec3 q2) {
   b.landing_progress = 0.0;
 }
 
-vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch) {
+vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 q2 = perch_point(s, branch);
+  vec3 direction = branches[branch].direction.xyz;
+  vec3 across = vec3(-direction.z, 0.0, direction.x);
+  float side = landing_side(s, across, q2, b.position, wind);
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
     bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    b.landing_stage = any(notEqual(b.via_point, q2)) || heading_in ? stage_curve : stage_gate;
+    float out_side = into_wind(s, across, wind) ? s.approach_distance : 0.0;
+    bool on_side = dot(b.position - q2, across) * side >= out_side;
+    b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
   }
   if (b.landing_stage == stage_gate) {
-    vec3 gate = landing_gate(s, branch, q2, b.position);
+    vec3 gate = landing_gate(s, across, q2, side);
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
     bool flown_past = dot(to_gate, b.velocity) < 0.0;
@@ -364,7 +386,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch) : perch_point(s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, pc.wind_ground.xyz) : perch_point(s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -395,11 +417,13 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     return true;
   }
   bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // flown past horizontally (route.cpp)
-  if (b.mode == mode_landing && !closing) {
+  if (b.mode == mode_landing && !closing && length(to_perch.xz) > s.perch_radius) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
     b.landing_stage = stage_none;
-  } else if (b.mode == mode_flying && closing && d <= s.brake_distance) {
+  } else if (b.mode == mode_flying && closing &&
+             (d <= s.brake_distance ||
+              flare_share(s, length(b.velocity - pc.wind_ground.xyz), perch_airspeed(s, to_perch, pc.wind_ground.xyz), d) >= kBrakeShare)) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }
@@ -414,6 +438,7 @@ struct Commands {
   float balance;       // what the pitch trim integrates, cm
   float bend, twist;   // where the tail moves to
   float sweep;         // where the wings' sweep moves to
+  float incidence;     // the arms' added incidence (braking)
   float opening;
   vec3 omega;
 };
@@ -433,17 +458,20 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   Commands c;
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
-  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, pc.wind_ground.xyz);
+  vec3 wind = pc.wind_ground.xyz;
+  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
-  c.twist = braking ? 0.0 : clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
+  c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
 
-  float airspeed = length(b.velocity - pc.wind_ground.xyz);
-  float commanded = commanded_airspeed(s, b.airspeed, c.steering.aim_speed, to_perch);
+  float airspeed = length(b.velocity - wind);
+  float commanded = commanded_airspeed(s, b.airspeed, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   c.balance = e.y;
-  float pitch_command = braking ? flare_pitch(s, b.pitch_trim, length(b.velocity), to_perch)
+  float flare = braking ? flare_share(s, airspeed, perch_airspeed(s, goal - b.position, wind), to_perch) : 0.0;
+  c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
+  float pitch_command = braking ? flare_pitch(s, b.pitch_trim, flare)
                                 : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
   vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.x;
@@ -454,12 +482,12 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
     c.omega = vec3(0.0);
     return c;
   }
-  float speed = length(b.velocity.xz);
+  float speed = length(b.velocity.xz - wind.xz);  // a coordinated turn banks for the airspeed
   float turn_rate = sign_outside(c.steering.heading_error, s.dead_band) * s.turn_rate;
   float bank_cmd = 0.0;
   if (fixed_rate)
     bank_cmd = coordinated_bank(s, turn_rate, speed);
-  else if (!braking)
+  else
     bank_cmd = heading_bank(s, c.steering.heading_error_ahead, length(goal.xz - b.position.xz), speed);
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch));
   bank_cmd = clamp(bank_cmd, -most, most);
@@ -478,7 +506,7 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz - b.velocity);
   WingPoint right[2];
-  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, right[0], right[1]);
+  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right[0], right[1]);
   // The aerodynamic forces are summed in the body frame and turned to the world once.
   precise vec3 body_force = vec3(0.0);
   precise vec3 torque = vec3(0.0);

@@ -41,7 +41,7 @@ void main() {
   store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
 
   // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
-  WingAngles w = wing_angles(s, b.phase, b.amplitude, b.sweep);
+  WingAngles w = wing_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
   if (folded) {
     w.flap_arm = 0.0; w.flap_hand = 0.0; w.feather_arm = 0.0; w.feather_hand = 0.0; w.leadlag = -1.3;
   }
