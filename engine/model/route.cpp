@@ -37,6 +37,12 @@ dvec3 landing_gate(const Species& s, const dvec3& across, const dvec3& q2, doubl
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
+// Flown past the branch: moving away from it horizontally, out of perch_radius (a braking bird
+// may sink a little, and one nearly still over the branch in a wind drift to and fro).
+bool flown_past(const BirdState& b, const Species& s, const dvec3& to_perch) {
+  return glm::dot(horizontal(to_perch), horizontal(b.velocity)) <= 0.0 && glm::length(horizontal(to_perch)) > s.perch_radius;
+}
+
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
 // becomes the goal, and the bird steers approach_distance ahead along the curve, which ends
 // perpendicular to the branch. Where the bird's heading line does not cross the branch's
@@ -73,10 +79,9 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     b.landing_stage = LandingStage::curve;
   }
   if (b.landing_progress >= 1.0 || b.via_point == q2) {
-    // At the end of the curve (or lined up): straight in, unless the bird is flying away from
-    // the branch, which it would only circle: then round through the gate again.
-    const bool closing = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    if (!closing) b.landing_stage = LandingStage::gate;
+    // At the end of the curve (or lined up): straight in, unless the bird has flown past the
+    // branch, which it would only circle: then round through the gate again.
+    if (flown_past(b, s, q2 - b.position)) b.landing_stage = LandingStage::gate;
     return q2;
   }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
@@ -124,7 +129,7 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
 
 double distance_to_perch(const BirdState& b, const Species& s, const World& w) {
   const Branch* br = route_branch(b, w);
-  return br ? glm::distance(perch_point(s, *br), b.position) : -1.0;
+  return br && b.landing_stage != LandingStage::gate ? glm::distance(perch_point(s, *br), b.position) : -1.0;
 }
 
 bool approach_branch(BirdState& b, const Species& s, const World& w) {
@@ -136,14 +141,13 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  // Overshot: flown past the branch (horizontally, out of perch_radius; a braking bird may sink a
-  // little, and one nearly still over the branch in a wind may drift to and fro).
+  // Overshot (flown past, or sent round through the gate): go round and plan the landing again.
   const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
-  if (b.mode == FlightMode::landing && !closing && glm::length(horizontal(to_perch)) > s.perch_radius) {
+  if (b.mode == FlightMode::landing && (flown_past(b, s, to_perch) || b.landing_stage == LandingStage::gate)) {
     b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
     b.mode_time = 0.0;
     b.landing_stage = LandingStage::none;
-  } else if (b.mode == FlightMode::flying && closing &&
+  } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&
              (distance <= s.brake_distance ||
               flare_share(s, glm::length(b.velocity - w.wind), perch_airspeed(s, to_perch, w.wind), distance) >= kBrakeShare)) {
     b.mode = FlightMode::landing;

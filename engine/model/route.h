@@ -12,8 +12,8 @@ namespace aeroflock {
 // Where the bird sits when perched on `branch`.
 glm::dvec3 perch_point(const Species& s, const Branch& branch);
 
-// How far the bird is from where it perches on its route's branch, cm, once the branch is its
-// goal; -1 before then, or without one.
+// How far the bird is from where it perches on its route's branch, cm, once the perch is its
+// goal; -1 before then (on its way to the landing gate too), or without one.
 double distance_to_perch(const BirdState& b, const Species& s, const World& w);
 
 // The bird's goal this step: the current target of its route, or the point it steers for on its

@@ -34,6 +34,10 @@ Species eagle() {
   s.C_leadlag = radians(7.5);
   s.shoulder_x = -4;
   s.pitch_max = radians(25);  // the eagle's pitch runs past 60 deg in steep banked descents at 35
+  // Its pitch, slow to answer (the body's inertia), hunts at low airspeed with the starling's
+  // sweep gain: the tail bend does more of the work.
+  s.sweep_gain = 0.5;
+  s.pitch_gain = 1.5;
   s.min_speed = 800;          // the airspeeds it holds level (7 and 14 m/s: it sinks)
   s.max_speed = 1300;
   s.stand_height = 25;

@@ -296,6 +296,11 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 
 vec3 perch_point(GpuSpecies s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
 
+// Moving away from the branch horizontally, out of perch_radius (route.cpp).
+bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
+  return dot(to_perch.xz, b.velocity.xz) <= 0.0 && length(to_perch.xz) > s.perch_radius;
+}
+
 bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
   return abs(dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
 }
@@ -338,8 +343,7 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     b.landing_stage = stage_curve;
   }
   if (b.landing_progress >= 1.0 || all(equal(b.via_point, q2))) {
-    bool closing = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    if (!closing) b.landing_stage = stage_gate;
+    if (flown_past(b, s, q2 - b.position)) b.landing_stage = stage_gate;
     return q2;
   }
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
@@ -416,12 +420,12 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     perch(b, s, branch);
     return true;
   }
-  bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // flown past horizontally (route.cpp)
-  if (b.mode == mode_landing && !closing && length(to_perch.xz) > s.perch_radius) {
+  bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally (route.cpp)
+  if (b.mode == mode_landing && (flown_past(b, s, to_perch) || b.landing_stage == stage_gate)) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
     b.landing_stage = stage_none;
-  } else if (b.mode == mode_flying && closing &&
+  } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance ||
               flare_share(s, length(b.velocity - pc.wind_ground.xyz), perch_airspeed(s, to_perch, pc.wind_ground.xyz), d) >= kBrakeShare)) {
     b.mode = mode_landing;
@@ -445,7 +449,7 @@ struct Commands {
 
 // How far the bird is from where it perches, once the branch is its goal; -1 before (route.cpp).
 float distance_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
-  if (leg.route.branch == 0u || b.target < leg.route.count) return -1.0;
+  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate) return -1.0;
   return distance(perch_point(s, leg.route.branch - 1u), b.position);
 }
 
