@@ -441,6 +441,32 @@ INSTANTIATE_TEST_SUITE_P(
 // ------------------------------------------------------------------------------------------------
 // Landing path (paper 4.4, Fig. 14): P = 0.25 Q1 + 0.5 Q3 + 0.25 Q2.
 
+// The flare (control.h): the airspeed the bird brakes to makes half touchdown_speed over the
+// ground towards the perch; the share is the deceleration that reaches it by half perch_radius
+// out, over flare_decel, within [0, 1].
+TEST(Landing, PerchAirspeedMakesHalfTouchdownSpeedTowardsThePerch) {
+  const Species s = starling();
+  const dvec3 to_perch{300.0, 0.0, 400.0};  // 5 m away, along (0.6, 0, 0.8)
+  EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{0.0}), 0.5 * s.touchdown_speed, 1e-9);
+  // A 5 m/s headwind along the way: 100 + 500 cm/s through the air.
+  EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-300.0, 0.0, -400.0}), 600.0, 1e-9);
+  // A 5 m/s crosswind: the air velocity (60, 0, 80) - (-400, 0, 300).
+  EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-400.0, 0.0, 300.0}), std::hypot(460.0, 220.0), 1e-9);
+}
+
+TEST(Landing, FlareShareIsTheDecelerationNeededOverFlareDecel) {
+  const Species s = starling();
+  // (600^2 - 100^2) / (2 (400 - 50)) = 500 cm/s^2 needed: more than flare_decel (450), full flare.
+  EXPECT_EQ(flare_share(s, 600.0, 100.0, 400.0), 1.0);
+  // (300^2 - 100^2) / (2 (400 - 50)) = 114.29 cm/s^2: a quarter of flare_decel.
+  EXPECT_NEAR(flare_share(s, 300.0, 100.0, 400.0), (300.0 * 300.0 - 100.0 * 100.0) / 700.0 / s.flare_decel, 1e-12);
+  EXPECT_EQ(flare_share(s, 100.0, 100.0, 400.0), 0.0);
+  EXPECT_EQ(flare_share(s, 50.0, 100.0, 400.0), 0.0) << "slower than it brakes to: no flare";
+  // The flare pitch goes from the trim (share 0) to brake_pitch (share 1).
+  EXPECT_NEAR(flare_pitch(s, radians(8), 0.0), radians(8), 1e-12);
+  EXPECT_NEAR(flare_pitch(s, radians(8), 1.0), s.brake_pitch, 1e-12);
+}
+
 TEST(Landing, BezierMidpoint) {
   // Bird at the origin heading +x; branch point (10, 0, 10) along x. The line from Q2
   // perpendicular to the branch runs along z and meets the heading line at Q3 = (10, 0, 0).
@@ -515,6 +541,14 @@ TEST(Wingbeat, AnglesAtQuarterPhase) {
   // feather arm 10 - 3 = 7; feather hand 25 sin 60 = 21.650635094610966; lead-lag 10
   const WingbeatAngles a = wingbeat_angles(s, kPi / 2, 0.7, 0.0, 0.0);
   expect_angles(a, {radians(10), radians(7), radians(7), radians(21.650635094610966), radians(10)});
+}
+
+TEST(Wingbeat, BrakingIncidenceRaisesTheArmsLeadingEdge) {
+  const Species s = starling_with_default_kinematics();
+  // 15 deg of added incidence: feather arm 10 sin 90 - 3 - 15 = -8 (leading edge up); the rest
+  // as at the quarter phase.
+  const WingbeatAngles a = wingbeat_angles(s, kPi / 2, 0.7, 0.0, radians(15));
+  expect_angles(a, {radians(10), radians(7), radians(-8), radians(21.650635094610966), radians(10)});
 }
 
 TEST(Wingbeat, PointsSitAtTheMiddleOfArmAndHand) {
