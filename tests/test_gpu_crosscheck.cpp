@@ -119,7 +119,10 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
         b.landing_start = b.position - b.velocity;
         b.via_point = 0.5 * (b.landing_start + perch);
         b.landing_progress = in(0, 1);
-        if (u(rng) < 0.5) b.mode = FlightMode::landing;
+        if (u(rng) < 0.5) {
+          b.mode = FlightMode::landing;
+          b.mode_time = in(0, 2.0 * sp.bank_time);  // the brake incidence ramping in, or in full
+        }
         break;
       }
       case 8:  // standing: waiting, or taking off within this step
@@ -210,68 +213,75 @@ const std::map<std::string, double> kStateTolerance = {
 
 TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  const Scenario scenario = probe_scenario();
-  const std::vector<BirdState> birds = random_birds(scenario, 12000, 7);
-  gpu::GpuSimulation gpu_sim(device, scenario, birds);
-  gpu_sim.step(0, true);  // no step: the forces of the next step from the state as given
-  const std::vector<StepForces> gpu_forces = *gpu_sim.snapshot().forces;
-  gpu_sim.step(1);
-  const std::vector<BirdState>& gpu_after = gpu_sim.birds();
+  // In still air and in a wind (crabbing, banking for the airspeed, landing into the wind).
+  for (const dvec3& wind : {dvec3{0.0}, dvec3{300.0, 0.0, -200.0}}) {
+    const std::string in = glm::length(wind) > 0.0 ? "wind_" : "calm_";
+    SCOPED_TRACE(in);
+    Scenario scenario = probe_scenario();
+    scenario.world.wind = wind;
+    const std::vector<BirdState> birds = random_birds(scenario, 12000, 7);
+    gpu::GpuSimulation gpu_sim(device, scenario, birds);
+    gpu_sim.step(0, true);  // no step: the forces of the next step from the state as given
+    const std::vector<StepForces> gpu_forces = *gpu_sim.snapshot().forces;
+    gpu_sim.step(1);
+    const std::vector<BirdState>& gpu_after = gpu_sim.birds();
 
-  World world = scenario.world;
-  world.move_targets(0.0);
-  double worst_force = 0, worst_torque = 0;
-  std::map<std::string, double> worst_state;
-  std::map<std::string, bool> changed;  // by the step, for some bird: the test covers the field
-  for (size_t i = 0; i < birds.size(); ++i) {
-    const Species& sp = scenario.species[birds[i].species];
-    BirdState cpu = birds[i];
-    StepForces f;
-    step_bird(cpu, sp, world, 0.0, scenario.dt, &f);
-    // Relative to the force (torque) itself plus the weight (the weight at half the span), so
-    // that small forces are not held to a tighter absolute bound than float rounding allows.
-    const double weight = sp.mass * kGravity;
-    const double force_scale = glm::length(f.total) + weight;
-    const double torque_scale = glm::length(f.torque) + weight * 0.5 * sp.box_c;
-    const StepForces& g = gpu_forces[i];
-    for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]},
-                                   {g.wing[1], f.wing[1]},
-                                   {g.wing[2], f.wing[2]},
-                                   {g.wing[3], f.wing[3]},
-                                   {g.tail, f.tail},
-                                   {g.ground, f.ground},
-                                   {g.legs, f.legs},
-                                   {g.gravity, f.gravity},
-                                   {g.total, f.total}})
-      worst_force = std::max(worst_force, max_abs(gpu - ref) / force_scale);
-    for (const auto& [gpu, ref] : {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
-      worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
-    const BirdState& after = gpu_after[i];
-#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) \
-  worst_state[#name] = std::max(worst_state[#name], field_difference(#name, after.name, cpu.name)); \
+    World world = scenario.world;
+    world.move_targets(0.0);
+    double worst_force = 0, worst_torque = 0;
+    std::map<std::string, double> worst_state;
+    std::map<std::string, bool> changed;  // by the step, for some bird: the test covers the field
+    for (size_t i = 0; i < birds.size(); ++i) {
+      const Species& sp = scenario.species[birds[i].species];
+      BirdState cpu = birds[i];
+      StepForces f;
+      step_bird(cpu, sp, world, 0.0, scenario.dt, &f);
+      // Relative to the force (torque) itself plus the weight (the weight at half the span), so
+      // that small forces are not held to a tighter absolute bound than float rounding allows.
+      const double weight = sp.mass * kGravity;
+      const double force_scale = glm::length(f.total) + weight;
+      const double torque_scale = glm::length(f.torque) + weight * 0.5 * sp.box_c;
+      const StepForces& g = gpu_forces[i];
+      for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]},
+                                     {g.wing[1], f.wing[1]},
+                                     {g.wing[2], f.wing[2]},
+                                     {g.wing[3], f.wing[3]},
+                                     {g.tail, f.tail},
+                                     {g.ground, f.ground},
+                                     {g.legs, f.legs},
+                                     {g.gravity, f.gravity},
+                                     {g.total, f.total}})
+        worst_force = std::max(worst_force, max_abs(gpu - ref) / force_scale);
+      for (const auto& [gpu, ref] : {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
+        worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
+      const BirdState& after = gpu_after[i];
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial)                           \
+  worst_state[#name] =                                                             \
+      std::max(worst_state[#name], field_difference(#name, after.name, cpu.name)); \
   changed[#name] = changed[#name] || field_difference(#name, birds[i].name, cpu.name) > 0;
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
-  }
-  auto figure = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", v);
-    return std::string(text);
-  };
-  RecordProperty("worst_force_relative", figure(worst_force));
-  RecordProperty("worst_torque_relative", figure(worst_torque));
-  // Float rounding: measured 1e-6 (with the shader's precise trigonometry).
-  EXPECT_LT(worst_force, 1e-5) << "wing, tail, ground, legs, gravity or total force";
-  EXPECT_LT(worst_torque, 1e-5) << "torque or tail torque";
-  for (const auto& [name, worst] : worst_state) {
-    RecordProperty("worst_" + name, figure(worst));
-    const auto tolerance = kStateTolerance.find(name);
-    ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
-    EXPECT_LE(worst, tolerance->second) << name;
-    // Every field but the bird's species, route and commanded airspeed changes in a step for some
-    // of these birds (the take-off time when a bird near the ground touches down).
-    if (name != "species" && name != "route" && name != "airspeed") {
-      EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
+    }
+    auto figure = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.3g", v);
+      return std::string(text);
+    };
+    RecordProperty(in + "worst_force_relative", figure(worst_force));
+    RecordProperty(in + "worst_torque_relative", figure(worst_torque));
+    // Float rounding: measured 1e-6 (with the shader's precise trigonometry).
+    EXPECT_LT(worst_force, 1e-5) << "wing, tail, ground, legs, gravity or total force";
+    EXPECT_LT(worst_torque, 1e-5) << "torque or tail torque";
+    for (const auto& [name, worst] : worst_state) {
+      RecordProperty(in + "worst_" + name, figure(worst));
+      const auto tolerance = kStateTolerance.find(name);
+      ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
+      EXPECT_LE(worst, tolerance->second) << name;
+      // Every field but the bird's species, route and commanded airspeed changes in a step for some
+      // of these birds (the take-off time when a bird near the ground touches down).
+      if (name != "species" && name != "route" && name != "airspeed") {
+        EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
+      }
     }
   }
   EXPECT_EQ(device.validation_errors(), 0u);
@@ -285,13 +295,16 @@ TEST(GpuEnvelope, SameOutcomesAsTheReference) {
   size_t k = 0;
   for (const EnvelopeCase& c : envelope_cases()) {
     if (c.kind != EnvelopeCase::Kind::flight) cases.push_back(c);  // every take-off and landing
-    if (c.kind == EnvelopeCase::Kind::flight && c.distance <= 30000.0 && k++ % 5 == 0) cases.push_back(c);
+    if (c.kind == EnvelopeCase::Kind::flight && c.distance <= 30000.0 && k++ % 5 == 0)
+      cases.push_back(c);
   }
   ASSERT_GE(cases.size(), 200u);
-  const SimulationFactory cpu = [](Scenario s, std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
+  const SimulationFactory cpu = [](Scenario s,
+                                   std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
     return std::make_unique<CpuSimulation>(std::move(s), std::move(b));
   };
-  const SimulationFactory gpu = [&](Scenario s, std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
+  const SimulationFactory gpu = [&](Scenario s,
+                                    std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
     return std::make_unique<gpu::GpuSimulation>(device, std::move(s), std::move(b));
   };
   const Species sp = starling();
@@ -300,8 +313,8 @@ TEST(GpuEnvelope, SameOutcomesAsTheReference) {
   size_t same = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     same += a[i].outcome == b[i].outcome;
-    EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome) << ", vulkan "
-                                          << name(b[i].outcome);
+    EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome)
+                                          << ", vulkan " << name(b[i].outcome);
   }
   RecordProperty("same_outcomes", std::to_string(same) + " of " + std::to_string(cases.size()));
   EXPECT_EQ(device.validation_errors(), 0u);

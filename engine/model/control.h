@@ -77,8 +77,9 @@ double coordinated_bank(const Species& s, double turn_rate, double speed);
 
 // Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
 // The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0),
-// or on the way to a branch, the crab aim's (`aim_speed`, Steering's) within [cruise_speed,
-// max_speed], or within [min_speed, max_speed] approaching the branch (it lands into the wind).
+// the crab aim's (`aim_speed`, Steering's) within [cruise_speed, max_speed]. Once its branch is
+// the goal (`to_branch`) the crab aim's within [min_speed, max_speed], whatever its command: it
+// slows for the branch as approach_speed asks, and lands into the wind.
 double commanded_airspeed(const Species& s, double command, double aim_speed, bool to_branch);
 
 // The energy errors, cm: `total` (height error plus the airspeed's kinetic-energy deficit over

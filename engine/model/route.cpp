@@ -71,9 +71,9 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     const dvec3 gate = landing_gate(s, across, q2, side);
     const dvec3 to_gate = horizontal(gate - b.position);
     const double distance = glm::length(to_gate);
-    const bool flown_past = glm::dot(to_gate, b.velocity) < 0.0;
+    const bool gone_by = glm::dot(to_gate, b.velocity) < 0.0;
     if (distance > s.approach_distance &&
-        !(flown_past && distance <= kMissedTargetRadii * s.approach_distance))
+        !(gone_by && distance <= kMissedTargetRadii * s.approach_distance))
       return gate;
     place_curve();
     b.landing_stage = LandingStage::curve;
@@ -114,8 +114,8 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
     const Target& t = w.targets[r.targets[b.target]];
     const dvec3 to_target = w.target_now[r.targets[b.target]] - b.position;
     const double distance = glm::length(to_target);
-    const bool flown_past = glm::dot(to_target, b.velocity - t.velocity) < 0.0;
-    if (distance <= t.radius || (distance <= kMissedTargetRadii * t.radius && flown_past)) {
+    const bool gone_by = glm::dot(to_target, b.velocity - t.velocity) < 0.0;
+    if (distance <= t.radius || (distance <= kMissedTargetRadii * t.radius && gone_by)) {
       ++b.targets_reached;
       ++b.target;
       if (b.target == n && r.loop && r.branch < 0) b.target = 0;
@@ -127,9 +127,10 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   return r.path_control ? landing_goal(b, s, br, w.wind) : perch_point(s, br);  // or straight in
 }
 
-double distance_to_perch(const BirdState& b, const Species& s, const World& w) {
+std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const World& w) {
   const Branch* br = route_branch(b, w);
-  return br && b.landing_stage != LandingStage::gate ? glm::distance(perch_point(s, *br), b.position) : -1.0;
+  if (!br || b.landing_stage == LandingStage::gate) return std::nullopt;
+  return perch_point(s, *br) - b.position;
 }
 
 bool approach_branch(BirdState& b, const Species& s, const World& w) {

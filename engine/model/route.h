@@ -1,6 +1,8 @@
 // Where a bird is going: the targets of its route (paper 3.4) and the landing on a branch (4.4).
 #pragma once
 
+#include <optional>
+
 #include <glm/vec3.hpp>
 
 #include "bird.h"
@@ -12,9 +14,9 @@ namespace aeroflock {
 // Where the bird sits when perched on `branch`.
 glm::dvec3 perch_point(const Species& s, const Branch& branch);
 
-// How far the bird is from where it perches on its route's branch, cm, once the perch is its
-// goal; -1 before then (on its way to the landing gate too), or without one.
-double distance_to_perch(const BirdState& b, const Species& s, const World& w);
+// The way from the bird to where it perches on its route's branch (perch - position, cm), once
+// the perch is its goal; none before then (on its way to the landing gate too), or without one.
+std::optional<glm::dvec3> way_to_perch(const BirdState& b, const Species& s, const World& w);
 
 // The bird's goal this step: the current target of its route, or the point it steers for on its
 // way to the branch. Passes targets and places the landing curve as the bird goes.

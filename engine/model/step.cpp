@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -40,7 +41,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
-  const double to_perch = distance_to_perch(b, sp, w);
+  const std::optional<dvec3> way = way_to_perch(b, sp, w);
+  const double to_perch = way ? glm::length(*way) : -1.0;
   Commands c;
   c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, w.wind, approach_speed(sp, to_perch), braking);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
@@ -63,7 +65,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
   // the arms' incidence rises by brake_incidence at full flare, over bank_time.
   const double flare =
-      braking ? flare_share(sp, airspeed, perch_airspeed(sp, goal - b.position, w.wind), to_perch) : 0.0;
+      braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, w.wind), to_perch) : 0.0;
   c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
   const double pitch_command =
       braking ? flare_pitch(sp, b.pitch_trim, flare)

@@ -163,7 +163,7 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, v
   vec2 aim = crab_aim(to_goal, wind, ground_speed);
   Steering st;
   st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
-  float speed = length(velocity.xz);
+  float speed = length(air.xz);  // through the air, as the bank (control.cpp)
   float turn_rate = speed > 1.0 ? kGravity * tan_p(bank) / speed : 0.0;
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
@@ -336,8 +336,8 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     vec3 gate = landing_gate(s, across, q2, side);
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
-    bool flown_past = dot(to_gate, b.velocity) < 0.0;
-    if (d > s.approach_distance && !(flown_past && d <= kMissedTargetRadii * s.approach_distance))
+    bool gone_by = dot(to_gate, b.velocity) < 0.0;
+    if (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance))
       return gate;
     place_curve(b, branch, q2);
     b.landing_stage = stage_curve;
@@ -380,8 +380,8 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   if (b.target < r.count) {
     vec3 to_target = leg.centre_radius.xyz - b.position;
     float d = length(to_target);
-    bool flown_past = dot(to_target, b.velocity - leg.velocity) < 0.0;
-    if (d <= leg.centre_radius.w || (d <= kMissedTargetRadii * leg.centre_radius.w && flown_past)) {
+    bool gone_by = dot(to_target, b.velocity - leg.velocity) < 0.0;
+    if (d <= leg.centre_radius.w || (d <= kMissedTargetRadii * leg.centre_radius.w && gone_by)) {
       b.targets_reached += 1u;
       b.target += 1u;
       if (b.target == r.count && (r.flags & kRouteLoop) != 0u && r.branch == 0u) b.target = 0u;
@@ -447,13 +447,16 @@ struct Commands {
   vec3 omega;
 };
 
-// How far the bird is from where it perches, once the branch is its goal; -1 before (route.cpp).
-float distance_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
-  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate) return -1.0;
-  return distance(perch_point(s, leg.route.branch - 1u), b.position);
+// xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
+// (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
+vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
+  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
+  vec3 way = perch_point(s, leg.route.branch - 1u) - b.position;
+  return vec4(way, length(way));
 }
 
-Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
+Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way) {
+  float to_perch = way.w;
   float ground = pc.wind_ground.w + s.stand_height;
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
   bool on_legs = b.mode == mode_taking_off;
@@ -473,7 +476,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, float to_perch) {
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   c.balance = e.y;
-  float flare = braking ? flare_share(s, airspeed, perch_airspeed(s, goal - b.position, wind), to_perch) : 0.0;
+  float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
   float pitch_command = braking ? flare_pitch(s, b.pitch_trim, flare)
                                 : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
@@ -588,7 +591,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   }
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg)) return no_forces();
-  Commands c = control(b, s, goal, distance_to_perch(b, s, leg));
+  Commands c = control(b, s, goal, way_to_perch(b, s, leg));
   GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;
