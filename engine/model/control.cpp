@@ -42,16 +42,16 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   // away from it) onto the crab aim, so that it is not blown off the branch; barely moving
   // through the air, its head.
   const dvec3 air = velocity - wind;
-  const dvec3 head = by_course && std::hypot(air.x, air.z) > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
+  const double air_speed = std::hypot(air.x, air.z);
+  const dvec3 head = by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double heading_error = std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
-  const double speed = std::hypot(air.x, air.z);
-  // The turn the bank is making, g tan(bank) / v, v the speed through the air (the bank's, step.cpp).
-  const double turn_rate = speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / speed : 0.0;
+  // The turn the bank is making, g tan(bank) / v, v the speed through the air (the bank's).
+  const double turn_rate = air_speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / air_speed : 0.0;
   return {heading_error, heading_error - s.heading_lead * turn_rate, to_goal.y - s.height_lead * velocity.y,
-          glm::length(aim)};
+          glm::length(aim), air_speed};
 }
 
 namespace {

@@ -25,6 +25,7 @@ struct Steering {
   double heading_error_ahead;
   double height_error;
   double aim_speed;  // |crab_aim|, cm/s: the airspeed that makes ground_speed towards the goal
+  double air_speed;  // cm/s, the bird's horizontal speed through the air (what a turn banks for)
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
                        const glm::dvec3& goal, const glm::dvec3& wind, double ground_speed, bool by_course);

@@ -20,15 +20,11 @@ const Branch* route_branch(const BirdState& b, const World& w) {
   return &w.branches[static_cast<uint32_t>(r.branch)];
 }
 
-// The side of the branch (+1 or -1 along its horizontal perpendicular `across`) a bird lands
-// from: into the wind where the wind blows along the perpendicular faster than kTouchdownAim
-// touchdown_speed (landing downwind, it could not slow to grip), else from where it is.
+// Whether a bird lands into the wind: it does where the wind blows along the branch's horizontal
+// perpendicular `across` faster than kTouchdownAim touchdown_speed (landing downwind, it could not
+// slow to grip).
 bool into_wind(const Species& s, const dvec3& across, const dvec3& wind) {
   return std::fabs(glm::dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
-}
-double landing_side(const Species& s, const dvec3& across, const dvec3& q2, const dvec3& position, const dvec3& wind) {
-  if (into_wind(s, across, wind)) return glm::dot(wind, across) < 0.0 ? -1.0 : 1.0;
-  return glm::dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
 }
 
 // A point on the branch's horizontal perpendicular, on the side it is landed from, five approach
@@ -51,7 +47,9 @@ bool flown_past(const BirdState& b, const Species& s, const dvec3& to_perch) {
 dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3& wind) {
   const dvec3 q2 = perch_point(s, br);
   const dvec3 across{-br.direction.z, 0.0, br.direction.x};
-  const double side = landing_side(s, across, q2, b.position, wind);
+  // The side (+1 or -1 along `across`) it lands from: the downwind one, else where it is.
+  const bool windward = into_wind(s, across, wind);
+  const double side = glm::dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;
   auto place_curve = [&] {
     b.landing_start = b.position;
     b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
@@ -62,7 +60,7 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     // No crossing ahead: lined up with the branch and heading in, or go round through the gate.
     const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
     // Into the wind the bird must be well out on its side to come in along the perpendicular.
-    const double out = into_wind(s, across, wind) ? s.approach_distance : 0.0;
+    const double out = windward ? s.approach_distance : 0.0;
     const bool on_side = glm::dot(b.position - q2, across) * side >= out;
     b.landing_stage = on_side && (b.via_point != q2 || heading_in) ? LandingStage::curve : LandingStage::gate;
   }
@@ -142,9 +140,10 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  // Overshot (flown past, or sent round through the gate): go round and plan the landing again.
+  // Overshot (flown past; landing_goal has sent it round through the gate on the same test): go
+  // round and plan the landing again.
   const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
-  if (b.mode == FlightMode::landing && (flown_past(b, s, to_perch) || b.landing_stage == LandingStage::gate)) {
+  if (b.mode == FlightMode::landing && flown_past(b, s, to_perch)) {
     b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
     b.mode_time = 0.0;
     b.landing_stage = LandingStage::none;

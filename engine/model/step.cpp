@@ -82,7 +82,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     return c;
   }
   // A coordinated turn banks for the speed through the air.
-  const double speed = glm::length(horizontal(b.velocity - w.wind));
+  const double speed = c.steering.air_speed;
   const double turn_rate = sign_outside(c.steering.heading_error, sp.dead_band) * sp.turn_rate;
   double bank_cmd = 0.0;
   if (fixed_rate)

@@ -141,6 +141,7 @@ float steer_share(GpuSpecies s, float heading_error) {
 struct Steering {
   float heading_error, heading_error_ahead, height_error;
   float aim_speed;  // |crab_aim| (control.h)
+  float air_speed;  // horizontal, through the air
 };
 
 vec2 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
@@ -158,13 +159,13 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, v
                        float ground_speed, bool by_course) {
   // Braking: the course through the air, or the head's direction when the bird barely moves through it.
   vec3 air = velocity - wind;
-  vec3 head = by_course && length(air.xz) > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
+  Steering st;
+  st.air_speed = length(air.xz);
+  vec3 head = by_course && st.air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   vec2 aim = crab_aim(to_goal, wind, ground_speed);
-  Steering st;
   st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
-  float speed = length(air.xz);  // through the air, as the bank (control.cpp)
-  float turn_rate = speed > 1.0 ? kGravity * tan_p(bank) / speed : 0.0;
+  float turn_rate = st.air_speed > 1.0 ? kGravity * tan_p(bank) / st.air_speed : 0.0;  // as the bank (control.cpp)
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
   st.aim_speed = length(aim);
@@ -305,11 +306,6 @@ bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
   return abs(dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
 }
 
-float landing_side(GpuSpecies s, vec3 across, vec3 q2, vec3 position, vec3 wind) {
-  if (into_wind(s, across, wind)) return dot(wind, across) < 0.0 ? -1.0 : 1.0;
-  return dot(position - q2, across) < 0.0 ? -1.0 : 1.0;
-}
-
 vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
@@ -324,11 +320,12 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 q2 = perch_point(s, branch);
   vec3 direction = branches[branch].direction.xyz;
   vec3 across = vec3(-direction.z, 0.0, direction.x);
-  float side = landing_side(s, across, q2, b.position, wind);
+  bool windward = into_wind(s, across, wind);
+  float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;  // route.cpp
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
     bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
-    float out_side = into_wind(s, across, wind) ? s.approach_distance : 0.0;
+    float out_side = windward ? s.approach_distance : 0.0;
     bool on_side = dot(b.position - q2, across) * side >= out_side;
     b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
   }
@@ -421,7 +418,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     return true;
   }
   bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally (route.cpp)
-  if (b.mode == mode_landing && (flown_past(b, s, to_perch) || b.landing_stage == stage_gate)) {
+  if (b.mode == mode_landing && flown_past(b, s, to_perch)) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
     b.landing_stage = stage_none;
@@ -489,7 +486,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way) {
     c.omega = vec3(0.0);
     return c;
   }
-  float speed = length(b.velocity.xz - wind.xz);  // a coordinated turn banks for the airspeed
+  float speed = c.steering.air_speed;  // a coordinated turn banks for the airspeed
   float turn_rate = sign_outside(c.steering.heading_error, s.dead_band) * s.turn_rate;
   float bank_cmd = 0.0;
   if (fixed_rate)
