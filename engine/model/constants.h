@@ -25,6 +25,8 @@ AF_REAL(kLinedUpSine, 0.035)
 AF_REAL(kFarthestCrossing, 4.0)
 // Pitched this steeply (rad, up or down) a bird levels its wings (control.h: recovery_bank).
 AF_REAL(kSteepPitch, 1.0471975511965976)
+// A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
+AF_REAL(kFlareAimAbove, 0.5)
 // A braking bird slower than this through the air (cm/s, horizontally) steers by where its head
 // points, faster by its course through the air (control.h: steer_towards).
 AF_REAL(kSteerAirspeed, 100.0)

@@ -33,7 +33,10 @@ Species eagle() {
   // run away nose-up at full amplitude (lead-lag 7.5 deg).
   s.C_leadlag = radians(7.5);
   s.shoulder_x = -4;
-  s.pitch_max = radians(25);  // the eagle's pitch runs past 60 deg in steep banked descents at 35
+  // Its pitch runs past 60 deg in steep banked climbs at pitch_max 35 deg, and in dives at
+  // pitch_min -30 deg (the nose drops on through full nose-up tail and sweep as it rolls level).
+  s.pitch_max = radians(25);
+  s.pitch_min = radians(-25);
   // Its pitch, slow to answer (the body's inertia), hunts at low airspeed with the starling's
   // sweep gain: the tail bend does more of the work.
   s.sweep_gain = 0.5;

@@ -40,6 +40,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   goal.y = std::max(goal.y, ground);
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
+  // Braking, the bird aims above the perch: slowing, it sinks onto it (below, it could not climb).
+  if (braking) goal.y += kFlareAimAbove * sp.perch_radius;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
   const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double to_perch = way ? glm::length(*way) : -1.0;

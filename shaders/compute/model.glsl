@@ -322,9 +322,9 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   bool windward = into_wind(s, across, wind);
   float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;  // route.cpp
+  bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
-    bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
     float out_side = windward ? s.approach_distance : 0.0;
     bool on_side = dot(b.position - q2, across) * side >= out_side;
     b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
@@ -334,7 +334,7 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
     bool gone_by = dot(to_gate, b.velocity) < 0.0;
-    if (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance))
+    if (!heading_in || (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
       return gate;
     place_curve(b, branch, q2);
     b.landing_stage = stage_curve;
@@ -458,6 +458,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way) {
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
+  if (braking) goal.y += kFlareAimAbove * s.perch_radius;
   bool fixed_rate = pc.turning == 1u && !braking;
   Commands c;
   float bank = bank_angle(b.attitude);
