@@ -15,8 +15,11 @@ AF_REAL(kAirDensity, 1.225e-3)  // rho, g/cm^3
 AF_REAL(kGravity, 980.665)      // G, cm/s^2
 // A target flown past within this many radii counts as passed (no endless orbits round it).
 AF_REAL(kMissedTargetRadii, 3.0)
-// The landing gate stands this many approach distances out on the branch's perpendicular.
+// The landing gate stands this many approach distances out on the branch's perpendicular. A bird
+// whose track points away from the branch by more than acos(-kGateHeadingOut) (120 degrees) has
+// not reached it.
 AF_REAL(kGateApproaches, 5.0)
+AF_REAL(kGateHeadingOut, 0.5)
 // A bird whose heading is within asin(kLinedUpSine) (2 degrees) of the branch's perpendicular, or
 // whose heading line crosses it farther than kFarthestCrossing times its distance to the branch,
 // counts as lined up: it flies straight in. The crossing there is ill-conditioned (a float and a

@@ -50,7 +50,6 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
   // The side (+1 or -1 along `across`) it lands from: the downwind one, else where it is.
   const bool windward = into_wind(s, across, wind);
   const double side = glm::dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;
-  const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
   auto place_curve = [&] {
     b.landing_start = b.position;
     b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
@@ -59,19 +58,23 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
   if (b.landing_stage == LandingStage::none) {
     place_curve();
     // No crossing ahead: lined up with the branch and heading in, or go round through the gate.
+    const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
     // Into the wind the bird must be well out on its side to come in along the perpendicular.
     const double out = windward ? s.approach_distance : 0.0;
     const bool on_side = glm::dot(b.position - q2, across) * side >= out;
     b.landing_stage = on_side && (b.via_point != q2 || heading_in) ? LandingStage::curve : LandingStage::gate;
   }
   if (b.landing_stage == LandingStage::gate) {
-    // Reached within approach_distance, or flown past close by (as a target, route_goal), heading
-    // in: one passing it outwards turns back to it first (a curve placed then would lead on out).
+    // Reached within approach_distance, or flown past close by (as a target, route_goal), unless
+    // heading away from the branch: that bird turns back to the gate first (a curve placed then
+    // would lead it on out, 200 m downwind in an 8 m/s wind).
     const dvec3 gate = landing_gate(s, across, q2, side);
     const dvec3 to_gate = horizontal(gate - b.position);
     const double distance = glm::length(to_gate);
     const bool gone_by = glm::dot(to_gate, b.velocity) < 0.0;
-    if (!heading_in || (distance > s.approach_distance &&
+    const dvec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
+    const bool heading_out = glm::dot(track, inward) < -kGateHeadingOut * glm::length(track) * glm::length(inward);
+    if (heading_out || (distance > s.approach_distance &&
                         !(gone_by && distance <= kMissedTargetRadii * s.approach_distance)))
       return gate;
     place_curve();

@@ -322,9 +322,9 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   bool windward = into_wind(s, across, wind);
   float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;  // route.cpp
-  bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
+    bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
     float out_side = windward ? s.approach_distance : 0.0;
     bool on_side = dot(b.position - q2, across) * side >= out_side;
     b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
@@ -334,7 +334,9 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
     bool gone_by = dot(to_gate, b.velocity) < 0.0;
-    if (!heading_in || (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
+    vec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
+    bool heading_out = dot(track, inward) < -kGateHeadingOut * length(track) * length(inward);
+    if (heading_out || (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
       return gate;
     place_curve(b, branch, q2);
     b.landing_stage = stage_curve;
