@@ -1,5 +1,5 @@
 // The flight envelope (engine/model/envelope.h): the grid, the judge on flights whose outcome is
-// known, the starling's whole grid and the quick grid with moved calibrations.
+// known, each preset's whole grid and the quick grid with moved calibrations.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,13 +60,16 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
   EXPECT_NE(h[1].outcome, Outcome::reached) << name(h[1].outcome);
 }
 
-// Issue 10: the starling flies every case of the grid (1,692 flights, take-offs and branch
+// Issue 10: each preset flies every case of the grid (1,692 flights, take-offs and branch
 // landings, crosswinds of 0, 5 and 8 m/s) on the CPU reference, within the limits throughout.
-TEST(Envelope, TheStarlingFliesEveryCase) {
+class WholeGrid : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(WholeGrid, EveryCaseSucceeds) {
+  const Species species = GetParam() == "eagle" ? eagle() : starling();
   const std::vector<EnvelopeCase> cases = envelope_cases();
   size_t reached = 0;
   double worst_bank = 0.0, worst_pitch = 0.0;
-  for (const EnvelopeResult& r : fly_envelope(starling(), cases, cpu())) {
+  for (const EnvelopeResult& r : fly_envelope(species, cases, cpu())) {
     reached += r.outcome == Outcome::reached;
     worst_bank = std::max(worst_bank, r.worst_bank);
     worst_pitch = std::max(worst_pitch, r.worst_pitch);
@@ -76,6 +79,9 @@ TEST(Envelope, TheStarlingFliesEveryCase) {
   RecordProperty("worst_bank_deg", std::to_string(degrees(worst_bank)));
   RecordProperty("worst_pitch_deg", std::to_string(degrees(worst_pitch)));
 }
+
+INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid, ::testing::Values("starling", "eagle"),
+                         [](const auto& info) { return info.param; });
 
 // Issue 10: the envelope does not rest on single calibrated values. Every case of the quick grid
 // (flights, a take-off, landings) still succeeds for the starling with the shoulder 2 cm further
