@@ -86,8 +86,9 @@ INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid, ::testing::Values("starling", "eag
 // Issue 10: the envelope does not rest on single calibrated values. Every case of the quick grid
 // (flights, a take-off, landings) still succeeds for the starling with the shoulder 2 cm further
 // forward or back, the mass 30 % lighter or heavier and the lead-lag 3 degrees smaller or larger.
-// The eagle does not yet (3 of its 126 such cases pitch past 60 degrees or arrive late: mass +30 %
-// and lead-lag -3 deg): README "Flight envelope" gives larger grids' figures for both.
+// The eagle does not yet (5 of its 126 such cases pitch past 60 degrees: a descent at mass -30 %,
+// two landings at +30 %, a descent and a landing at lead-lag +3 deg): README "Flight envelope"
+// gives larger grids' figures for both.
 TEST(Envelope, QuickGridSurvivesMovedCalibrations) {
   struct Change {
     const char* what;
