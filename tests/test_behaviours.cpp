@@ -413,6 +413,43 @@ TEST_P(ClimbOut, FollowedForFiveSecondsItNeverLoops) {
   EXPECT_GT(b.position.y - ground, 300.0) << "clear of the ground after 5 s";
 }
 
+// A bird takes off into the wind (faster than half touchdown_speed): standing with a 5 m/s wind
+// behind it or from its side, it turns to face the wind as it crouches, and climbs out as in still
+// air. Followed for 5 s.
+TEST(TakeOff, FacesTheWindAndClimbsOut) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  for (const dvec3 wind : {dvec3{500.0, 0.0, 0.0}, dvec3{0.0, 0.0, -500.0}}) {
+    Scenario scenario = load_scenario("fig20-takeoff-legs");  // facing +x
+    scenario.world.wind = wind;
+    const auto flight = make_flight(scenario);
+    Simulation& sim = *flight;
+    const Species& sp = species_of(sim, sim.birds()[0]);
+    double lowest = 1e9, steepest = 0.0, facing_off = -1.0;
+    bool all_finite = true;
+    run(sim, 5.0, [&](Simulation& s) {
+      const BirdState& b = s.birds()[0];
+      all_finite = all_finite && finite(b);
+      lowest = std::min(lowest, b.position.y - s.world().ground_height);
+      steepest = std::max(steepest, std::fabs(pitch_angle(b.attitude)));
+      if (facing_off < 0.0 && b.mode == FlightMode::taking_off) {
+        const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
+        facing_off = std::acos(std::clamp(glm::dot(glm::normalize(head), -wind / glm::length(wind)), -1.0, 1.0));
+      }
+    });
+    const BirdState& b = sim.birds()[0];
+    const std::string from = wind.x > 0.0 ? "behind" : "the side";
+    RecordProperty("wind_from_" + std::string(wind.x > 0.0 ? "behind" : "side") + "_steepest_pitch_deg",
+                   std::to_string(degrees(steepest)));
+    EXPECT_TRUE(all_finite) << from;
+    EXPECT_GE(facing_off, 0.0) << from << ": never took off";
+    EXPECT_LT(facing_off, radians(1.0)) << from << ": head off the wind's opposite at take-off";
+    EXPECT_GE(lowest, sp.stand_height - sp.crouch_depth - 1e-3) << from;
+    EXPECT_LT(steepest, radians(60.0)) << from;
+    EXPECT_EQ(b.mode, FlightMode::flying) << from;
+    EXPECT_GT(b.position.y - sim.world().ground_height, 300.0) << from << ": clear of the ground after 5 s";
+  }
+}
+
 // Issue 10: a commanded airspeed is held within 0.5 m/s in level flight (each second's mean, from
 // 15 s to 30 s), by the wingbeat and the pitch; the height stays within 2 m. At each species'
 // min_speed, cruise_speed and max_speed.

@@ -40,8 +40,9 @@ dquat heading_attitude(double heading) {
   return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0});
 }
 
-glm::dquat level_attitude(const glm::dquat& q) {
-  const glm::dvec3 head = q * glm::dvec3{1.0, 0.0, 0.0};
+glm::dquat level_attitude(const glm::dquat& q) { return facing(q * glm::dvec3{1.0, 0.0, 0.0}); }
+
+glm::dquat facing(const glm::dvec3& head) {
   const double n = std::hypot(head.x, head.z);
   if (!(n > 0.0)) return glm::dquat{1.0, 0.0, 0.0, 0.0};  // head straight up or down: facing +x
   const double hx = head.x / n, hz = head.z / n;

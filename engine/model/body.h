@@ -33,6 +33,8 @@ glm::dquat heading_attitude(double heading);
 // down): heading_attitude of that heading, computed without trigonometry (the compute shader does
 // it inside its step loop).
 glm::dquat level_attitude(const glm::dquat& attitude);
+// Level, facing `head`'s horizontal direction (+x when it has none).
+glm::dquat facing(const glm::dvec3& head);
 
 // Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded, its
 // mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the mode.

@@ -18,10 +18,9 @@ float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0
 float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
 vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
 
-// Level, facing where q's head points (body.cpp: level_attitude): the turn about the vertical
-// from +x to the head's horizontal direction h, as the half-way quaternion.
-vec4 level_attitude(vec4 q) {
-  vec3 head = rotate(q, vec3(1, 0, 0));
+// Level, facing the horizontal direction h of `head` (body.cpp: facing, level_attitude): the turn
+// about the vertical from +x to h, as the half-way quaternion.
+vec4 facing(vec3 head) {
   float n = length(head.xz);
   if (!(n > 0.0)) return vec4(0.0, 0.0, 0.0, 1.0);  // head straight up or down: facing +x
   float hx = head.x / n, hz = head.z / n;
@@ -29,6 +28,7 @@ vec4 level_attitude(vec4 q) {
   float y = hx >= 0.0 ? -hz : (hz < 0.0 ? 1.0 - hx : hx - 1.0);
   return vec4(0.0, y, 0.0, w) / length(vec2(w, y));
 }
+vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
 
 // eq. 15
 float ground_effect_force(GpuSpecies s, float height) {
@@ -584,6 +584,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     return no_forces();
   }
   if (b.mode == mode_standing) {
+    if (length(pc.wind_ground.xz) > kTouchdownAim * s.touchdown_speed) b.attitude = facing(-pc.wind_ground.xyz);  // step.cpp
     b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
