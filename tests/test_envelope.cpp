@@ -65,15 +65,15 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
 // landings, crosswinds of 0, 5 and 8 m/s) on the CPU reference, within the limits throughout.
 // One test per preset and crosswind (564 cases each), so that ctest spreads them over the cores.
 struct GridPart {
-  const char* species;
+  Species (*preset)();
   double crosswind;  // cm/s
 };
-void PrintTo(const GridPart& p, std::ostream* os) { *os << p.species << " " << p.crosswind << " cm/s"; }
+void PrintTo(const GridPart& p, std::ostream* os) { *os << p.preset().name << " " << p.crosswind << " cm/s"; }
 
 class WholeGrid : public ::testing::TestWithParam<GridPart> {};
 
 TEST_P(WholeGrid, EveryCaseSucceeds) {
-  const Species species = std::string(GetParam().species) == "eagle" ? eagle() : starling();
+  const Species species = GetParam().preset();
   std::vector<EnvelopeCase> cases;
   for (const EnvelopeCase& c : envelope_cases())
     if (c.crosswind == GetParam().crosswind) cases.push_back(c);
@@ -92,11 +92,11 @@ TEST_P(WholeGrid, EveryCaseSucceeds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid,
-                         ::testing::Values(GridPart{"starling", 0.0}, GridPart{"starling", 500.0},
-                                           GridPart{"starling", 800.0}, GridPart{"eagle", 0.0},
-                                           GridPart{"eagle", 500.0}, GridPart{"eagle", 800.0}),
+                         ::testing::Values(GridPart{starling, 0.0}, GridPart{starling, 500.0},
+                                           GridPart{starling, 800.0}, GridPart{eagle, 0.0},
+                                           GridPart{eagle, 500.0}, GridPart{eagle, 800.0}),
                          [](const auto& info) {
-                           return std::string(info.param.species) + "_wind_" +
+                           return info.param.preset().name + "_wind_" +
                                   std::to_string(int(info.param.crosswind / 100.0)) + "_m_s";
                          });
 

@@ -290,7 +290,7 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
 // Issue 10: the flight envelope judged on both backends gives the same outcomes: every fifth
 // flight of the grid up to 300 m away (216), every take-off (24) and every branch landing (48),
 // for each preset.
-class GpuEnvelope : public ::testing::TestWithParam<std::string> {};
+class GpuEnvelope : public ::testing::TestWithParam<Species (*)()> {};
 
 TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
@@ -310,7 +310,7 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
                                     std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
     return std::make_unique<gpu::GpuSimulation>(device, std::move(s), std::move(b));
   };
-  const Species sp = GetParam() == "eagle" ? eagle() : starling();
+  const Species sp = GetParam()();
   const std::vector<EnvelopeResult> a = fly_envelope(sp, cases, cpu);
   const std::vector<EnvelopeResult> b = fly_envelope(sp, cases, gpu);
   size_t same = 0;
@@ -323,8 +323,8 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Presets, GpuEnvelope, ::testing::Values("starling", "eagle"),
-                         [](const auto& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Presets, GpuEnvelope, ::testing::Values(starling, eagle),
+                         [](const auto& info) { return info.param().name; });
 
 // Every built-in scenario for its first 2 simulated seconds on both backends.
 class GpuTrajectory : public ::testing::TestWithParam<std::string> {};

@@ -94,6 +94,8 @@ double commanded_pitch(const Species& s, double pitch_trim, double balance, doub
   return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
 }
 
+bool heeds_wind(const Species& s, double speed) { return speed > kTouchdownAim * s.touchdown_speed; }
+
 double perch_airspeed(const Species& s, const dvec3& to_perch, const dvec3& wind) {
   return glm::length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
 }

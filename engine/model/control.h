@@ -96,6 +96,10 @@ Energy energy_errors(const Species& s, double height_error, double airspeed, dou
 // lower, no less than climb_pitch in proportion to how far below.
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
 
+// Whether a bird heeds a wind of `speed` (cm/s) when it lands or takes off: it lands and takes off
+// into one faster than kTouchdownAim touchdown_speed (downwind, it could not slow to grip).
+bool heeds_wind(const Species& s, double speed);
+
 // The airspeed at which a bird makes kTouchdownAim touchdown_speed over the ground towards its
 // perch (`to_perch` away) in the wind: what it brakes to.
 double perch_airspeed(const Species& s, const glm::dvec3& to_perch, const glm::dvec3& wind);

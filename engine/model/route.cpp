@@ -20,11 +20,10 @@ const Branch* route_branch(const BirdState& b, const World& w) {
   return &w.branches[static_cast<uint32_t>(r.branch)];
 }
 
-// Whether a bird lands into the wind: it does where the wind blows along the branch's horizontal
-// perpendicular `across` faster than kTouchdownAim touchdown_speed (landing downwind, it could not
-// slow to grip).
+// Whether a bird lands into the wind: it does where the wind along the branch's horizontal
+// perpendicular `across` is one it heeds.
 bool into_wind(const Species& s, const dvec3& across, const dvec3& wind) {
-  return std::fabs(glm::dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
+  return heeds_wind(s, std::fabs(glm::dot(wind, across)));
 }
 
 // A point on the branch's horizontal perpendicular, on the side it is landed from, five approach
@@ -50,6 +49,7 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
   // The side (+1 or -1 along `across`) it lands from: the downwind one, else where it is.
   const bool windward = into_wind(s, across, wind);
   const double side = glm::dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;
+  const dvec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
   auto place_curve = [&] {
     b.landing_start = b.position;
     b.via_point = landing_point(b.position, b.attitude * dvec3{1.0, 0.0, 0.0}, q2, br.direction);
@@ -58,7 +58,7 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
   if (b.landing_stage == LandingStage::none) {
     place_curve();
     // No crossing ahead: lined up with the branch and heading in, or go round through the gate.
-    const bool heading_in = glm::dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    const bool heading_in = glm::dot(track, inward) > 0.0;
     // Into the wind the bird must be well out on its side to come in along the perpendicular.
     const double out = windward ? s.approach_distance : 0.0;
     const bool on_side = glm::dot(b.position - q2, across) * side >= out;
@@ -72,7 +72,6 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     const dvec3 to_gate = horizontal(gate - b.position);
     const double distance = glm::length(to_gate);
     const bool gone_by = glm::dot(to_gate, b.velocity) < 0.0;
-    const dvec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
     const bool heading_out = glm::dot(track, inward) < -kGateHeadingOut * glm::length(track) * glm::length(inward);
     if (heading_out || (distance > s.approach_distance &&
                         !(gone_by && distance <= kMissedTargetRadii * s.approach_distance)))

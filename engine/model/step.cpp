@@ -159,7 +159,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   }
   if (b.mode == FlightMode::standing) {
     // A bird takes off into the wind: turned away from it, it would first fall back through it.
-    if (glm::length(horizontal(w.wind)) > kTouchdownAim * sp.touchdown_speed) b.attitude = facing(-w.wind);
+    if (heeds_wind(sp, glm::length(horizontal(w.wind)))) b.attitude = facing(-w.wind);
     b.mode = FlightMode::taking_off;
     b.mode_time = 0.0;
     b.frequency = sp.f_max;

@@ -222,6 +222,8 @@ float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float heigh
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
 
+bool heeds_wind(GpuSpecies s, float speed) { return speed > kTouchdownAim * s.touchdown_speed; }  // control.cpp
+
 float perch_airspeed(GpuSpecies s, vec3 to_perch, vec3 wind) {
   return length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
 }
@@ -302,9 +304,7 @@ bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
   return dot(to_perch.xz, b.velocity.xz) <= 0.0 && length(to_perch.xz) > s.perch_radius;
 }
 
-bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
-  return abs(dot(wind, across)) > kTouchdownAim * s.touchdown_speed;
-}
+bool into_wind(GpuSpecies s, vec3 across, vec3 wind) { return heeds_wind(s, abs(dot(wind, across))); }
 
 vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
@@ -322,9 +322,10 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   bool windward = into_wind(s, across, wind);
   float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;  // route.cpp
+  vec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
-    bool heading_in = dot(horizontal(b.velocity), horizontal(q2 - b.position)) > 0.0;
+    bool heading_in = dot(track, inward) > 0.0;
     float out_side = windward ? s.approach_distance : 0.0;
     bool on_side = dot(b.position - q2, across) * side >= out_side;
     b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
@@ -334,7 +335,6 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     vec3 to_gate = horizontal(gate - b.position);
     float d = length(to_gate);
     bool gone_by = dot(to_gate, b.velocity) < 0.0;
-    vec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
     bool heading_out = dot(track, inward) < -kGateHeadingOut * length(track) * length(inward);
     if (heading_out || (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
       return gate;
@@ -584,7 +584,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     return no_forces();
   }
   if (b.mode == mode_standing) {
-    if (length(pc.wind_ground.xz) > kTouchdownAim * s.touchdown_speed) b.attitude = facing(-pc.wind_ground.xyz);  // step.cpp
+    if (heeds_wind(s, length(pc.wind_ground.xz))) b.attitude = facing(-pc.wind_ground.xyz);  // step.cpp
     b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
