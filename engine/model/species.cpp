@@ -49,7 +49,8 @@ Species eagle() {
   s.leg_time = 0.1;
   s.approach_distance = 1200;
   s.brake_distance = 800;
-  s.brake_pitch = radians(45);
+  // At 45 deg a heavy eagle (mass +30 %) flared on past 60 deg pitch in 2 of 48 landings.
+  s.brake_pitch = radians(38);
   s.perch_radius = 200;
   return s;
 }
