@@ -114,8 +114,14 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
   EXPECT_EQ(pose.stride("Pose"), sizeof(Pose));
   EXPECT_EQ(pose.stride("DrawCommand"), sizeof(DrawCommand));
   EXPECT_EQ(bird.stride("MeshVertex"), sizeof(MeshVertex));
+  const SpirvLayouts perceive(shader_spirv("perceive"));
+  EXPECT_EQ(step.stride("GpuPerception"), sizeof(GpuPerception));
+  EXPECT_EQ(perceive.stride("GpuPerception"), sizeof(GpuPerception));
+  EXPECT_EQ(perceive.offsets("GpuPerception").at("seen_key"), offsetof(GpuPerception, seen_key));
   // The push-constant blocks, member by member where C++ can name them.
   EXPECT_EQ(step.offsets("StepConstants").at("next_targets"), offsetof(StepConstants, next_targets));
+  EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"), offsetof(StepConstants, frame_seconds));
+  EXPECT_EQ(perceive.offsets("StepConstants").at("grid_cell"), offsetof(StepConstants, grid_cell));
   EXPECT_EQ(pose.offsets("PoseConstants").at("lod_scale"), offsetof(PoseConstants, lod_scale));
   EXPECT_EQ(bird.offsets("FrameConstants").at("list_offset"), offsetof(FrameConstants, list_offset));
 }

@@ -108,12 +108,31 @@ TEST(Summary, JsonHasEveryKey) {
   for (const char* key :
        {"backend", "device", "scenario", "birds", "steps", "dt", "steps_per_frame", "sim_seconds",
         "wall_seconds", "bird_steps_per_second", "nan_birds", "centroid", "mean_speed",
-        "targets_reached", "perched", "flying"})
+        "targets_reached", "perched", "flying", "flocking"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["birds"], 2);
   EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
   EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
   EXPECT_DOUBLE_EQ(j["mean_speed"].get<double>(), 500.0);
+}
+
+// MODEL.md's flock metrics from hand-placed birds: four in a row 1 m apart and one 10 m off.
+TEST(FlockMetrics, NearestNeighbourClosenessPolarisationAndClusters) {
+  std::vector<BirdState> birds;
+  for (int i = 0; i < 4; ++i) birds.push_back(bird({100.0 * i, 100, 0}, {1000, 0, 0}));
+  birds.push_back(bird({1300.0, 100, 0}, {0, 0, 1000}));
+  birds.push_back(bird({130.0, 100, 30}, {1000, 0, 0}));  // 42.4 cm from the second: too close
+  const std::vector<Species> species = {starling()};       // wingspan (box_c) 100 cm
+  const FlockMetrics m = flock_metrics(birds, species);
+  EXPECT_EQ(m.birds, 6u);
+  // Nearest: 100, 42.4, 76.2 (the third to the sixth), 100, 1000, 42.4: median (76.2 + 100) / 2.
+  EXPECT_NEAR(m.median_nearest, 0.5 * (std::hypot(70.0, 30.0) + 100.0), 1e-9);
+  EXPECT_NEAR(m.too_close, 2.0 / 6.0, 1e-12);
+  EXPECT_NEAR(m.polarisation, std::hypot(5.0, 1.0) / 6.0, 1e-12);
+  EXPECT_NEAR(m.largest_cluster, 5.0 / 6.0, 1e-12);  // the far one is 10 m from the row's end
+  // Only the members asked for.
+  EXPECT_EQ(flock_metrics(birds, species, {0, 1}).median_nearest, 100.0);
+  EXPECT_EQ(flock_metrics({}, species).birds, 0u);
 }
 
 TEST(Summary, WritesAtomically) {

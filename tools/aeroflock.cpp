@@ -91,6 +91,11 @@ void print_summary(const RunSummary& r, const std::string& summary_path, const V
               s.centroid.z / 100);
   std::printf("mean speed       %.2f m/s\n", s.mean_speed / 100);
   std::printf("targets reached  %llu\n", (unsigned long long)s.targets_reached);
+  for (const FlockingSummary& f : r.flocking)
+    std::printf("flock %-10s median nearest neighbour %.2f m, %.2f %% nearer than half a wingspan, "
+                "polarisation %.3f, largest cluster %.1f %%\n",
+                f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close, f.metrics.polarisation,
+                100 * f.metrics.largest_cluster);
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
   if (vtk)
     std::printf("vtk              %s (%zu frame%s of %zu bird%s: flock.pvd, trajectories.vtp)\n",
@@ -174,6 +179,7 @@ int run(const RunOptions& opt) {
   summary.steps = sim->steps();
   summary.sim_seconds = sim->time();
   summary.stats = flock_statistics(sim->birds());
+  summary.flocking = flocking_summary(sim->scenario(), sim->birds());
   if (images) images->finish(*sim);
   if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
@@ -289,6 +295,8 @@ int main(int argc, char** argv) {
       ->add_option("--backends", bench_backends,
                    "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
+  bench_cmd->add_option("--scenario", bench_opt.scenario,
+                        "Scenario measured, a built-in name or FILE.toml (default: default)");
   bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
       ->check(kPositive)
       ->capture_default_str();

@@ -60,9 +60,9 @@ constexpr double kBudgetMs = 25.0;
 constexpr double kMaxMeasurementSeconds = 150.0;
 
 struct Settings {
-  Scenario scenario;  // the default scenario, loaded once
+  Scenario scenario;  // the scenario measured (--scenario), loaded once
   std::vector<std::string> backends;
-  std::vector<std::string> variants;  // headless; render and vtk too unless --quick
+  std::vector<std::string> variants;  // headless; solo, render and vtk too unless --quick
   std::vector<uint32_t> sizes;        // the sweep
   uint32_t cpu_cap = 0;               // the CPU reference is swept up to this many birds
   uint32_t max_birds = 0;
@@ -175,8 +175,12 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
   const bool on_device = backend_name.starts_with("vulkan:");
   const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
+  // "solo": the same birds with flocking off, to show what flocking costs.
+  Scenario scenario = s.scenario;
+  if (variant == "solo")
+    for (Flock& f : scenario.flocks) f.flocking = false;
   std::unique_ptr<Simulation> sim = make_simulation(
-      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, s.scenario);
+      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
   std::unique_ptr<OffscreenLoad> render;
   if (rendering) render = std::make_unique<OffscreenLoad>(*sim);
   TempDir vtk_dir;
@@ -227,9 +231,9 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
 
 void print_header(const Settings& s) {
   std::printf(
-      "aeroflock bench%s: default scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
+      "aeroflock bench%s: %s scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
       "%d warm-up + %d timed frames\n\n",
-      s.quick ? " --quick" : "", s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms,
+      s.quick ? " --quick" : "", s.scenario.name.c_str(), s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms,
       1000.0 / s.budget_ms, s.warmup, s.repetitions);
   std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms",
               "p10 ms", "p90 ms", "bird-steps/s");
@@ -371,10 +375,10 @@ void check_options(const BenchOptions& options) {
 
 Settings settings(const BenchOptions& options) {
   Settings s;
-  s.scenario = load_scenario("default");
+  s.scenario = load_scenario(options.scenario);
   s.backends = options.backends;
   s.variants = options.quick ? std::vector<std::string>{"headless"}
-                             : std::vector<std::string>{"headless", "render", "vtk"};
+                             : std::vector<std::string>{"headless", "solo", "render", "vtk"};
   s.sizes = options.quick
                 ? std::vector<uint32_t>{1000, 3000}
                 : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
@@ -569,6 +573,13 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
   }
+  // What flocking costs: birds per frame with it (headless) over without it (solo).
+  for (const Series& with : all)
+    for (const Series& without : all)
+      if (with.variant == "headless" && without.variant == "solo" && with.backend == without.backend &&
+          without.birds_per_frame > 0)
+        std::printf("  %-16s flocking keeps %.0f %% of the birds per frame without it\n", with.backend.c_str(),
+                    100.0 * with.birds_per_frame / without.birds_per_frame);
 }
 
 void print_ratios(const std::vector<Ratios>& ratios) {
@@ -611,7 +622,7 @@ nlohmann::json context_json(const Settings& s, const std::map<std::string, std::
       {"git_revision", AEROFLOCK_GIT_REVISION},
       {"library_build_type", AEROFLOCK_BUILD_TYPE},
       {"build_type", AEROFLOCK_BUILD_TYPE},
-      {"scenario", "default"},
+      {"scenario", s.scenario.name},
       {"dt", s.scenario.dt},
       {"steps_per_frame", s.scenario.steps_per_frame},
       {"budget_ms", s.budget_ms},

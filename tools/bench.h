@@ -16,6 +16,7 @@ struct BenchOptions {
   uint32_t max_birds = 1000000;  // largest flock of the sweep
   int repetitions = 0;           // timed frames per measurement (0: 5 quick, 15 full)
   int device = -1;               // Vulkan device index
+  std::string scenario = "default";  // what every measurement flies (a name or FILE.toml)
 };
 
 // Runs the benchmark, prints the table on stdout (progress on stderr when it is a terminal).

@@ -44,7 +44,48 @@ std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scena
   return spawn_birds(scenario, birds_override);
 }
 
+// Every bird's perception, none seen yet (one element when no flock flocks).
+Buffer perception_buffer(const Device& device, size_t birds, bool flocking) {
+  const size_t n = flocking ? birds : 0;
+  check_storage_size(device, std::max<size_t>(n, 1) * sizeof(GpuPerception), sizeof(GpuPerception), "birds' perception");
+  return buffer_with(device, std::vector<GpuPerception>(n, pack(Perception{})), Memory::device_local);
+}
+
+Buffer grid_buffer(const Device& device, size_t words, const char* what) {
+  check_storage_size(device, std::max<size_t>(words, 1) * sizeof(uint32_t), sizeof(uint32_t), what);
+  return Buffer(device, std::max<size_t>(words, 1) * sizeof(uint32_t), Memory::device_local);
+}
+
+const std::vector<uint32_t> kPerceiveBindings = {
+    kBindingBirds,    kBindingSpecies,    kBindingTargets,     kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
+    kBindingPerception, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted};
+
 }  // namespace
+
+GpuSimulation::Flocking::Flocking(const Device& device, GridShape grid, uint32_t birds)
+    : shape(grid),
+      place(grid_buffer(device, 2 * size_t{birds}, "birds' grid places")),
+      counts(grid_buffer(device, grid.buckets, "grid buckets")),
+      starts(grid_buffer(device, grid.buckets, "grid buckets")),
+      blocks(grid_buffer(device, grid.buckets / kScanBlock, "grid blocks")),
+      sorted(grid_buffer(device, birds, "birds in the grid")),
+      count(device, shader_spirv("grid_count"),
+            {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
+             kBindingGridPlace, kBindingGridCounts},
+            sizeof(StepConstants), 2),
+      scan_blocks(device, shader_spirv("grid_scan_blocks"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
+                  sizeof(StepConstants), 1),
+      scan_totals(device, shader_spirv("grid_scan_totals"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
+                  sizeof(StepConstants), 1),
+      scatter(device, shader_spirv("grid_scatter"),
+              {kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted}, sizeof(StepConstants), 1),
+      perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2) {
+  scan_blocks.set_buffers({&counts, &starts, &blocks});
+  scan_totals.set_buffers({&counts, &starts, &blocks});
+  scatter.set_buffers({&place, &starts, &blocks, &sorted});
+  perceive.check_groups(group_count(birds, kWorkgroupSize));
+  scan_blocks.check_groups(grid.buckets / kScanBlock);
+}
 
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override)
     : GpuSimulation(device, scenario, spawn_fitting(device, scenario, birds_override)) {}
@@ -64,18 +105,49 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       routes_(buffer_with(device, pack(world()).routes, Memory::device_local)),
       route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local)),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local)),
+      perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
       step_(device, shader_spirv("step"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-             kBindingBranches},
+             kBindingBranches, kBindingPerception},
             sizeof(StepConstants), 2),
       slots_{{targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)},
              {targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
-  for (Slot& slot : slots_)
-    slot.set =
-        step_.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_});
+  if (any_flocking(this->scenario()))
+    flocking_ = std::make_unique<Flocking>(device, grid_shape(this->scenario().species, count_), count_);
+  for (Slot& slot : slots_) {
+    slot.set = step_.make_set(
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_});
+    if (!flocking_) continue;
+    Flocking& f = *flocking_;
+    slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
+    slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
+                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted});
+  }
+  if (flocking_)  // the count pass reads no target: either slot's buffer will do
+    flocking_->count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_,
+                                  &flocking_->place, &flocking_->counts});
+}
+
+// The birds see their flock (the frame's start): the grid is built by a counting sort (count,
+// prefix sum in two levels, scatter), then each due bird searches it; a barrier between each.
+void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c) {
+  Flocking& f = *flocking_;
+  vkCmdFillBuffer(cmd, f.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  barrier_to_compute(cmd);
+  const uint32_t groups = group_count(count_, kWorkgroupSize);
+  f.count.dispatch(cmd, groups, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.scan_blocks.dispatch(cmd, f.shape.buckets / kScanBlock, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.scatter.dispatch(cmd, groups, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.perceive.dispatch(cmd, slot.perceive_set, groups, &c, sizeof c);
+  barrier_to_compute(cmd);
 }
 
 std::string GpuSimulation::device() const { return device_.name() + " (" + device_.driver() + ")"; }
@@ -90,12 +162,12 @@ void GpuSimulation::prepare_forces() {
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
       std::vector<uint32_t>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
-                            kBindingRouteTargets, kBindingBranches, kBindingForces},
+                            kBindingRouteTargets, kBindingBranches, kBindingPerception, kBindingForces},
       sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
     slot.forces_set = step_forces_->make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, forces_.get()});
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get()});
   }
 }
 
@@ -121,13 +193,22 @@ void GpuSimulation::step(uint32_t steps, bool record_forces) {
   c.turning = uint32_t(world().turning);
   c.ground_effect = world().ground_effect ? 1u : 0u;
   c.next_targets = uint32_t(next.size());
+  c.flocking = flocking_ ? 1u : 0u;
+  c.frame = uint32_t(frames() - 1);
+  c.frame_seconds = float(scenario().frame_seconds());
+  if (flocking_) {
+    c.grid_cell = float(flocking_->shape.cell);
+    c.buckets = flocking_->shape.buckets;
+  }
   barrier_to_compute(cmd);
+  if (flocking_) record_perception(cmd, slot, c);
   if (record_forces)
     step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
   else
     step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
   record_readback(cmd, birds_, slot.readback);
   if (record_forces) record_readback(cmd, *forces_, *slot.forces);
+  if (flocking_) record_readback(cmd, perception_, *slot.perception);
   slot.fence = submitter_.submit();
   end_frame(steps);
 
@@ -148,11 +229,17 @@ Snapshot GpuSimulation::read(Slot& slot) {
       slot.step_forces.resize(count_);
       for (uint32_t i = 0; i < count_; ++i) slot.step_forces[i] = unpack(f[i]);
     }
+    if (flocking_) {
+      const auto* p = reinterpret_cast<const GpuPerception*>(slot.perception->mapped());
+      slot.perception_state.resize(count_);
+      for (uint32_t i = 0; i < count_; ++i) slot.perception_state[i] = unpack(p[i]);
+    }
     slot.unpacked = true;
   }
   Snapshot s = slot.snapshot;
   s.birds = &slot.birds;
   s.forces = slot.has_forces ? &slot.step_forces : nullptr;
+  s.perception = flocking_ ? &slot.perception_state : nullptr;
   return s;
 }
 

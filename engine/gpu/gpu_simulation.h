@@ -43,20 +43,32 @@ class GpuSimulation final : public Simulation {
   // What one frame in flight owns: its targets, its readback and its unpacked state.
   struct Slot {
     Buffer targets, readback;
-    std::unique_ptr<Buffer> forces;  // host copy of the forces, once asked for
-    VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE;
+    std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
+    std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
+    VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE, perceive_set = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     Snapshot snapshot;  // its frame, steps and time; the vectors below once unpacked
     bool unpacked = false, has_forces = false;
     std::vector<BirdState> birds;
     std::vector<StepForces> step_forces;
+    std::vector<Perception> perception_state;
+  };
+  // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
+  struct Flocking {
+    GridShape shape;
+    Buffer place, counts, starts, blocks, sorted;
+    ComputePipeline count, scan_blocks, scan_totals, scatter, perceive;
+    Flocking(const Device& device, GridShape shape, uint32_t birds);
   };
   Snapshot read(Slot& slot);
+  void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);
 
   std::unique_ptr<Device> owned_device_;
   const Device& device_;
   uint32_t count_;
   Buffer birds_, species_, routes_, route_targets_, branches_;
+  Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
+  std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
   ComputePipeline step_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.
   std::unique_ptr<ComputePipeline> step_forces_;

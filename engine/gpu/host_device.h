@@ -48,6 +48,21 @@ AF_UINT(kBindingDrawLists, 8)
 AF_UINT(kBindingDraws, 9)
 AF_UINT(kBindingMesh, 10)
 AF_UINT(kBindingSegments, 11)
+// Flocking (compute): each bird's perception, and the neighbour grid (a counting sort of the
+// birds into hashed cells: each bird's bucket and rank in it, the buckets' counts, their starts
+// within a scan block, the blocks' starts, the birds in bucket order).
+AF_UINT(kBindingPerception, 12)
+AF_UINT(kBindingGridPlace, 13)
+AF_UINT(kBindingGridCounts, 14)
+AF_UINT(kBindingGridStarts, 15)
+AF_UINT(kBindingGridBlocks, 16)
+AF_UINT(kBindingGridSorted, 17)
+
+// Buckets per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
+// has a whole number of such blocks.
+AF_UINT(kScanBlock, 1024)
+// A bird outside the grid (it does not flock now).
+AF_UINT(kNoBucket, 0xffffffffu)
 
 // GpuRoute::flags
 AF_UINT(kRouteLoop, 1)
@@ -117,7 +132,17 @@ struct GpuForces {
   AF_V16 vec4 torque;       // body frame
 };
 
-// Push constants of step.comp and step_forces.comp.
+// What a bird's perception leaves for its steps (engine/model/flock.h: Perception).
+struct GpuPerception {
+  AF_V16 vec3 direction;  // u(d), world; 0 when it sees no one
+  float airspeed;         // commanded, cm/s
+  uint neighbours;        // how many it sees
+  float nearest;          // cm to the nearest of them
+  uint seen_key;          // checksum of the seen birds' indices (flock.h)
+  uint pad;
+};
+
+// Push constants of step.comp, step_forces.comp and the flocking passes (grid_*.comp, perceive.comp).
 struct StepConstants {
   AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
   float dt;
@@ -127,7 +152,11 @@ struct StepConstants {
   uint turning;           // TurningModel: 0 tail, 1 fixed-rate
   uint ground_effect;
   uint next_targets;      // step_forces.comp: where the targets at the next frame's start begin
-  uint pad;
+  uint flocking;          // 1: the birds steer by their perception
+  float grid_cell;        // the neighbour grid's cell, cm
+  uint buckets;           // its buckets, a power of two, a whole number of kScanBlock
+  uint frame;             // the frame's index (perceive.comp: whose reaction is due)
+  float frame_seconds;
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

@@ -16,7 +16,8 @@ static_assert(sizeof(GpuBird) % 16 == 0);
 static_assert(sizeof(GpuSpecies) % 4 == 0);
 static_assert(sizeof(GpuTarget) == 32 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 32);
 static_assert(sizeof(GpuForces) == 11 * 16);
-static_assert(sizeof(StepConstants) == 48 && sizeof(PoseConstants) == 32);
+static_assert(sizeof(StepConstants) == 64 && sizeof(PoseConstants) == 32);
+static_assert(sizeof(GpuPerception) == 32);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 
 // One field each way: doubles to floats, quaternions to (x, y, z, w), enums to uint.
@@ -91,6 +92,14 @@ StepForces unpack(const GpuForces& g) {
   f.tail_torque = v(g.tail_torque);
   f.torque = v(g.torque);
   return f;
+}
+
+GpuPerception pack(const Perception& p) {
+  return {vec3(p.direction), float(p.airspeed), p.neighbours, float(p.nearest), p.seen_key, 0u};
+}
+
+Perception unpack(const GpuPerception& g) {
+  return {glm::dvec3(g.direction), double(g.airspeed), g.neighbours, double(g.nearest), g.seen_key};
 }
 
 std::vector<GpuTarget> pack_targets(const World& w, double time) {

@@ -6,6 +6,7 @@
 
 #include "gpu/host_device.h"
 #include "model/bird.h"
+#include "model/flock.h"
 #include "model/species.h"
 #include "model/step.h"
 #include "model/world.h"
@@ -16,6 +17,8 @@ GpuBird pack(const BirdState& b);
 BirdState unpack(const GpuBird& g);
 GpuSpecies pack(const Species& s);
 StepForces unpack(const GpuForces& g);
+GpuPerception pack(const Perception& p);
+Perception unpack(const GpuPerception& g);
 
 // The world's static tables (targets move between frames: pack_targets).
 struct GpuWorld {

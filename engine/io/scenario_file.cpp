@@ -31,7 +31,7 @@ constexpr std::string_view kBranchKeys[] = {"name", "point", "direction", "lengt
 constexpr std::string_view kRouteKeys[] = {"name", "targets", "loop", "branch", "path_control"};
 constexpr std::string_view kFlockKeys[] = {
     "name",  "species",   "route",     "count",    "centre",       "extent",      "heading",
-    "speed", "frequency", "amplitude", "standing", "takeoff_time", "random_phase"};
+    "speed", "frequency", "amplitude", "standing", "takeoff_time", "random_phase", "flocking"};
 
 // "name", "base" and every Species field.
 Keys species_keys() {
@@ -200,6 +200,7 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s,
   f.standing = r.boolean("standing", f.standing);
   f.takeoff_time = r.number("takeoff_time", f.takeoff_time, Range::non_negative);
   f.random_phase = r.boolean("random_phase", f.random_phase);
+  f.flocking = r.boolean("flocking", f.flocking);
   return f;
 }
 

@@ -34,9 +34,29 @@ FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   return s;
 }
 
+std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const std::vector<BirdState>& birds) {
+  std::vector<FlockingSummary> out;
+  for (uint32_t f = 0; f < scenario.flocks.size(); ++f) {
+    if (!scenario.flocks[f].flocking) continue;
+    std::vector<uint32_t> members;
+    for (uint32_t i = 0; i < birds.size(); ++i)
+      if (birds[i].flock == f) members.push_back(i);
+    out.push_back({scenario.flocks[f].name, members.empty() ? FlockMetrics{} : flock_metrics(birds, scenario.species, members)});
+  }
+  return out;
+}
+
 nlohmann::ordered_json summary_json(const RunSummary& r) {
   const FlockStatistics& s = r.stats;
   const double bird_steps = static_cast<double>(s.birds) * static_cast<double>(r.steps);
+  nlohmann::ordered_json flocking = nlohmann::ordered_json::array();
+  for (const FlockingSummary& f : r.flocking)
+    flocking.push_back({{"name", f.name},
+                        {"birds", f.metrics.birds},
+                        {"median_nearest", f.metrics.median_nearest},
+                        {"too_close", f.metrics.too_close},
+                        {"polarisation", f.metrics.polarisation},
+                        {"largest_cluster", f.metrics.largest_cluster}});
   return {
       {"backend", r.backend},
       {"device", r.device},
@@ -54,6 +74,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"targets_reached", s.targets_reached},
       {"perched", s.perched},
       {"flying", s.flying},
+      {"flocking", flocking},
   };
 }
 

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "model/bird.h"
+#include "model/flock_geometry.h"
+#include "model/scenario.h"
 
 namespace aeroflock {
 
@@ -25,6 +27,14 @@ struct FlockStatistics {
 // Pure: statistics of a set of bird states (zeros for none).
 FlockStatistics flock_statistics(const std::vector<BirdState>& birds);
 
+// A flock that flocks, measured as MODEL.md's "What a flock must show" does.
+struct FlockingSummary {
+  std::string name;
+  FlockMetrics metrics;
+};
+// Every flock of the scenario that flocks, from the birds' states.
+std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const std::vector<BirdState>& birds);
+
 struct RunSummary {
   std::string backend;  // "cpu"
   std::string device;   // e.g. "cpu reference (8 threads, AMD EPYC ...)"
@@ -35,11 +45,13 @@ struct RunSummary {
   double sim_seconds = 0.0;
   double wall_seconds = 0.0;
   FlockStatistics stats;
+  std::vector<FlockingSummary> flocking;
 };
 
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
-// flying.
+// flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
+// too_close, polarisation, largest_cluster.
 nlohmann::ordered_json summary_json(const RunSummary& summary);
 
 // Writes summary_json atomically (PATH.tmp, then rename). Throws std::runtime_error naming the

@@ -135,6 +135,7 @@ struct ExportedBird {
   const BirdState& state;
   const Species& species;
   const StepForces& forces;
+  const Perception& seen;  // its last perception (none when its flock does not flock)
 };
 
 // The point arrays of a frame file: name, VTK type, components and the bird's value. One line
@@ -187,6 +188,9 @@ const PointArray kPointArrays[] = {
     {"flight_state", VTK_INT, 1,
      [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
     {"target", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
+    {"neighbours", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.seen.neighbours; }},
+    {"nearest_neighbour", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.seen.nearest; }},
+    {"social_direction", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.seen.direction); }},
 };
 
 }  // namespace
@@ -258,6 +262,7 @@ struct VtkExporter::Writer {
     double time = 0.0;
     std::vector<BirdState> birds;    // the selected birds, in the order of `ids`
     std::vector<StepForces> forces;  // theirs, of the next step
+    std::vector<Perception> perception;  // theirs, as last perceived
   };
 
   // Fixed at construction.
@@ -351,7 +356,7 @@ struct VtkExporter::Writer {
     for (vtkIdType i = 0; i < n; ++i) {
       const size_t k = static_cast<size_t>(i);
       const BirdState& b = frame.birds[k];
-      const ExportedBird e{ids[k], frame.time, b, species[b.species], frame.forces[k]};
+      const ExportedBird e{ids[k], frame.time, b, species[b.species], frame.forces[k], frame.perception[k]};
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
       for (size_t a = 0; a < std::size(kPointArrays); ++a) {
         kPointArrays[a].value(e, value);
@@ -490,9 +495,11 @@ void VtkExporter::offer(const Snapshot& snapshot) {
   frame.time = snapshot.time;
   frame.birds.reserve(selected_.size());
   frame.forces.reserve(selected_.size());
+  frame.perception.reserve(selected_.size());
   for (uint32_t id : selected_) {
     frame.birds.push_back(birds[id]);
     frame.forces.push_back((*snapshot.forces)[id]);
+    frame.perception.push_back(snapshot.perception ? (*snapshot.perception)[id] : Perception{});
   }
   {
     std::lock_guard lock(writer_->mutex);

@@ -4,11 +4,14 @@
 #define AEROFLOCK_MODEL_CONSTANTS_H
 
 #ifdef __cplusplus
+#include <cstdint>
 #include <numbers>
 #define AF_REAL(name, value) inline constexpr double name = value;
+#define AF_COUNT(name, value) inline constexpr uint32_t name = value;
 namespace aeroflock {
 #else
 #define AF_REAL(name, value) const float name = value;
+#define AF_COUNT(name, value) const uint name = value;
 #endif
 
 AF_REAL(kAirDensity, 1.225e-3)  // rho, g/cm^3
@@ -39,6 +42,10 @@ AF_REAL(kTouchdownAim, 0.5)
 AF_REAL(kBrakeShare, 0.5)
 // A bird that touches down on the ground stands this long before it takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)
+// The most neighbours a bird sees (a species' `neighbours`; the shaders' list is this long).
+AF_COUNT(kMaxNeighbours, 16)
+// Perception::seen_key's multiplier (Knuth's multiplicative hash), odd so that indices stay apart.
+AF_COUNT(kSeenKeyFactor, 2654435761u)
 
 #ifdef __cplusplus
 inline constexpr double kPi = std::numbers::pi;
@@ -49,5 +56,6 @@ constexpr double degrees(double radians) { return radians * (180.0 / kPi); }
 const float kPi = 3.14159265358979;
 #endif
 #undef AF_REAL
+#undef AF_COUNT
 
 #endif  // AEROFLOCK_MODEL_CONSTANTS_H

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -10,6 +13,55 @@ namespace {
 
 bool is_finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// The birds in cubic cells of `cell` cm, for the metrics (the perception has its own grid).
+class CellMap {
+ public:
+  CellMap(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members, double cell)
+      : birds_(birds), cell_(cell) {
+    for (uint32_t i : members) cells_[key(cell_of(birds[i].position))].push_back(i);
+  }
+  // Calls f(j) for every member in the cells within `rings` cells of `p`'s (Chebyshev).
+  template <class F>
+  void around(const glm::dvec3& p, int rings, F f) const {
+    const glm::ivec3 home = cell_of(p);
+    for (int dx = -rings; dx <= rings; ++dx)
+      for (int dy = -rings; dy <= rings; ++dy)
+        for (int dz = -rings; dz <= rings; ++dz) {
+          const auto it = cells_.find(key(home + glm::ivec3(dx, dy, dz)));
+          if (it != cells_.end())
+            for (uint32_t j : it->second) f(j);
+        }
+  }
+  double cell() const { return cell_; }
+
+ private:
+  glm::ivec3 cell_of(const glm::dvec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
+  static uint64_t key(const glm::ivec3& c) {
+    const auto part = [](int v) { return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu); };
+    return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
+  }
+  const std::vector<BirdState>& birds_;
+  double cell_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+std::vector<uint32_t> finite_members(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
+  std::vector<uint32_t> out;
+  if (members.empty()) {
+    for (uint32_t i = 0; i < birds.size(); ++i)
+      if (is_finite(birds[i])) out.push_back(i);
+  } else {
+    for (uint32_t i : members)
+      if (is_finite(birds[i])) out.push_back(i);
+  }
+  return out;
+}
+
+uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
 }
 
 }  // namespace
@@ -36,6 +88,69 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds) {
     }
   e.rms_radius = std::sqrt(spread / double(e.finite));
   return e;
+}
+
+std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
+  const std::vector<uint32_t> finite = finite_members(birds, members);
+  std::vector<double> out(finite.size(), std::numeric_limits<double>::infinity());
+  if (finite.size() < 2) return out;
+  const CellMap map(birds, finite, kClusterLink);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int64_t n = 0; n < static_cast<int64_t>(finite.size()); ++n) {
+    const uint32_t i = finite[static_cast<size_t>(n)];
+    double best = std::numeric_limits<double>::infinity();
+    // Ring by ring until no farther cell can hold a nearer bird; then, if still none, all of them.
+    for (int r = 1; r <= 8; ++r) {
+      map.around(birds[i].position, r, [&](uint32_t j) {
+        if (j != i) best = std::min(best, glm::distance(birds[i].position, birds[j].position));
+      });
+      if (best <= r * map.cell()) break;
+    }
+    if (!std::isfinite(best) || best > 8 * map.cell())
+      for (uint32_t j : finite)
+        if (j != i) best = std::min(best, glm::distance(birds[i].position, birds[j].position));
+    out[static_cast<size_t>(n)] = best;
+  }
+  return out;
+}
+
+FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vector<Species>& species,
+                           const std::vector<uint32_t>& members) {
+  FlockMetrics m;
+  const std::vector<uint32_t> finite = finite_members(birds, members);
+  m.birds = finite.size();
+  if (finite.empty()) return m;
+  glm::dvec3 heading{0.0};
+  for (uint32_t i : finite)
+    if (glm::length(birds[i].velocity) > 0.0) heading += glm::normalize(birds[i].velocity);
+  m.polarisation = glm::length(heading) / double(finite.size());
+  m.largest_cluster = 1.0;
+  if (finite.size() < 2) return m;
+
+  std::vector<double> nearest = nearest_distances(birds, finite);
+  size_t close = 0;
+  for (size_t n = 0; n < finite.size(); ++n)
+    if (nearest[n] < 0.5 * species[birds[finite[n]].species].box_c) ++close;
+  m.too_close = double(close) / double(finite.size());
+  const auto middle = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2);
+  std::nth_element(nearest.begin(), middle, nearest.end());
+  m.median_nearest = *middle;
+  if (nearest.size() % 2 == 0) m.median_nearest = 0.5 * (m.median_nearest + *std::max_element(nearest.begin(), middle));
+
+  // Clusters: birds linked within kClusterLink, by union-find over the cells around each bird.
+  std::vector<uint32_t> parent(birds.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  const CellMap map(birds, finite, kClusterLink);
+  for (uint32_t i : finite)
+    map.around(birds[i].position, 1, [&](uint32_t j) {
+      if (j > i && glm::distance(birds[i].position, birds[j].position) <= kClusterLink)
+        parent[root(parent, i)] = root(parent, j);
+    });
+  std::unordered_map<uint32_t, size_t> size;
+  size_t largest = 0;
+  for (uint32_t i : finite) largest = std::max(largest, ++size[root(parent, i)]);
+  m.largest_cluster = double(largest) / double(finite.size());
+  return m;
 }
 
 }  // namespace aeroflock

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "model/bird.h"
+#include "model/species.h"
 
 namespace aeroflock {
 
@@ -23,5 +24,22 @@ struct FlockExtent {
 };
 
 FlockExtent flock_extent(const std::vector<BirdState>& birds);
+
+// How much a group of birds is a flock (MODEL.md "What a flock must show"), over the finite birds
+// given; every distance is to the nearest of them, whatever its direction.
+struct FlockMetrics {
+  size_t birds = 0;                // finite birds measured
+  double median_nearest = 0.0;     // median nearest-neighbour distance, cm (0: fewer than two)
+  double too_close = 0.0;          // fraction of them with a neighbour nearer than half a wingspan (box_c)
+  double polarisation = 0.0;       // |mean of u(v_i)|, in [0, 1]
+  double largest_cluster = 0.0;    // fraction in the largest cluster, birds linked within cluster_link
+};
+inline constexpr double kClusterLink = 500.0;  // cm (MODEL.md: 5 m)
+
+// `members`: indices into `birds` (all of them when empty).
+FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vector<Species>& species,
+                           const std::vector<uint32_t>& members = {});
+// Every bird's distance to its nearest finite neighbour among `members` (infinity with none).
+std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members);
 
 }  // namespace aeroflock

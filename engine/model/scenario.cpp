@@ -37,4 +37,10 @@ void validate(const Scenario& s) {
   }
 }
 
+bool any_flocking(const Scenario& s) {
+  for (const Flock& f : s.flocks)
+    if (f.flocking) return true;
+  return false;
+}
+
 }  // namespace aeroflock

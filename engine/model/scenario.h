@@ -30,6 +30,7 @@ struct Flock {
   bool standing = false;         // start standing on the ground, take off at takeoff_time
   double takeoff_time = 0.0;     // s
   bool random_phase = true;      // spread the wingbeat phase over the flock
+  bool flocking = false;         // its birds see one another and steer by it (MODEL.md "Flocking")
 };
 
 struct Scenario {
@@ -42,9 +43,13 @@ struct Scenario {
   std::vector<Species> species;
   World world;
   std::vector<Flock> flocks;
+  double frame_seconds() const { return dt * steps_per_frame; }
 };
 
 // Throws std::invalid_argument naming what is wrong (indices out of range, dt <= 0, ...).
 void validate(const Scenario& s);
+
+// Whether any flock of the scenario flocks.
+bool any_flocking(const Scenario& s);
 
 }  // namespace aeroflock

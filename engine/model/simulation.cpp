@@ -46,10 +46,14 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
     dvec3 extent = f.spawn_extent;
     if (sizes[fi] > 1 && extent == dvec3{0.0})
       extent = dvec3{2.0 * sp.wing_length * std::cbrt(static_cast<double>(sizes[fi]))};
+    else if (birds_override > 0)  // as dense as the scenario's flock: the box grows with the count
+      extent *= std::cbrt(static_cast<double>(std::max(sizes[fi], 1u)) / static_cast<double>(f.count));
     for (uint32_t k = 0; k < sizes[fi]; ++k) {
       BirdState b;
       b.species = f.species;
       b.route = f.route;
+      b.flock = static_cast<uint32_t>(fi);
+      b.flocking = f.flocking ? 1u : 0u;
       b.position = f.spawn_centre + extent * dvec3{unit(rng), unit(rng), unit(rng)};
       b.attitude = heading_attitude(f.heading);
       b.frequency = std::clamp(std::isnan(f.frequency) ? 0.5 * (sp.f_min + sp.f_max) : f.frequency,
@@ -112,12 +116,16 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   const World& world = this->world();
   const std::vector<Species>& species = scenario().species;
   const int64_t n = static_cast<int64_t>(birds_.size());
+  // The birds see their flock at the frame's start, as they were after the last frame.
+  const bool flocking = any_flocking(scenario());
+  if (flocking) perceive(birds_, species, world, frames() - 1, scenario().frame_seconds(), perception_);
   // Each bird runs all the frame's steps before the next bird: its state stays in cache.
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     BirdState& b = birds_[static_cast<size_t>(i)];
     const Species& sp = species[b.species];
-    for (uint32_t k = 0; k < steps; ++k) step_bird(b, sp, world, t0 + k * dt, dt);
+    const Perception* seen = flocking ? &perception_[static_cast<size_t>(i)] : nullptr;
+    for (uint32_t k = 0; k < steps; ++k) step_bird(b, sp, world, t0 + k * dt, dt, nullptr, seen);
   }
   end_frame(steps);
   forces_current_ = record_forces;
@@ -129,12 +137,14 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     BirdState b = birds_[static_cast<size_t>(i)];  // stepped again next frame: only forces kept
-    step_bird(b, species[b.species], next, time(), dt, &forces_[static_cast<size_t>(i)]);
+    step_bird(b, species[b.species], next, time(), dt, &forces_[static_cast<size_t>(i)],
+              flocking ? &perception_[static_cast<size_t>(i)] : nullptr);
   }
 }
 
 Snapshot CpuSimulation::snapshot() {
-  return {frames(), this->steps(), time(), &birds_, forces_current_ ? &forces_ : nullptr};
+  return {frames(), this->steps(), time(), &birds_, forces_current_ ? &forces_ : nullptr,
+          perception_.empty() ? nullptr : &perception_};
 }
 
 }  // namespace aeroflock

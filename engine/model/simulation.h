@@ -8,13 +8,15 @@
 #include <vector>
 
 #include "bird.h"
+#include "flock.h"
 #include "scenario.h"
 #include "step.h"
 
 namespace aeroflock {
 
 // Places the scenario's birds. `birds_override` > 0 spreads that many birds over the flocks in
-// proportion to their counts. Deterministic for a given seed.
+// proportion to their counts, each flock's spawn box scaled to keep its density. Deterministic for
+// a given seed.
 std::vector<BirdState> spawn_birds(const Scenario& scenario, uint32_t birds_override = 0);
 // The number of birds spawn_birds places, without placing them.
 uint64_t spawn_count(const Scenario& scenario, uint32_t birds_override = 0);
@@ -29,6 +31,9 @@ struct Snapshot {
   // Each bird's forces of the step it takes next from this state, computed by the backend that
   // flies it; null unless the frame was stepped with record_forces.
   const std::vector<StepForces>* forces = nullptr;
+  // Each bird's last perception (what it saw at the start of this state's frame: MODEL.md
+  // "Flocking"); null unless a flock of the scenario flocks.
+  const std::vector<Perception>* perception = nullptr;
 };
 
 class Simulation {
@@ -102,6 +107,7 @@ class CpuSimulation final : public Simulation {
  private:
   std::vector<BirdState> birds_;
   std::vector<StepForces> forces_;
+  std::vector<Perception> perception_;
   bool forces_current_ = false;
 };
 

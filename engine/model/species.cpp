@@ -52,6 +52,7 @@ Species eagle() {
   // At 45 deg a heavy eagle (mass +30 %) flared on past 60 deg pitch in 2 of 48 landings.
   s.brake_pitch = radians(38);
   s.perch_radius = 200;
+  s.separation_radius = 836;  // 3.8 wingspans, as the starling's
   return s;
 }
 
@@ -129,6 +130,9 @@ void validate(const Species& s) {
   if (!(s.min_speed <= s.cruise_speed && s.cruise_speed <= s.max_speed))
     fail("min_speed <= cruise_speed <= max_speed must hold");
   if (s.pitch_min >= s.pitch_max) fail("pitch_min must be < pitch_max");
+  if (s.neighbours != std::floor(s.neighbours) || s.neighbours > kMaxNeighbours)
+    fail("neighbours must be a whole number <= " + std::to_string(kMaxNeighbours));
+  if (!(s.blind_angle < 2.0 * kPi)) fail("blind_angle must be < 360 degrees");
 }
 
 Inertia box_inertia(const Species& s) {

@@ -34,7 +34,7 @@ struct Commands {
   dvec3 omega;          // body rates used this step, with the controller's kinematic ones
 };
 
-Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal) {
+Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal, double airspeed_command) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
   const double ground = w.ground_height + sp.stand_height;
   goal.y = std::max(goal.y, ground);
@@ -58,7 +58,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - w.wind);
-  const double commanded = commanded_airspeed(sp, b.airspeed, c.steering.aim_speed, to_perch >= 0.0);
+  const double commanded = commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them).
@@ -150,7 +150,7 @@ void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
 }  // namespace
 
 void step_bird(BirdState& b, const Species& sp, const World& w, double time, double dt,
-               StepForces* out) {
+               StepForces* out, const Perception* seen) {
   if (out) *out = StepForces{};
   if (b.mode == FlightMode::perched ||
       (b.mode == FlightMode::standing && time + 0.5 * dt < b.takeoff_time)) {
@@ -165,9 +165,16 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     b.frequency = sp.f_max;
     b.amplitude = sp.amp_max;
   }
-  const dvec3 goal = route_goal(b, sp, w);
+  dvec3 goal = route_goal(b, sp, w);
   if (approach_branch(b, sp, w)) return;
-  const Commands c = control(b, sp, w, goal);
+  // A bird that sees its flock steers for its social goal, lookahead along u(d), at the airspeed
+  // that goal commands (MODEL.md "Flocking"); alone, it flies its route.
+  double airspeed = b.airspeed;
+  if (seen && seen->neighbours > 0 && flocks_now(b)) {
+    goal = b.position + sp.lookahead * seen->direction;
+    airspeed = seen->airspeed;
+  }
+  const Commands c = control(b, sp, w, goal, airspeed);
   const StepForces f = forces(b, sp, w, c);
 
   // Euler integration (eqs. 6-8, 13, 14): position and attitude move with the rates at time t.

@@ -4,6 +4,7 @@
 #include <glm/vec3.hpp>
 
 #include "bird.h"
+#include "flock.h"
 #include "species.h"
 #include "world.h"
 
@@ -21,8 +22,9 @@ struct StepForces {
   glm::dvec3 torque{0.0};       // all five points' r x F, body frame: what turns the body
 };
 
-// Advances `bird` by dt. `time` is the simulation time at the start of the step.
+// Advances `bird` by dt. `time` is the simulation time at the start of the step. `seen`: the
+// bird's last perception (flocking), none for a bird that flies its route alone.
 void step_bird(BirdState& bird, const Species& species, const World& world, double time,
-               double dt, StepForces* forces = nullptr);
+               double dt, StepForces* forces = nullptr, const Perception* seen = nullptr);
 
 }  // namespace aeroflock

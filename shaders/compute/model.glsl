@@ -454,7 +454,7 @@ vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
   return vec4(way, length(way));
 }
 
-Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way) {
+Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_command) {
   float to_perch = way.w;
   float ground = pc.wind_ground.w + s.stand_height;
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
@@ -472,7 +472,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way) {
   c.opening = tail_opening(s, b);
 
   float airspeed = length(b.velocity - wind);
-  float commanded = commanded_airspeed(s, b.airspeed, c.steering.aim_speed, to_perch >= 0.0);
+  float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   c.balance = e.y;
@@ -577,8 +577,12 @@ GpuForces no_forces() {
   return f;
 }
 
-// One step of dt from `time`; returns the step's forces (zero for a bird at rest).
-GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt) {
+// Whether a bird takes part in its flock now (flock.cpp).
+bool flocks_now(GpuBird b) { return b.flocking != 0u && b.mode == mode_flying && b.landing_stage == stage_none; }
+
+// One step of dt from `time`; returns the step's forces (zero for a bird at rest). `seen`: its
+// last perception (none seen: it flies its route alone).
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt, GpuPerception seen) {
   if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
     return no_forces();
@@ -592,7 +596,12 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   }
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg)) return no_forces();
-  Commands c = control(b, s, goal, way_to_perch(b, s, leg));
+  float airspeed_command = b.airspeed;
+  if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal (step.cpp)
+    goal = b.position + s.lookahead * seen.direction;
+    airspeed_command = seen.airspeed;
+  }
+  Commands c = control(b, s, goal, way_to_perch(b, s, leg), airspeed_command);
   GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;

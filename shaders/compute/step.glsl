@@ -7,6 +7,7 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };  // model.glsl reads pc
+layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perceptions { GpuPerception perception[]; };
 #ifdef RECORD_FORCES
 layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuForces forces_out[]; };
 #endif
@@ -19,7 +20,9 @@ void main() {
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   Leg leg = load_leg(b, 0u);
-  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt);
+  GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
+  if (pc.flocking != 0u) seen = perception[i];
+  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
   birds[i] = b;
 #ifdef RECORD_FORCES
   {
@@ -27,7 +30,7 @@ void main() {
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.next_targets);
-    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt);
+    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt, seen);
   }
 #endif
 }

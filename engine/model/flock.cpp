@@ -1,0 +1,210 @@
+#include "flock.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "constants.h"
+#include "route.h"
+
+namespace aeroflock {
+
+using glm::dvec3;
+
+namespace {
+
+dvec3 unit_or_zero(const dvec3& v) {
+  const double length = glm::length(v);
+  return length > 0.0 ? v / length : dvec3{0.0};
+}
+
+// Where a bird flies: along its velocity (its head's direction while it is still).
+dvec3 flight_direction(const BirdState& b) {
+  return glm::length(b.velocity) > 0.0 ? glm::normalize(b.velocity) : b.attitude * dvec3{1.0, 0.0, 0.0};
+}
+
+// The k nearest seen so far, nearest first, ties by index: one insertion step.
+struct Nearest {
+  uint32_t k;
+  std::vector<uint32_t> index;
+  std::vector<double> distance2;
+
+  bool full() const { return index.size() >= k; }
+  double worst2() const { return distance2.back(); }
+  void offer(uint32_t j, double d2) {
+    if (k == 0) return;
+    if (full() && (d2 > worst2() || (d2 == worst2() && j >= index.back()))) return;
+    if (std::find(index.begin(), index.end(), j) != index.end()) return;  // a bucket met twice
+    size_t at = index.size();
+    while (at > 0 && (distance2[at - 1] > d2 || (distance2[at - 1] == d2 && index[at - 1] > j))) --at;
+    index.insert(index.begin() + static_cast<std::ptrdiff_t>(at), j);
+    distance2.insert(distance2.begin() + static_cast<std::ptrdiff_t>(at), d2);
+    if (index.size() > k) {
+      index.pop_back();
+      distance2.pop_back();
+    }
+  }
+};
+
+// Whether bird j is one bird i may see (before distance and the blind sector).
+bool may_see(const BirdState& i, const BirdState& j) { return j.flock == i.flock && flocks_now(j); }
+
+// Offers bird j to bird i's list if i sees it.
+void consider(Nearest& nearest, const Species& s, const std::vector<BirdState>& birds, uint32_t i, uint32_t j,
+              const dvec3& ahead) {
+  if (j == i || !may_see(birds[i], birds[j])) return;
+  const dvec3 offset = birds[j].position - birds[i].position;
+  if (sees(s, ahead, offset)) nearest.offer(j, glm::dot(offset, offset));
+}
+
+}  // namespace
+
+bool flocks_now(const BirdState& b) {
+  return b.flocking != 0 && b.mode == FlightMode::flying && b.landing_stage == LandingStage::none;
+}
+
+bool sees(const Species& s, const dvec3& ahead, const dvec3& offset) {
+  const double distance2 = glm::dot(offset, offset);
+  if (distance2 > s.perception_radius * s.perception_radius) return false;
+  // Blind within half the blind angle of straight back: cos(angle from straight back) > cos(blind / 2).
+  return -glm::dot(offset, ahead) <= std::cos(0.5 * s.blind_angle) * std::sqrt(distance2);
+}
+
+uint32_t reaction_frames(const Species& s, double frame_seconds) {
+  return static_cast<uint32_t>(std::max(1.0, std::floor(s.reaction_time / frame_seconds + 0.5)));
+}
+
+Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_goal,
+                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds) {
+  Perception p;
+  p.neighbours = static_cast<uint32_t>(seen.size());
+  if (seen.empty()) return p;
+  const dvec3 ahead = flight_direction(b);
+  dvec3 separation{0.0}, heading_sum{0.0}, cohesion_sum{0.0};
+  double ahead_sum = 0.0, close_sum = 0.0;
+  int beyond = 0;
+  for (const uint32_t j : seen) {
+    const dvec3 offset = birds[j].position - b.position;
+    const double distance = glm::length(offset);
+    if (distance < s.separation_radius)
+      separation -= unit_or_zero(offset) * (1.0 - distance / s.separation_radius);
+    else
+      cohesion_sum += offset;
+    heading_sum += unit_or_zero(birds[j].velocity);
+    // Along its flight, how far the neighbour is from separation_radius away (ahead > 0): one
+    // nearer than that counts in full, those beyond by their mean.
+    if (distance > 0.0) {
+      const double along = glm::dot(offset, ahead) * (1.0 - s.separation_radius / distance);
+      if (distance < s.separation_radius)
+        close_sum += along;
+      else
+        ahead_sum += along, ++beyond;
+    }
+  }
+  p.nearest = glm::length(birds[seen[0]].position - b.position);
+  for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
+  const dvec3 d = s.w_route * unit_or_zero(route_goal - b.position) + s.w_separation * separation +
+                  s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
+  p.direction = unit_or_zero(d);
+  const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
+  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total, s.min_speed, s.max_speed);
+  return p;
+}
+
+GridShape grid_shape(const std::vector<Species>& species, size_t birds) {
+  GridShape g;
+  for (const Species& s : species)
+    g.cell = std::max({g.cell, 2.0 * s.separation_radius, s.perception_radius / 8.0});
+  g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds, 1024)));
+  return g;
+}
+
+glm::ivec3 grid_cell(const dvec3& position, double cell) {
+  return glm::ivec3(glm::floor(position / cell));
+}
+
+uint32_t grid_bucket(const glm::ivec3& c, uint32_t buckets) {
+  const uint32_t h = static_cast<uint32_t>(c.x) * 73856093u ^ static_cast<uint32_t>(c.y) * 19349663u ^
+                     static_cast<uint32_t>(c.z) * 83492791u;
+  return h & (buckets - 1u);
+}
+
+NeighbourGrid::NeighbourGrid(const std::vector<BirdState>& birds, GridShape shape)
+    : birds_(birds), shape_(shape), start_(shape.buckets + 1, 0) {
+  // Counting sort: a histogram of the buckets, its exclusive prefix sum, a scatter.
+  std::vector<uint32_t> bucket(birds.size(), shape.buckets);
+  for (size_t i = 0; i < birds.size(); ++i)
+    if (flocks_now(birds[i])) {
+      bucket[i] = grid_bucket(grid_cell(birds[i].position, shape.cell), shape.buckets);
+      ++start_[bucket[i] + 1];
+    }
+  for (uint32_t k = 0; k < shape.buckets; ++k) start_[k + 1] += start_[k];
+  sorted_.resize(start_[shape.buckets]);
+  std::vector<uint32_t> next(start_.begin(), start_.end() - 1);
+  for (size_t i = 0; i < birds.size(); ++i)
+    if (bucket[i] < shape.buckets) sorted_[next[bucket[i]]++] = static_cast<uint32_t>(i);
+}
+
+std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Species>& species) const {
+  const BirdState& b = birds_[i];
+  const Species& s = species[b.species];
+  Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
+  if (!flocks_now(b) || s.neighbours < 1.0) return {};
+  const dvec3 ahead = flight_direction(b);
+  const double cell = shape_.cell;
+  const glm::ivec3 home = grid_cell(b.position, cell);
+  const int rings = static_cast<int>(std::ceil(s.perception_radius / cell));
+  for (int r = 0; r <= rings; ++r) {
+    // Every cell of ring r is at least (r - 1) cells away: stop once none can hold a nearer bird.
+    const double inner = (r - 1) * cell;
+    if (r > 0 && nearest.full() && inner * inner >= nearest.worst2()) break;
+    for (int dx = -r; dx <= r; ++dx)
+      for (int dy = -r; dy <= r; ++dy) {
+        const bool side = std::abs(dx) == r || std::abs(dy) == r;
+        for (int dz = -r; dz <= r; dz += side ? 1 : std::max(2 * r, 1)) {
+          const glm::ivec3 c = home + glm::ivec3(dx, dy, dz);
+          // The gap from the bird to the cell's box: skip a cell that cannot hold a nearer bird.
+          const dvec3 low = dvec3(c) * cell, high = low + cell;
+          const dvec3 gap = glm::max(glm::max(low - b.position, b.position - high), dvec3{0.0});
+          const double gap2 = glm::dot(gap, gap);
+          if (gap2 > s.perception_radius * s.perception_radius || (nearest.full() && gap2 > nearest.worst2()))
+            continue;
+          const uint32_t k = grid_bucket(c, shape_.buckets);
+          for (uint32_t e = start_[k]; e < start_[k + 1]; ++e) consider(nearest, s, birds_, i, sorted_[e], ahead);
+        }
+      }
+  }
+  return nearest.index;
+}
+
+std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
+                                          const std::vector<Species>& species) {
+  const Species& s = species[birds[i].species];
+  Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
+  if (!flocks_now(birds[i]) || s.neighbours < 1.0) return {};
+  const dvec3 ahead = flight_direction(birds[i]);
+  for (uint32_t j = 0; j < birds.size(); ++j) consider(nearest, s, birds, i, j, ahead);
+  return nearest.index;
+}
+
+void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species, const World& world,
+              uint64_t frame, double frame_seconds, std::vector<Perception>& perception) {
+  perception.resize(birds.size());
+  const NeighbourGrid grid(birds, grid_shape(species, birds.size()));
+  const int64_t n = static_cast<int64_t>(birds.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int64_t i = 0; i < n; ++i) {
+    const BirdState& b = birds[static_cast<size_t>(i)];
+    const Species& s = species[b.species];
+    if (frame % reaction_frames(s, frame_seconds) != 0) continue;
+    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species);
+    BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
+    perception[static_cast<size_t>(i)] =
+        social_goal(s, b, seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world), seen, birds);
+  }
+}
+
+}  // namespace aeroflock

@@ -1,0 +1,89 @@
+// Flocking (MODEL.md "Flocking", beyond the paper): what a bird sees of its flock, once per
+// reaction time, and the social goal it then steers for through the paper's controller. No social
+// force acts on a body.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "bird.h"
+#include "species.h"
+#include "world.h"
+
+namespace aeroflock {
+
+// What a bird's perception leaves for the steps that follow it (GpuPerception on the device).
+struct Perception {
+  glm::dvec3 direction{0.0};  // u(d): the social goal's direction, world; 0 when it sees no one
+  double airspeed = 0.0;      // the airspeed it commands, cm/s (0: none)
+  uint32_t neighbours = 0;    // how many birds it sees (at most the species' `neighbours`)
+  double nearest = 0.0;       // cm to the nearest of them (0: none)
+  uint32_t seen_key = 0;      // sum of the seen birds' indices times kSeenKeyFactor (mod 2^32): a
+                              // checksum by which the tests compare neighbour sets across backends
+};
+
+// Whether a bird takes part in its flock now: its flock flocks and it flies (not standing, taking
+// off, landing or perched, nor on its way to a branch). Only such birds see and are seen.
+bool flocks_now(const BirdState& b);
+
+// Whether a bird flying along `ahead` (unit) sees one at `offset` (cm) from it: within
+// perception_radius and outside the blind sector, blind_angle wide, centred straight behind it.
+bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
+
+// How often a bird of species `s` perceives: every this many frames (at least 1), from
+// reaction_time and the frame's length.
+uint32_t reaction_frames(const Species& s, double frame_seconds);
+
+// The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
+// index): the desired direction d of MODEL.md from separation, alignment, cohesion and the route
+// (towards `route_goal`), and the airspeed: cruise_speed plus speed_gain times how far the seen
+// birds are along its flight from where they would be at separation_radius (offset (1 -
+// separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
+// nearer than separation_radius each in full, those beyond by their mean; within [min_speed,
+// max_speed].
+Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& route_goal,
+                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
+
+// The uniform grid that finds neighbours (FLAME GPU's spatial messaging): cells of `cell` cm,
+// hashed into `buckets` (a power of two) so that memory grows with the birds, not with the world;
+// a counting sort puts the birds in bucket order. The compute shaders build the same grid.
+struct GridShape {
+  double cell = 0.0;     // cm
+  uint32_t buckets = 0;  // power of two
+};
+// The shape for `birds` birds of these species: cells of twice the largest separation_radius (at
+// least an eighth of the largest perception_radius), about two buckets a bird (at least 1,024). It sets only how
+// fast the search is, never what it finds.
+GridShape grid_shape(const std::vector<Species>& species, size_t birds);
+glm::ivec3 grid_cell(const glm::dvec3& position, double cell);
+uint32_t grid_bucket(const glm::ivec3& cell, uint32_t buckets);
+
+class NeighbourGrid {
+ public:
+  // Sorts the birds that flock now (flocks_now) into their buckets.
+  NeighbourGrid(const std::vector<BirdState>& birds, GridShape shape);
+  // The birds bird `i` sees, at most its species' `neighbours`, nearest first (ties by index):
+  // only birds of its own flock that flock now. Searches the cells ring by ring outwards and stops
+  // once no unsearched cell can hold a nearer bird.
+  std::vector<uint32_t> seen_by(uint32_t i, const std::vector<Species>& species) const;
+
+ private:
+  const std::vector<BirdState>& birds_;
+  GridShape shape_;
+  std::vector<uint32_t> start_;   // first entry of each bucket in `sorted_`, and the end
+  std::vector<uint32_t> sorted_;  // bird indices in bucket order
+};
+
+// The same by testing every bird: what the grid is tested against.
+std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
+                                          const std::vector<Species>& species);
+
+// Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
+// get a new one from the grid, due birds that do not get none, the rest keep theirs.
+void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species, const World& world,
+              uint64_t frame, double frame_seconds, std::vector<Perception>& perception);
+
+}  // namespace aeroflock

@@ -1,0 +1,123 @@
+// Flocking (engine/model/flock.cpp, the same in float): the neighbour grid's cells and buckets,
+// what a bird sees, its k nearest by a search of the grid ring by ring, and its social goal.
+// The includer declares the grid's buffers and includes model.glsl first (perceive.comp).
+
+#include "grid.glsl"
+
+vec3 unit_or_zero(vec3 v) {
+  float l = length(v);
+  return l > 0.0 ? v / l : vec3(0.0);
+}
+
+vec3 flight_direction(GpuBird b) {
+  return length(b.velocity) > 0.0 ? normalize(b.velocity) : rotate(b.attitude, vec3(1, 0, 0));
+}
+
+bool sees(GpuSpecies s, vec3 ahead, vec3 offset) {
+  float distance2 = dot(offset, offset);
+  if (distance2 > s.perception_radius * s.perception_radius) return false;
+  return -dot(offset, ahead) <= cos(0.5 * s.blind_angle) * sqrt(distance2);
+}
+
+// The k nearest so far, nearest first, ties by index.
+uint near_index[kMaxNeighbours];
+float near_d2[kMaxNeighbours];
+uint near_count;
+
+bool near_full(uint k) { return near_count >= k; }
+
+void offer(uint k, uint j, float d2) {
+  if (k == 0u) return;
+  if (near_full(k) && (d2 > near_d2[k - 1u] || (d2 == near_d2[k - 1u] && j >= near_index[k - 1u]))) return;
+  for (uint e = 0u; e < near_count; ++e)
+    if (near_index[e] == j) return;  // a bucket met twice
+  uint at = min(near_count, k - 1u);  // the last slot is overwritten when full
+  while (at > 0u && (near_d2[at - 1u] > d2 || (near_d2[at - 1u] == d2 && near_index[at - 1u] > j))) {
+    near_index[at] = near_index[at - 1u];
+    near_d2[at] = near_d2[at - 1u];
+    --at;
+  }
+  near_index[at] = j;
+  near_d2[at] = d2;
+  near_count = min(near_count + 1u, k);
+}
+
+uint bucket_start(uint k) { return grid_starts[k] + grid_blocks[k / kScanBlock]; }
+
+// Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by).
+void search(uint i, GpuBird b, GpuSpecies s, uint k) {
+  near_count = 0u;
+  vec3 ahead = flight_direction(b);
+  float cell = pc.grid_cell;
+  ivec3 home = grid_cell(b.position, cell);
+  int rings = int(ceil(s.perception_radius / cell));
+  float radius2 = s.perception_radius * s.perception_radius;
+  for (int r = 0; r <= rings; ++r) {
+    float inner = float(r - 1) * cell;
+    if (r > 0 && near_full(k) && inner * inner >= near_d2[k - 1u]) break;
+    for (int dx = -r; dx <= r; ++dx)
+      for (int dy = -r; dy <= r; ++dy) {
+        bool side = abs(dx) == r || abs(dy) == r;
+        for (int dz = -r; dz <= r; dz += side ? 1 : max(2 * r, 1)) {
+          ivec3 c = home + ivec3(dx, dy, dz);
+          vec3 low = vec3(c) * cell;
+          vec3 gap = max(max(low - b.position, b.position - (low + cell)), vec3(0.0));
+          float gap2 = dot(gap, gap);
+          if (gap2 > radius2 || (near_full(k) && gap2 > near_d2[k - 1u])) continue;
+          uint bucket = grid_bucket(c, pc.buckets);
+          uint first = bucket_start(bucket);
+          uint end = first + grid_counts[bucket];
+          for (uint e = first; e < end; ++e) {
+            uint j = grid_sorted[e];
+            if (j == i) continue;
+            GpuBird o = birds[j];
+            if (o.flock != b.flock || !flocks_now(o)) continue;
+            vec3 offset = o.position - b.position;
+            if (sees(s, ahead, offset)) offer(k, j, dot(offset, offset));
+          }
+        }
+      }
+  }
+}
+
+// The social goal from the birds found (flock.cpp: social_goal).
+GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
+  GpuPerception p = GpuPerception(vec3(0.0), 0.0, near_count, 0.0, 0u, 0u);
+  if (near_count == 0u) return p;
+  vec3 ahead = flight_direction(b);
+  vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
+  float ahead_sum = 0.0, close_sum = 0.0;
+  uint beyond = 0u;
+  for (uint e = 0u; e < near_count; ++e) {
+    GpuBird o = birds[near_index[e]];
+    vec3 offset = o.position - b.position;
+    float distance = length(offset);
+    if (distance < s.separation_radius)
+      separation -= unit_or_zero(offset) * (1.0 - distance / s.separation_radius);
+    else
+      cohesion_sum += offset;
+    heading_sum += unit_or_zero(o.velocity);
+    if (distance > 0.0) {
+      float along = dot(offset, ahead) * (1.0 - s.separation_radius / distance);
+      if (distance < s.separation_radius) {
+        close_sum += along;
+      } else {
+        ahead_sum += along;
+        ++beyond;
+      }
+    }
+  }
+  p.nearest = sqrt(near_d2[0]);
+  for (uint e = 0u; e < near_count; ++e) p.seen_key += near_index[e] * kSeenKeyFactor;
+  vec3 d = s.w_route * unit_or_zero(route_goal - b.position) + s.w_separation * separation +
+           s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
+  p.direction = unit_or_zero(d);
+  float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
+  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total, s.min_speed, s.max_speed);
+  return p;
+}
+
+// How often a bird perceives, in frames (flock.cpp: reaction_frames).
+uint reaction_frames(GpuSpecies s, float frame_seconds) {
+  return uint(max(1.0, floor(s.reaction_time / frame_seconds + 0.5)));
+}

@@ -1,0 +1,31 @@
+#version 450
+// Each bird whose reaction is due sees its k nearest birds through the neighbour grid and sets
+// its social goal (flock.glsl); the frame's steps then fly to it (step.glsl).
+#extension GL_GOOGLE_include_directive : require
+#include "buffers.glsl"
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform StepPush { StepConstants pc; };
+layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions { GpuPerception perception[]; };
+layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts { uint grid_counts[]; };
+layout(std430, set = 0, binding = kBindingGridStarts) readonly buffer GridStarts { uint grid_starts[]; };
+layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks { uint grid_blocks[]; };
+layout(std430, set = 0, binding = kBindingGridSorted) readonly buffer GridSorted { uint grid_sorted[]; };
+#include "model.glsl"
+#include "flock.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.bird_count) return;
+  GpuBird b = birds[i];
+  GpuSpecies s = species[b.species];
+  if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
+  near_count = 0u;
+  if (flocks_now(b) && s.neighbours >= 1.0) search(i, b, s, uint(s.neighbours));
+  vec3 goal = vec3(0.0);
+  if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
+    GpuBird route_bird = b;
+    Leg leg = load_leg(route_bird, 0u);
+    goal = route_goal(route_bird, s, leg);
+  }
+  perception[i] = social_goal(s, b, goal);
+}

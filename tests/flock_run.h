@@ -1,0 +1,86 @@
+// Flies a flock and measures it every frame as MODEL.md's "What a flock must show" asks, on any
+// backend (tests/test_flock.cpp, tests/test_flock_vulkan.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "model/flock_geometry.h"
+#include "model/simulation.h"
+
+namespace aeroflock::testing {
+
+struct FlockRun {
+  // Over the frames from `from` s on:
+  double median_nearest_low = std::numeric_limits<double>::infinity(), median_nearest_high = 0.0;  // cm
+  double worst_too_close = 0.0;
+  double lowest_straight_polarisation = 1.0;  // frames whose flock heading turned < 5 deg in the last second
+  size_t straight_frames = 0;
+  double smallest_largest_cluster = 1.0;
+  // Means over those frames (the backends are compared by them).
+  double mean_median_nearest = 0.0, mean_polarisation = 0.0, mean_largest_cluster = 0.0, mean_too_close = 0.0;
+  // Over the whole flight: the centroid's closest approach to each target of the flock's route.
+  std::vector<double> closest_to_target, target_radius;
+  size_t non_finite = 0;  // birds not finite at the end
+};
+
+inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double until) {
+  const Scenario& sc = sim.scenario();
+  const Route& route = sc.world.routes[sc.flocks[flock].route];
+  FlockRun run;
+  run.closest_to_target.assign(route.targets.size(), std::numeric_limits<double>::infinity());
+  for (uint32_t t : route.targets) run.target_radius.push_back(sc.world.targets[t].radius);
+  const size_t per_second = static_cast<size_t>(std::lround(1.0 / sc.frame_seconds()));
+  std::vector<double> headings;
+  size_t frames = 0;
+  while (sim.time() < until - 1e-9) {
+    sim.step_frame();
+    const std::vector<BirdState>& birds = sim.birds();
+    std::vector<uint32_t> members;
+    for (uint32_t i = 0; i < birds.size(); ++i)
+      if (birds[i].flock == flock) members.push_back(i);
+    const FlockExtent extent = [&] {
+      std::vector<BirdState> own;
+      for (uint32_t i : members) own.push_back(birds[i]);
+      return flock_extent(own);
+    }();
+    for (size_t t = 0; t < route.targets.size(); ++t)
+      run.closest_to_target[t] =
+          std::min(run.closest_to_target[t], glm::distance(extent.centre, sc.world.target_now[route.targets[t]]));
+    headings.push_back(std::atan2(extent.mean_velocity.z, extent.mean_velocity.x));
+    if (sim.time() < from) continue;
+    const FlockMetrics m = flock_metrics(birds, sc.species, members);
+    run.median_nearest_low = std::min(run.median_nearest_low, m.median_nearest);
+    run.median_nearest_high = std::max(run.median_nearest_high, m.median_nearest);
+    run.worst_too_close = std::max(run.worst_too_close, m.too_close);
+    run.smallest_largest_cluster = std::min(run.smallest_largest_cluster, m.largest_cluster);
+    if (headings.size() > per_second) {
+      double turned = std::fabs(headings.back() - headings[headings.size() - 1 - per_second]);
+      turned = std::min(turned, 2.0 * M_PI - turned);
+      if (turned < 5.0 * M_PI / 180.0) {
+        run.lowest_straight_polarisation = std::min(run.lowest_straight_polarisation, m.polarisation);
+        ++run.straight_frames;
+      }
+    }
+    run.mean_median_nearest += m.median_nearest;
+    run.mean_polarisation += m.polarisation;
+    run.mean_largest_cluster += m.largest_cluster;
+    run.mean_too_close += m.too_close;
+    ++frames;
+  }
+  if (frames > 0) {
+    run.mean_median_nearest /= double(frames);
+    run.mean_polarisation /= double(frames);
+    run.mean_largest_cluster /= double(frames);
+    run.mean_too_close /= double(frames);
+  }
+  for (const BirdState& b : sim.birds())
+    if (!is_finite(b)) ++run.non_finite;
+  return run;
+}
+
+}  // namespace aeroflock::testing

@@ -1,0 +1,171 @@
+// Flocking on the CPU reference (MODEL.md "Flocking"): the neighbour grid against brute force, and
+// the criteria of "What a flock must show" on the default scenario's 1,000 starlings.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "flock_run.h"
+#include "io/scenario_file.h"
+#include "model/body.h"
+#include "model/flock.h"
+#include "model/flock_geometry.h"
+#include "model/simulation.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+BirdState flocking_bird(const dvec3& position, const dvec3& velocity, uint32_t flock = 0) {
+  BirdState b;
+  b.position = position;
+  b.velocity = velocity;
+  b.attitude = heading_attitude(std::atan2(velocity.z, velocity.x));
+  b.flock = flock;
+  b.flocking = 1;
+  return b;
+}
+
+// Every bird's neighbours from the grid equal brute force's, in order.
+void expect_grid_matches_brute_force(const std::vector<BirdState>& birds, const std::vector<Species>& species,
+                                     const char* what) {
+  const NeighbourGrid grid(birds, grid_shape(species, birds.size()));
+  size_t seen = 0;
+  for (uint32_t i = 0; i < birds.size(); ++i) {
+    const std::vector<uint32_t> fast = grid.seen_by(i, species);
+    ASSERT_EQ(fast, seen_by_brute_force(i, birds, species)) << what << ": bird " << i;
+    seen += fast.size();
+  }
+  if (birds.size() > 1) {
+    EXPECT_GT(seen, 0u) << what << ": nobody saw anybody: nothing was compared";
+  }
+}
+
+TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::vector<Species> species = {starling(), eagle()};
+  for (const double size : {500.0, 3000.0, 20000.0}) {  // denser and sparser than the grid's cell
+    std::vector<BirdState> birds;
+    for (int i = 0; i < 1500; ++i) {
+      BirdState b = flocking_bird(size * dvec3{unit(rng), 0.3 * unit(rng), unit(rng)},
+                                  1000.0 * glm::normalize(dvec3{1.0, 0.2 * unit(rng), unit(rng)}), i % 3 == 0 ? 1 : 0);
+      b.species = i % 5 == 0 ? 1 : 0;
+      if (i % 11 == 0) b.mode = FlightMode::landing;  // neither sees nor is seen
+      if (i % 13 == 0) b.flocking = 0;
+      birds.push_back(b);
+    }
+    expect_grid_matches_brute_force(birds, species, "random");
+  }
+}
+
+TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
+  const std::vector<Species> species = {starling()};
+  const double cell = grid_shape(species, 1).cell;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // All in one cell, more than neighbours can hold, with equal distances (ties by index).
+  std::vector<BirdState> one_cell;
+  for (int i = 0; i < 300; ++i)
+    one_cell.push_back(flocking_bird(dvec3{0.25 * cell * unit(rng), 10.0 * (i % 3), 0.25 * cell * unit(rng)},
+                                     dvec3{1000.0, 0.0, 0.0}));
+  for (int i = 0; i < 8; ++i) one_cell.push_back(flocking_bird(dvec3{50.0, 400.0, 50.0 * i}, dvec3{0.0, 0.0, 1000.0}));
+  expect_grid_matches_brute_force(one_cell, species, "one cell");
+  // On the cells' borders and corners, and across them by a hair.
+  std::vector<BirdState> borders;
+  for (int x = -3; x <= 3; ++x)
+    for (int y = -2; y <= 2; ++y)
+      for (int z = -3; z <= 3; ++z)
+        for (const double hair : {0.0, 1e-9, -1e-9})
+          borders.push_back(flocking_bird(cell * dvec3{x, y, z} + hair, dvec3{0.0, 0.0, -1000.0}));
+  expect_grid_matches_brute_force(borders, species, "cell borders");
+  // Farther apart than the perception radius: nobody sees anybody.
+  std::vector<BirdState> apart;
+  for (int i = 0; i < 20; ++i) apart.push_back(flocking_bird(dvec3{3000.0 * i, 0.0, 0.0}, dvec3{0.0, 0.0, 1000.0}));
+  const NeighbourGrid grid(apart, grid_shape(species, apart.size()));
+  for (uint32_t i = 0; i < apart.size(); ++i) EXPECT_TRUE(grid.seen_by(i, species).empty());
+  // One bird, and none.
+  const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
+  EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, 1)).seen_by(0, species).empty());
+  std::vector<Perception> perception;
+  perceive({}, species, World{}, 0, 0.03, perception);
+  EXPECT_TRUE(perception.empty());
+}
+
+TEST(Perception, SeesTheNearestOutsideTheBlindSectorWithinTheRadius) {
+  const Species s = starling();
+  const dvec3 ahead{1.0, 0.0, 0.0};
+  EXPECT_TRUE(sees(s, ahead, dvec3{100.0, 0.0, 0.0}));
+  EXPECT_TRUE(sees(s, ahead, dvec3{0.0, 0.0, 100.0}));                 // beside
+  EXPECT_TRUE(sees(s, ahead, dvec3{-100.0, 0.0, 101.0}));              // 44.7 deg off straight back
+  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 99.0}));              // 44.7 deg: inside the 45
+  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 0.0}));               // straight behind
+  EXPECT_FALSE(sees(s, ahead, dvec3{s.perception_radius + 1.0, 0.0, 0.0}));
+  // k nearest, nearest first, ties by index.
+  std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
+  for (int i = 1; i <= 10; ++i) birds.push_back(flocking_bird(dvec3{100.0 * ((i + 1) / 2), 0.0, 0.0}, dvec3{1000.0, 0.0, 0.0}));
+  const std::vector<uint32_t> seen = seen_by_brute_force(0, birds, {s});
+  EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
+  Species s = starling();
+  const dvec3 forward{1000.0, 0.0, 0.0};
+  // A bird close on the right: the goal turns left (-z) of the route straight ahead; slows.
+  std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward), flocking_bird(dvec3{0.0, 0.0, 50.0}, forward)};
+  const dvec3 route{10000.0, 0.0, 0.0};
+  Perception p = social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds);
+  EXPECT_EQ(p.neighbours, 1u);
+  EXPECT_NEAR(p.nearest, 50.0, 1e-9);
+  EXPECT_LT(p.direction.z, -0.1);
+  EXPECT_NEAR(glm::length(p.direction), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(p.airspeed, s.cruise_speed);  // beside it: neither ahead nor behind
+  // A bird far ahead and to the left, flying left: the goal turns left, the bird speeds up.
+  birds[1] = flocking_bird(dvec3{1500.0, 0.0, -500.0}, dvec3{700.0, 0.0, -700.0});
+  p = social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds);
+  EXPECT_LT(p.direction.z, -0.1);
+  EXPECT_GT(p.airspeed, s.cruise_speed);
+  // One close ahead: it slows.
+  birds[1] = flocking_bird(dvec3{50.0, 0.0, 0.0}, forward);
+  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed, s.cruise_speed);
+  // None seen: no goal.
+  EXPECT_EQ(social_goal(s, birds[0], route, {}, birds).neighbours, 0u);
+}
+
+// MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default scenario's
+// 1,000 starlings, 60 s after the first 20, every frame.
+TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
+  const Scenario scenario = load_scenario("default");
+  CpuSimulation sim(scenario);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  const Species& s = scenario.species[scenario.flocks[0].species];
+  const double span = s.box_c;
+  EXPECT_GE(run.median_nearest_low, 1.0 * span);
+  EXPECT_LE(run.median_nearest_high, 3.0 * span);
+  EXPECT_LT(run.worst_too_close, 0.005);
+  EXPECT_GE(run.lowest_straight_polarisation, 0.9);
+  EXPECT_GE(run.smallest_largest_cluster, 0.95);
+  for (size_t t = 0; t < run.closest_to_target.size(); ++t)
+    EXPECT_LE(run.closest_to_target[t], run.target_radius[t]) << "the flock's centroid missed target " << t;
+  EXPECT_EQ(run.non_finite, 0u);
+}
+
+// Criterion 5: the same flock with flocking off fails spacing or cohesion.
+TEST(FlockCriteria, WithFlockingOffTheSameStarlingsFailSpacingOrCohesion) {
+  Scenario scenario = load_scenario("default");
+  for (Flock& f : scenario.flocks) f.flocking = false;
+  CpuSimulation sim(scenario);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  const double span = scenario.species[scenario.flocks[0].species].box_c;
+  const bool spacing = run.median_nearest_low >= span && run.median_nearest_high <= 3.0 * span && run.worst_too_close < 0.005;
+  const bool cohesion = run.smallest_largest_cluster >= 0.95;
+  EXPECT_FALSE(spacing && cohesion) << "median nearest " << run.median_nearest_low << "-" << run.median_nearest_high
+                                    << " cm, too close " << run.worst_too_close << ", cluster " << run.smallest_largest_cluster;
+}
+
+}  // namespace
+}  // namespace aeroflock

@@ -1,0 +1,132 @@
+// Flocking on the compute shaders against the CPU reference (MODEL.md "What a flock must show",
+// criterion 6), Khronos validation layer on: the neighbour grid (grid_*.comp, perceive.comp) finds
+// the same neighbours, the social goal agrees within float rounding, and the flock metrics agree
+// over 20 s.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "flock_run.h"
+#include "gpu/gpu_simulation.h"
+#include "gpu_test_device.h"
+#include "io/scenario_file.h"
+#include "model/body.h"
+#include "model/flock.h"
+#include "model/simulation.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+// The default scenario with `birds` placed by the test (the targets and species as the file has them).
+Scenario flocking_scenario() {
+  Scenario s = load_scenario("default");
+  for (Flock& f : s.flocks) f.flocking = true;
+  return s;
+}
+
+struct Compared {
+  size_t birds = 0, same_neighbours = 0, seeing = 0;
+  double worst_direction = 0.0, worst_airspeed = 0.0, worst_nearest = 0.0;
+};
+
+// Perceives once on each backend from the same state (a frame of no steps) and compares.
+Compared perceive_on_both(gpu::Device& device, const Scenario& scenario, const std::vector<BirdState>& birds) {
+  CpuSimulation cpu(scenario, birds);
+  gpu::GpuSimulation gpu(device, scenario, birds);
+  cpu.step(0);
+  gpu.step(0);
+  const std::vector<Perception>& a = *cpu.snapshot().perception;
+  const std::vector<Perception>& b = *gpu.snapshot().perception;
+  Compared c;
+  c.birds = birds.size();
+  for (size_t i = 0; i < birds.size(); ++i) {
+    const bool same = a[i].neighbours == b[i].neighbours && a[i].seen_key == b[i].seen_key;
+    c.same_neighbours += same;
+    c.seeing += a[i].neighbours > 0;
+    if (!same) continue;
+    c.worst_direction = std::max(c.worst_direction, glm::length(a[i].direction - b[i].direction));
+    c.worst_airspeed = std::max(c.worst_airspeed, std::fabs(a[i].airspeed - b[i].airspeed));
+    c.worst_nearest = std::max(c.worst_nearest, std::fabs(a[i].nearest - b[i].nearest));
+  }
+  return c;
+}
+
+BirdState flocking_bird(const dvec3& position, const dvec3& velocity) {
+  BirdState b;
+  b.position = position;
+  b.velocity = velocity;
+  b.attitude = heading_attitude(std::atan2(velocity.z, velocity.x));
+  b.flocking = 1;
+  return b;
+}
+
+TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = flocking_scenario();
+  // The default flock after 5 s of flight, flocking: spacing as the criteria have it.
+  CpuSimulation flown(scenario);
+  while (flown.time() < 5.0) flown.step_frame();
+  const Compared c = perceive_on_both(device, scenario, flown.birds());
+  EXPECT_GT(c.seeing, c.birds * 9 / 10);
+  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << c.same_neighbours << " of " << c.birds;
+  EXPECT_LT(c.worst_direction, 1e-4);  // a unit vector
+  EXPECT_LT(c.worst_airspeed, 0.05);   // cm/s of ~1000
+  EXPECT_LT(c.worst_nearest, 0.01);    // cm of ~100
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = flocking_scenario();
+  const double cell = grid_shape(scenario.species, 1).cell;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  // All in one cell (with exact ties), on cell borders, one bird, none.
+  std::vector<BirdState> one_cell;
+  for (int i = 0; i < 300; ++i)
+    one_cell.push_back(flocking_bird(dvec3{0.25 * cell * unit(rng), 4000.0 + 10.0 * (i % 3), 0.25 * cell * unit(rng)},
+                                     dvec3{1000.0, 0.0, 0.0}));
+  std::vector<BirdState> borders;
+  for (int x = -3; x <= 3; ++x)
+    for (int y = 1; y <= 4; ++y)
+      for (int z = -3; z <= 3; ++z) borders.push_back(flocking_bird(cell * dvec3{x, y, z} + 0.5, dvec3{0.0, 0.0, -1000.0}));
+  for (const auto& [what, birds] : {std::pair{"one cell", one_cell}, std::pair{"borders", borders}}) {
+    const Compared c = perceive_on_both(device, scenario, birds);
+    EXPECT_EQ(c.seeing, c.birds) << what;
+    // Exact ties and borders may fall either way in float: all but 0.1 % agree.
+    EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << what << ": " << c.same_neighbours;
+  }
+  const Compared one = perceive_on_both(device, scenario, {flocking_bird(dvec3{0.0, 4000.0, 0.0}, dvec3{1000.0, 0.0, 0.0})});
+  EXPECT_EQ(one.same_neighbours, 1u);
+  EXPECT_EQ(one.seeing, 0u);
+  gpu::GpuSimulation none(device, scenario, std::vector<BirdState>{});
+  none.step(100);
+  EXPECT_TRUE(none.snapshot().perception->empty());
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// The flock metrics of the default starlings over 20 s agree within 5 % between the backends.
+TEST(GpuFlock, FlockMetricsOverTwentySecondsAgreeWithTheReference) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = load_scenario("default");
+  CpuSimulation cpu(scenario);
+  gpu::GpuSimulation gpu(device, scenario);
+  const testing::FlockRun a = testing::fly_flock(cpu, 0, 0.0, 20.0);
+  const testing::FlockRun b = testing::fly_flock(gpu, 0, 0.0, 20.0);
+  EXPECT_NEAR(b.mean_median_nearest, a.mean_median_nearest, 0.05 * a.mean_median_nearest);
+  EXPECT_NEAR(b.mean_polarisation, a.mean_polarisation, 0.05 * a.mean_polarisation);
+  EXPECT_NEAR(b.mean_largest_cluster, a.mean_largest_cluster, 0.05 * a.mean_largest_cluster);
+  // Near 0 on both: the criterion's bound, not a ratio.
+  EXPECT_LT(a.worst_too_close, 0.005);
+  EXPECT_LT(b.worst_too_close, 0.005);
+  EXPECT_EQ(b.non_finite, 0u);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+}  // namespace
+}  // namespace aeroflock
