@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -77,6 +78,9 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   EXPECT_LT(c.worst_direction, 1e-4);  // a unit vector
   EXPECT_LT(c.worst_airspeed, 0.05);   // cm/s of ~1000
   EXPECT_LT(c.worst_nearest, 0.01);    // cm of ~100
+  std::printf("same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, airspeed %.2g cm/s, nearest "
+              "%.2g cm\n",
+              c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
@@ -121,9 +125,12 @@ TEST(GpuFlock, FlockMetricsOverTwentySecondsAgreeWithTheReference) {
   EXPECT_NEAR(b.mean_median_nearest, a.mean_median_nearest, 0.05 * a.mean_median_nearest);
   EXPECT_NEAR(b.mean_polarisation, a.mean_polarisation, 0.05 * a.mean_polarisation);
   EXPECT_NEAR(b.mean_largest_cluster, a.mean_largest_cluster, 0.05 * a.mean_largest_cluster);
-  // Near 0 on both: the criterion's bound, not a ratio.
-  EXPECT_LT(a.worst_too_close, 0.005);
-  EXPECT_LT(b.worst_too_close, 0.005);
+  // A fraction of a percent (a pair of birds is 0.2 %): within a quarter of a percentage point.
+  EXPECT_NEAR(b.mean_too_close, a.mean_too_close, 0.0025);
+  std::printf("CPU, Vulkan over 20 s: median nearest %.1f, %.1f cm; polarisation %.4f, %.4f; largest cluster "
+              "%.4f, %.4f; too close %.4f, %.4f\n",
+              a.mean_median_nearest, b.mean_median_nearest, a.mean_polarisation, b.mean_polarisation,
+              a.mean_largest_cluster, b.mean_largest_cluster, a.mean_too_close, b.mean_too_close);
   EXPECT_EQ(b.non_finite, 0u);
   EXPECT_EQ(device.validation_errors(), 0u);
 }

@@ -58,7 +58,8 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
 
 const std::vector<uint32_t> kPerceiveBindings = {
     kBindingBirds,    kBindingSpecies,    kBindingTargets,     kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
-    kBindingPerception, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted};
+    kBindingPerception, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
+    kBindingGridPoints};
 
 }  // namespace
 
@@ -69,20 +70,23 @@ GpuSimulation::Flocking::Flocking(const Device& device, GridShape grid, uint32_t
       starts(grid_buffer(device, grid.buckets, "grid buckets")),
       blocks(grid_buffer(device, grid.buckets / kScanBlock, "grid blocks")),
       sorted(grid_buffer(device, birds, "birds in the grid")),
+      points(grid_buffer(device, 4 * size_t{birds}, "birds in the grid")),
       count(device, shader_spirv("grid_count"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
-             kBindingGridPlace, kBindingGridCounts},
+             kBindingGridPlace, kBindingGridCounts, kBindingPerception},
             sizeof(StepConstants), 2),
       scan_blocks(device, shader_spirv("grid_scan_blocks"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
       scan_totals(device, shader_spirv("grid_scan_totals"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
       scatter(device, shader_spirv("grid_scatter"),
-              {kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted}, sizeof(StepConstants), 1),
+              {kBindingBirds, kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
+               kBindingGridPoints},
+              sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2) {
   scan_blocks.set_buffers({&counts, &starts, &blocks});
   scan_totals.set_buffers({&counts, &starts, &blocks});
-  scatter.set_buffers({&place, &starts, &blocks, &sorted});
+
   perceive.check_groups(group_count(birds, kWorkgroupSize));
   scan_blocks.check_groups(grid.buckets / kScanBlock);
 }
@@ -124,11 +128,14 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
     slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
-                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted});
+                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted, &f.points});
   }
-  if (flocking_)  // the count pass reads no target: either slot's buffer will do
-    flocking_->count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_,
-                                  &flocking_->place, &flocking_->counts});
+  if (flocking_) {  // the count pass reads no target: either slot's buffer will do
+    Flocking& f = *flocking_;
+    f.count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_, &f.place,
+                         &f.counts, &perception_});
+    f.scatter.set_buffers({&birds_, &f.place, &f.starts, &f.blocks, &f.sorted, &f.points});
+  }
 }
 
 // The birds see their flock (the frame's start): the grid is built by a counting sort (count,

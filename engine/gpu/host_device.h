@@ -50,13 +50,14 @@ AF_UINT(kBindingMesh, 10)
 AF_UINT(kBindingSegments, 11)
 // Flocking (compute): each bird's perception, and the neighbour grid (a counting sort of the
 // birds into hashed cells: each bird's bucket and rank in it, the buckets' counts, their starts
-// within a scan block, the blocks' starts, the birds in bucket order).
+// within a scan block, the blocks' starts, the birds in bucket order and where they are).
 AF_UINT(kBindingPerception, 12)
 AF_UINT(kBindingGridPlace, 13)
 AF_UINT(kBindingGridCounts, 14)
 AF_UINT(kBindingGridStarts, 15)
 AF_UINT(kBindingGridBlocks, 16)
 AF_UINT(kBindingGridSorted, 17)
+AF_UINT(kBindingGridPoints, 18)  // the sorted birds' positions (xyz) and flocks (w, as bits)
 
 // Buckets per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
 // has a whole number of such blocks.

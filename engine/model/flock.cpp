@@ -34,10 +34,11 @@ struct Nearest {
 
   bool full() const { return index.size() >= k; }
   double worst2() const { return distance2.back(); }
+  bool beats_worst(uint32_t j, double d2) const {
+    return !full() || d2 < worst2() || (d2 == worst2() && j < index.back());
+  }
   void offer(uint32_t j, double d2) {
-    if (k == 0) return;
-    if (full() && (d2 > worst2() || (d2 == worst2() && j >= index.back()))) return;
-    if (std::find(index.begin(), index.end(), j) != index.end()) return;  // a bucket met twice
+    if (k == 0 || !beats_worst(j, d2)) return;
     size_t at = index.size();
     while (at > 0 && (distance2[at - 1] > d2 || (distance2[at - 1] == d2 && index[at - 1] > j))) --at;
     index.insert(index.begin() + static_cast<std::ptrdiff_t>(at), j);
@@ -117,7 +118,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
 GridShape grid_shape(const std::vector<Species>& species, size_t birds) {
   GridShape g;
   for (const Species& s : species)
-    g.cell = std::max({g.cell, 2.0 * s.separation_radius, s.perception_radius / 8.0});
+    g.cell = std::max({g.cell, s.separation_radius, s.perception_radius / 8.0});
   g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds, 1024)));
   return g;
 }
@@ -157,9 +158,14 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Speci
   const double cell = shape_.cell;
   const glm::ivec3 home = grid_cell(b.position, cell);
   const int rings = static_cast<int>(std::ceil(s.perception_radius / cell));
+  // How far the bird is from its own cell's nearest face.
+  const dvec3 low_home = dvec3(home) * cell;
+  const dvec3 inside = glm::min(b.position - low_home, low_home + cell - b.position);
+  const double edge = std::max(0.0, std::min({inside.x, inside.y, inside.z}));
   for (int r = 0; r <= rings; ++r) {
-    // Every cell of ring r is at least (r - 1) cells away: stop once none can hold a nearer bird.
-    const double inner = (r - 1) * cell;
+    // Every cell of ring r is at least r - 1 cells and `edge` away: stop once none can hold a
+    // nearer bird.
+    const double inner = (r - 1) * cell + edge;
     if (r > 0 && nearest.full() && inner * inner >= nearest.worst2()) break;
     for (int dx = -r; dx <= r; ++dx)
       for (int dy = -r; dy <= r; ++dy) {
@@ -173,7 +179,12 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Speci
           if (gap2 > s.perception_radius * s.perception_radius || (nearest.full() && gap2 > nearest.worst2()))
             continue;
           const uint32_t k = grid_bucket(c, shape_.buckets);
-          for (uint32_t e = start_[k]; e < start_[k + 1]; ++e) consider(nearest, s, birds_, i, sorted_[e], ahead);
+          for (uint32_t e = start_[k]; e < start_[k + 1]; ++e) {
+            const uint32_t j = sorted_[e];
+            // Only the birds of this very cell, not of another hashed into the same bucket: each
+            // bird is met once.
+            if (grid_cell(birds_[j].position, cell) == c) consider(nearest, s, birds_, i, j, ahead);
+          }
         }
       }
   }

@@ -54,8 +54,10 @@ struct GridShape {
   double cell = 0.0;     // cm
   uint32_t buckets = 0;  // power of two
 };
-// The shape for `birds` birds of these species: cells of twice the largest separation_radius (at
-// least an eighth of the largest perception_radius), about two buckets a bird (at least 1,024). It sets only how
+// The shape for `birds` birds of these species: cells of the largest separation_radius (at least
+// an eighth of the largest perception_radius: a bird alone searches at most 8 rings), about two
+// buckets a bird (at least 1,024). In a flock that keeps its spacing a bird's 7 nearest then lie
+// within its own cell and the 26 around it. It sets only how
 // fast the search is, never what it finds.
 GridShape grid_shape(const std::vector<Species>& species, size_t birds);
 glm::ivec3 grid_cell(const glm::dvec3& position, double cell);

@@ -13,10 +13,9 @@ vec3 flight_direction(GpuBird b) {
   return length(b.velocity) > 0.0 ? normalize(b.velocity) : rotate(b.attitude, vec3(1, 0, 0));
 }
 
-bool sees(GpuSpecies s, vec3 ahead, vec3 offset) {
-  float distance2 = dot(offset, offset);
-  if (distance2 > s.perception_radius * s.perception_radius) return false;
-  return -dot(offset, ahead) <= cos(0.5 * s.blind_angle) * sqrt(distance2);
+// Outside the blind sector (flock.cpp: sees, less the radius): `cos_blind` = cos(blind_angle / 2).
+bool outside_blind(vec3 ahead, vec3 offset, float distance2, float cos_blind) {
+  return -dot(offset, ahead) <= cos_blind * sqrt(distance2);
 }
 
 // The k nearest so far, nearest first, ties by index.
@@ -26,11 +25,12 @@ uint near_count;
 
 bool near_full(uint k) { return near_count >= k; }
 
+bool beats_worst(uint k, uint j, float d2) {
+  return !near_full(k) || d2 < near_d2[k - 1u] || (d2 == near_d2[k - 1u] && j < near_index[k - 1u]);
+}
+
+// Inserts bird j (it beats the worst: beats_worst).
 void offer(uint k, uint j, float d2) {
-  if (k == 0u) return;
-  if (near_full(k) && (d2 > near_d2[k - 1u] || (d2 == near_d2[k - 1u] && j >= near_index[k - 1u]))) return;
-  for (uint e = 0u; e < near_count; ++e)
-    if (near_index[e] == j) return;  // a bucket met twice
   uint at = min(near_count, k - 1u);  // the last slot is overwritten when full
   while (at > 0u && (near_d2[at - 1u] > d2 || (near_d2[at - 1u] == d2 && near_index[at - 1u] > j))) {
     near_index[at] = near_index[at - 1u];
@@ -52,8 +52,12 @@ void search(uint i, GpuBird b, GpuSpecies s, uint k) {
   ivec3 home = grid_cell(b.position, cell);
   int rings = int(ceil(s.perception_radius / cell));
   float radius2 = s.perception_radius * s.perception_radius;
+  float cos_blind = cos(0.5 * s.blind_angle);
+  vec3 low_home = vec3(home) * cell;
+  vec3 inside = min(b.position - low_home, low_home + cell - b.position);
+  float edge = max(0.0, min(inside.x, min(inside.y, inside.z)));
   for (int r = 0; r <= rings; ++r) {
-    float inner = float(r - 1) * cell;
+    float inner = float(r - 1) * cell + edge;
     if (r > 0 && near_full(k) && inner * inner >= near_d2[k - 1u]) break;
     for (int dx = -r; dx <= r; ++dx)
       for (int dy = -r; dy <= r; ++dy) {
@@ -68,12 +72,17 @@ void search(uint i, GpuBird b, GpuSpecies s, uint k) {
           uint first = bucket_start(bucket);
           uint end = first + grid_counts[bucket];
           for (uint e = first; e < end; ++e) {
+            vec4 point = grid_points[e];  // only birds that flock now are in the grid
+            vec3 offset = point.xyz - b.position;
+            float d2 = dot(offset, offset);
+            if (d2 > radius2 || floatBitsToUint(point.w) != b.flock) continue;
             uint j = grid_sorted[e];
-            if (j == i) continue;
-            GpuBird o = birds[j];
-            if (o.flock != b.flock || !flocks_now(o)) continue;
-            vec3 offset = o.position - b.position;
-            if (sees(s, ahead, offset)) offer(k, j, dot(offset, offset));
+            // Not itself, nearer than the worst so far, in this very cell (not one hashed into the
+            // same bucket: each bird is met once), and not in the blind sector.
+            if (j == i || !beats_worst(k, j, d2) || grid_cell(point.xyz, cell) != c ||
+                !outside_blind(ahead, offset, d2, cos_blind))
+              continue;
+            offer(k, j, d2);
           }
         }
       }
@@ -115,9 +124,4 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total, s.min_speed, s.max_speed);
   return p;
-}
-
-// How often a bird perceives, in frames (flock.cpp: reaction_frames).
-uint reaction_frames(GpuSpecies s, float frame_seconds) {
-  return uint(max(1.0, floor(s.reaction_time / frame_seconds + 0.5)));
 }

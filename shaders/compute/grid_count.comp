@@ -1,12 +1,14 @@
 #version 450
 // The neighbour grid, 1 of 4 (a counting sort): each bird that flocks now counts itself into its
-// cell's bucket; its rank there is the count before it.
+// cell's bucket; its rank there is the count before it. A bird that does not, and whose reaction
+// is due, sees no one (perceive.comp perceives for the birds in the grid).
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
 layout(std430, set = 0, binding = kBindingGridPlace) writeonly buffer GridPlace { uvec2 grid_place[]; };
 layout(std430, set = 0, binding = kBindingGridCounts) buffer GridCounts { uint grid_counts[]; };
+layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptions { GpuPerception perception[]; };
 #include "model.glsl"
 #include "grid.glsl"
 
@@ -18,6 +20,8 @@ void main() {
   if (flocks_now(b)) {
     place.x = grid_bucket(grid_cell(b.position, pc.grid_cell), pc.buckets);
     place.y = atomicAdd(grid_counts[place.x], 1u);
+  } else if (pc.frame % reaction_frames(species[b.species], pc.frame_seconds) == 0u) {
+    perception[i] = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   }
   grid_place[i] = place;
 }
