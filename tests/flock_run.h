@@ -8,7 +8,11 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 
+#include <cstdio>
+
+#include "model/constants.h"
 #include "model/flock_geometry.h"
 #include "model/simulation.h"
 
@@ -81,6 +85,33 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
   for (const BirdState& b : sim.birds())
     if (!is_finite(b)) ++run.non_finite;
   return run;
+}
+
+// MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN. Without
+// `too_close_bound` the fraction of birds nearer than half a wingspan is printed, not asserted.
+inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario, uint32_t flock,
+                                  bool too_close_bound = true) {
+  const double span = scenario.species[scenario.flocks[flock].species].box_c;
+  EXPECT_GE(run.median_nearest_low, 1.0 * span);
+  EXPECT_LE(run.median_nearest_high, 3.0 * span);
+  if (too_close_bound) {
+    EXPECT_LT(run.worst_too_close, 0.005);
+  }
+  EXPECT_GE(run.lowest_straight_polarisation, 0.9);
+  EXPECT_GT(run.straight_frames, 0u);
+  EXPECT_GE(run.smallest_largest_cluster, 0.95);
+  // Passed as a bird passes a target (route.cpp): within kMissedTargetRadii radii; the centroid of
+  // a flock 20-30 m wide cuts the corners of the route.
+  for (size_t t = 0; t < run.closest_to_target.size(); ++t)
+    EXPECT_LE(run.closest_to_target[t], kMissedTargetRadii * run.target_radius[t])
+        << "the flock's centroid missed target " << t;
+  EXPECT_EQ(run.non_finite, 0u);
+  std::printf("median nearest %.1f-%.1f cm, worst too close %.4f, lowest straight polarisation %.4f (%zu frames), "
+              "smallest largest cluster %.4f, closest to the targets",
+              run.median_nearest_low, run.median_nearest_high, run.worst_too_close, run.lowest_straight_polarisation,
+              run.straight_frames, run.smallest_largest_cluster);
+  for (double d : run.closest_to_target) std::printf(" %.0f", d);
+  std::printf(" cm\n");
 }
 
 }  // namespace aeroflock::testing

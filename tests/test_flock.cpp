@@ -143,26 +143,7 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
 TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const Scenario scenario = load_scenario("default");
   CpuSimulation sim(scenario);
-  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
-  const Species& s = scenario.species[scenario.flocks[0].species];
-  const double span = s.box_c;
-  EXPECT_GE(run.median_nearest_low, 1.0 * span);
-  EXPECT_LE(run.median_nearest_high, 3.0 * span);
-  EXPECT_LT(run.worst_too_close, 0.005);
-  EXPECT_GE(run.lowest_straight_polarisation, 0.9);
-  EXPECT_GE(run.smallest_largest_cluster, 0.95);
-  // Passed as a bird passes a target (route.cpp): within kMissedTargetRadii radii; the centroid of
-  // a flock 20-30 m wide cuts the corners of the 150 m square.
-  for (size_t t = 0; t < run.closest_to_target.size(); ++t)
-    EXPECT_LE(run.closest_to_target[t], kMissedTargetRadii * run.target_radius[t])
-        << "the flock's centroid missed target " << t;
-  EXPECT_EQ(run.non_finite, 0u);
-  std::printf("median nearest %.1f-%.1f cm, worst too close %.4f, lowest straight polarisation %.4f (%zu frames), "
-              "smallest largest cluster %.4f, closest to the targets",
-              run.median_nearest_low, run.median_nearest_high, run.worst_too_close, run.lowest_straight_polarisation,
-              run.straight_frames, run.smallest_largest_cluster);
-  for (double d : run.closest_to_target) std::printf(" %.0f", d);
-  std::printf(" cm\n");
+  testing::expect_flock_criteria(testing::fly_flock(sim, 0, 20.0, 80.0), scenario, 0);
 }
 
 // Criterion 5: the same flock with flocking off fails spacing or cohesion.

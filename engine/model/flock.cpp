@@ -91,7 +91,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
     const dvec3 offset = birds[j].position - b.position;
     const double distance = glm::length(offset);
     if (distance < s.separation_radius)
-      separation -= unit_or_zero(offset) * (1.0 - distance / s.separation_radius);
+      separation -= unit_or_zero(offset) * std::pow(1.0 - distance / s.separation_radius, 2.0);
     else
       cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity);
@@ -118,7 +118,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
 GridShape grid_shape(const std::vector<Species>& species, size_t birds) {
   GridShape g;
   for (const Species& s : species)
-    g.cell = std::max({g.cell, s.separation_radius, s.perception_radius / 8.0});
+    g.cell = std::max({g.cell, 0.6 * s.separation_radius, s.perception_radius / 12.0});
   g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds, 1024)));
   return g;
 }

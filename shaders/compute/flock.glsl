@@ -75,7 +75,7 @@ void search(uint i, GpuBird b, GpuSpecies s, uint k) {
             vec4 point = grid_points[e];  // only birds that flock now are in the grid
             vec3 offset = point.xyz - b.position;
             float d2 = dot(offset, offset);
-            if (d2 > radius2 || floatBitsToUint(point.w) != b.flock) continue;
+            if (d2 > radius2 || floatBitsToUint(point.w) != b.flock || (near_full(k) && d2 > near_d2[k - 1u])) continue;
             uint j = grid_sorted[e];
             // Not itself, nearer than the worst so far, in this very cell (not one hashed into the
             // same bucket: each bird is met once), and not in the blind sector.
@@ -102,7 +102,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
     vec3 offset = o.position - b.position;
     float distance = length(offset);
     if (distance < s.separation_radius)
-      separation -= unit_or_zero(offset) * (1.0 - distance / s.separation_radius);
+      separation -= unit_or_zero(offset) * pow(1.0 - distance / s.separation_radius, 2.0);
     else
       cohesion_sum += offset;
     heading_sum += unit_or_zero(o.velocity);
