@@ -12,6 +12,7 @@
 
 #include <cstdio>
 
+#include "model/body.h"
 #include "model/constants.h"
 #include "model/flock_geometry.h"
 #include "model/simulation.h"
@@ -31,6 +32,17 @@ struct FlockRun {
   std::vector<double> closest_to_target, target_radius;
   size_t non_finite = 0;  // birds not finite at the end
 };
+
+// A bird of flock `flock` that flocks, flying at `velocity` (cm/s), its head along it.
+inline BirdState flocking_bird(const glm::dvec3& position, const glm::dvec3& velocity, uint32_t flock = 0) {
+  BirdState b;
+  b.position = position;
+  b.velocity = velocity;
+  b.attitude = heading_attitude(std::atan2(velocity.z, velocity.x));
+  b.flock = flock;
+  b.flocking = 1;
+  return b;
+}
 
 inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double until) {
   const Scenario& sc = sim.scenario();

@@ -21,16 +21,7 @@ namespace aeroflock {
 namespace {
 
 using glm::dvec3;
-
-BirdState flocking_bird(const dvec3& position, const dvec3& velocity, uint32_t flock = 0) {
-  BirdState b;
-  b.position = position;
-  b.velocity = velocity;
-  b.attitude = heading_attitude(std::atan2(velocity.z, velocity.x));
-  b.flock = flock;
-  b.flocking = 1;
-  return b;
-}
+using testing::flocking_bird;
 
 // Every bird's neighbours from the grid equal brute force's, in order.
 void expect_grid_matches_brute_force(const std::vector<BirdState>& birds, const std::vector<Species>& species,

@@ -22,6 +22,7 @@ namespace aeroflock {
 namespace {
 
 using glm::dvec3;
+using testing::flocking_bird;
 
 // The default scenario with `birds` placed by the test (the targets and species as the file has them).
 Scenario flocking_scenario() {
@@ -55,15 +56,6 @@ Compared perceive_on_both(gpu::Device& device, const Scenario& scenario, const s
     c.worst_nearest = std::max(c.worst_nearest, std::fabs(a[i].nearest - b[i].nearest));
   }
   return c;
-}
-
-BirdState flocking_bird(const dvec3& position, const dvec3& velocity) {
-  BirdState b;
-  b.position = position;
-  b.velocity = velocity;
-  b.attitude = heading_attitude(std::atan2(velocity.z, velocity.x));
-  b.flocking = 1;
-  return b;
 }
 
 TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {

@@ -19,7 +19,7 @@ bool is_finite(const glm::dvec3& v) {
 class CellMap {
  public:
   CellMap(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members, double cell)
-      : birds_(birds), cell_(cell) {
+      : cell_(cell) {
     for (uint32_t i : members) cells_[key(cell_of(birds[i].position))].push_back(i);
   }
   // Calls f(j) for every member in the cells within `rings` cells of `p`'s (Chebyshev).
@@ -42,7 +42,6 @@ class CellMap {
     const auto part = [](int v) { return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu); };
     return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
   }
-  const std::vector<BirdState>& birds_;
   double cell_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
 };
