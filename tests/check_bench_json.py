@@ -28,7 +28,7 @@ def main(path):
         key = f"{backend}/headless"
         assert key in d["birds_per_frame"], f"birds_per_frame lacks {key}"
         assert isinstance(d["birds_per_frame"][key], int)
-        assert backend in d["scaling_exponent"]
+        assert key in d["scaling_exponent"], f"scaling_exponent lacks {key}"
     assert isinstance(d["ratios"], list)
     print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}")
 

@@ -282,6 +282,7 @@ int main(int argc, char** argv) {
 
   BenchOptions bench_opt;
   std::string bench_backends = "vulkan,cpu";
+  std::string bench_variants;
   CLI::App* bench_cmd = app.add_subcommand(
       "bench",
       "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
@@ -295,6 +296,9 @@ int main(int argc, char** argv) {
       ->add_option("--backends", bench_backends,
                    "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
+  bench_cmd->add_option("--variants", bench_variants,
+                        "Comma-separated variants: headless, solo, render, vtk (default: all; "
+                        "--quick: headless)");
   bench_cmd->add_option("--scenario", bench_opt.scenario,
                         "Scenario measured, a built-in name or FILE.toml (default: default)");
   bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
@@ -339,6 +343,8 @@ int main(int argc, char** argv) {
       std::string item;
       for (std::istringstream in(bench_backends); std::getline(in, item, ',');)
         if (!item.empty()) bench_opt.backends.push_back(item);
+      for (std::istringstream in(bench_variants); std::getline(in, item, ',');)
+        if (!item.empty()) bench_opt.variants.push_back(item);
       return run_bench(bench_opt);
     }
     return run(opt);

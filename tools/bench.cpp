@@ -365,6 +365,14 @@ void check_options(const BenchOptions& options) {
         throw std::runtime_error("--backends " + b + ": no such device (" + std::to_string(count) +
                                  " Vulkan device(s); see `aeroflock devices`)");
     }
+  const std::vector<std::string> known{"headless", "solo", "render", "vtk"};
+  for (size_t i = 0; i < options.variants.size(); ++i) {
+    const std::string& v = options.variants[i];
+    if (std::find(known.begin(), known.end(), v) == known.end())
+      throw std::runtime_error("--variants: unknown variant " + v + " (headless, solo, render, vtk)");
+    if (std::find(options.variants.begin() + i + 1, options.variants.end(), v) != options.variants.end())
+      throw std::runtime_error("--variants: " + v + " given twice");
+  }
   if (!options.plot.empty()) {
     if (!has_program("gnuplot"))
       throw std::runtime_error("--plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
@@ -377,8 +385,9 @@ Settings settings(const BenchOptions& options) {
   Settings s;
   s.scenario = load_scenario(options.scenario);
   s.backends = options.backends;
-  s.variants = options.quick ? std::vector<std::string>{"headless"}
-                             : std::vector<std::string>{"headless", "solo", "render", "vtk"};
+  s.variants = !options.variants.empty() ? options.variants
+               : options.quick            ? std::vector<std::string>{"headless"}
+                                          : std::vector<std::string>{"headless", "solo", "render", "vtk"};
   s.sizes = options.quick
                 ? std::vector<uint32_t>{1000, 3000}
                 : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
@@ -518,7 +527,8 @@ struct Ratios {
   std::vector<std::pair<uint32_t, double>> by_birds;
 };
 
-// The scaling exponent of each backend, in the order given (none: fewer than 2 sizes).
+// The scaling exponent of each series measured (backend/variant), in the order measured (none:
+// fewer than 2 sizes).
 using Exponents = std::vector<std::pair<std::string, std::optional<double>>>;
 
 const Series* headless(const std::vector<Series>& all, const std::string& backend) {
@@ -544,13 +554,10 @@ std::vector<Ratios> vulkan_over_cpu(const std::vector<Series>& all,
   return ratios;
 }
 
-Exponents scaling_exponents(const std::vector<Series>& all,
-                            const std::vector<std::string>& backends) {
+Exponents scaling_exponents(const std::vector<Series>& all) {
   Exponents exponents;
-  for (const std::string& backend : backends) {
-    const Series* h = headless(all, backend);
-    exponents.emplace_back(backend, h ? scaling_exponent(h->points) : std::nullopt);
-  }
+  for (const Series& series : all)
+    if (!series.skipped) exponents.emplace_back(series.key(), scaling_exponent(series.points));
   return exponents;
 }
 
@@ -592,13 +599,12 @@ void print_ratios(const std::vector<Ratios>& ratios) {
 
 void print_exponents(const Exponents& exponents) {
   std::printf(
-      "\nscaling exponent b of ms per frame = a N^b (headless; sizes >= 3000 where two were "
-      "measured):\n");
-  for (const auto& [backend, b] : exponents)
+      "\nscaling exponent b of ms per frame = a N^b (sizes >= 3000 where two were measured):\n");
+  for (const auto& [series, b] : exponents)
     if (b)
-      std::printf("  %-8s %.3f\n", backend.c_str(), *b);
+      std::printf("  %-16s %.3f\n", series.c_str(), *b);
     else
-      std::printf("  %-8s n/a (fewer than 2 sizes)\n", backend.c_str());
+      std::printf("  %-16s n/a (fewer than 2 sizes)\n", series.c_str());
 }
 
 void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {
@@ -672,8 +678,8 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
     for (const auto& [birds, ratio] : r.by_birds)
       ratios_json.push_back({{"backend", r.backend}, {"birds", birds}, {"vulkan_over_cpu", ratio}});
   nlohmann::json exponents_json = nlohmann::json::object();
-  for (const auto& [backend, b] : exponents)
-    exponents_json[backend] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
+  for (const auto& [series, b] : exponents)
+    exponents_json[series] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
   return {
       {"context", context_json(run.s, run.devices)},
       {"benchmarks", benchmarks},
@@ -706,7 +712,7 @@ int run_bench(const BenchOptions& options) {
   run.progress.clear();
 
   const std::vector<Ratios> ratios = vulkan_over_cpu(run.all, s.backends);
-  const Exponents exponents = scaling_exponents(run.all, s.backends);
+  const Exponents exponents = scaling_exponents(run.all);
   print_summary(run, ratios, exponents);
   if (!options.json.empty()) {
     write_json(options.json, bench_json(run, ratios, exponents));

@@ -13,6 +13,7 @@ struct BenchOptions {
   std::string json;    // Google-Benchmark-like JSON to this file (written atomically)
   std::string plot;    // PNG through gnuplot
   std::vector<std::string> backends{"vulkan", "cpu"};
+  std::vector<std::string> variants;  // headless, solo, render, vtk (empty: all; --quick: headless)
   uint32_t max_birds = 1000000;  // largest flock of the sweep
   int repetitions = 0;           // timed frames per measurement (0: 5 quick, 15 full)
   int device = -1;               // Vulkan device index
