@@ -99,16 +99,12 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
   return run;
 }
 
-// MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN. Without
-// `too_close_bound` the fraction of birds nearer than half a wingspan is printed, not asserted.
-inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario, uint32_t flock,
-                                  bool too_close_bound = true) {
+// MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN.
+inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario, uint32_t flock) {
   const double span = scenario.species[scenario.flocks[flock].species].box_c;
   EXPECT_GE(run.median_nearest_low, 1.0 * span);
   EXPECT_LE(run.median_nearest_high, 3.0 * span);
-  if (too_close_bound) {
-    EXPECT_LT(run.worst_too_close, 0.005);
-  }
+  EXPECT_LT(run.worst_too_close, 0.005);
   EXPECT_GE(run.lowest_straight_polarisation, 0.9);
   EXPECT_GT(run.straight_frames, 0u);
   EXPECT_GE(run.smallest_largest_cluster, 0.95);

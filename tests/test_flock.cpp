@@ -125,6 +125,13 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   // One close ahead: it slows.
   birds[1] = flocking_bird(dvec3{50.0, 0.0, 0.0}, forward);
   EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed, s.cruise_speed);
+  // One beside flying 2 m/s faster: it speeds up by speed_match x 200 cm/s; slower, it slows.
+  ASSERT_GT(s.speed_match, 0.0);
+  birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{1200.0, 0.0, 0.0});
+  EXPECT_NEAR(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+              std::clamp(s.cruise_speed + s.speed_match * 200.0, s.min_speed, s.max_speed), 1e-9);
+  birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{800.0, 0.0, 0.0});
+  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed, s.cruise_speed);
   // None seen: no goal.
   EXPECT_EQ(social_goal(s, birds[0], route, {}, birds).neighbours, 0u);
 }

@@ -85,7 +85,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   if (seen.empty()) return p;
   const dvec3 ahead = flight_direction(b);
   dvec3 separation{0.0}, heading_sum{0.0}, cohesion_sum{0.0};
-  double ahead_sum = 0.0, close_sum = 0.0;
+  double ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   int beyond = 0;
   for (const uint32_t j : seen) {
     const dvec3 offset = birds[j].position - b.position;
@@ -95,6 +95,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
     else
       cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity);
+    faster_sum += glm::dot(birds[j].velocity - b.velocity, ahead);
     // Along its flight, how far the neighbour is from separation_radius away (ahead > 0): one
     // nearer than that counts in full, those beyond by their mean.
     if (distance > 0.0) {
@@ -111,7 +112,8 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
                   s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
-  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total, s.min_speed, s.max_speed);
+  const double faster = faster_sum / double(seen.size());
+  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster, s.min_speed, s.max_speed);
   return p;
 }
 

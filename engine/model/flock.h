@@ -43,8 +43,9 @@ uint32_t reaction_frames(const Species& s, double frame_seconds);
 // (towards `route_goal`), and the airspeed: cruise_speed plus speed_gain times how far the seen
 // birds are along its flight from where they would be at separation_radius (offset (1 -
 // separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
-// nearer than separation_radius each in full, those beyond by their mean; within [min_speed,
-// max_speed].
+// nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
+// how much faster they fly along its flight, on average (a damper: neighbours match speeds before
+// they pass one another); within [min_speed, max_speed].
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& route_goal,
                        std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
 

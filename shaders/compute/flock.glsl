@@ -95,7 +95,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   if (near_count == 0u) return p;
   vec3 ahead = flight_direction(b);
   vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
-  float ahead_sum = 0.0, close_sum = 0.0;
+  float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   uint beyond = 0u;
   for (uint e = 0u; e < near_count; ++e) {
     GpuBird o = birds[near_index[e]];
@@ -106,6 +106,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
     else
       cohesion_sum += offset;
     heading_sum += unit_or_zero(o.velocity);
+    faster_sum += dot(o.velocity - b.velocity, ahead);
     if (distance > 0.0) {
       float along = dot(offset, ahead) * (1.0 - s.separation_radius / distance);
       if (distance < s.separation_radius) {
@@ -122,6 +123,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
            s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
-  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total, s.min_speed, s.max_speed);
+  float faster = faster_sum / float(near_count);
+  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster, s.min_speed, s.max_speed);
   return p;
 }
