@@ -301,7 +301,8 @@ int main(int argc, char** argv) {
                         "--quick: headless)");
   bench_cmd->add_option("--scenario", bench_opt.scenario,
                         "Scenario measured, a built-in name or FILE.toml (default: default)");
-  bench_cmd->add_option("--max-birds", bench_opt.max_birds, "Largest flock of the sweep")
+  bench_cmd->add_option("--max-birds", bench_opt.max_birds,
+                        "Largest flock of the sweep (1k, 3k, 10k, ... up to it, and it)")
       ->check(kPositive)
       ->capture_default_str();
   bench_cmd

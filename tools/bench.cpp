@@ -392,7 +392,8 @@ Settings settings(const BenchOptions& options) {
                 ? std::vector<uint32_t>{1000, 3000}
                 : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
   std::erase_if(s.sizes, [&](uint32_t n) { return n > options.max_birds; });
-  if (s.sizes.empty()) s.sizes.push_back(options.max_birds);
+  if (s.sizes.empty() || (!options.quick && s.sizes.back() < options.max_birds))
+    s.sizes.push_back(options.max_birds);  // the largest asked for is measured too
   s.cpu_cap = options.quick ? 3000 : 30000;
   s.max_birds = options.max_birds;
   s.budget_ms = kBudgetMs;
