@@ -89,11 +89,13 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds) {
   return e;
 }
 
-std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
-  const std::vector<uint32_t> finite = finite_members(birds, members);
+namespace {
+
+// Each of the `finite` birds' distance to its nearest other, found through `map` (of those birds).
+std::vector<double> nearest_in(const std::vector<BirdState>& birds, const std::vector<uint32_t>& finite,
+                               const CellMap& map) {
   std::vector<double> out(finite.size(), std::numeric_limits<double>::infinity());
   if (finite.size() < 2) return out;
-  const CellMap map(birds, finite, kClusterLink);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t n = 0; n < static_cast<int64_t>(finite.size()); ++n) {
     const uint32_t i = finite[static_cast<size_t>(n)];
@@ -113,6 +115,13 @@ std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const
   return out;
 }
 
+}  // namespace
+
+std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
+  const std::vector<uint32_t> finite = finite_members(birds, members);
+  return nearest_in(birds, finite, CellMap(birds, finite, kClusterLink));
+}
+
 FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vector<Species>& species,
                            const std::vector<uint32_t>& members) {
   FlockMetrics m;
@@ -126,7 +135,9 @@ FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vecto
   m.largest_cluster = 1.0;
   if (finite.size() < 2) return m;
 
-  std::vector<double> nearest = nearest_distances(birds, finite);
+  // One map of the birds in cells of the cluster link serves the nearest distances and the clusters.
+  const CellMap map(birds, finite, kClusterLink);
+  std::vector<double> nearest = nearest_in(birds, finite, map);
   size_t close = 0;
   for (size_t n = 0; n < finite.size(); ++n)
     if (nearest[n] < 0.5 * species[birds[finite[n]].species].box_c) ++close;
@@ -139,7 +150,6 @@ FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vecto
   // Clusters: birds linked within kClusterLink, by union-find over the cells around each bird.
   std::vector<uint32_t> parent(birds.size());
   std::iota(parent.begin(), parent.end(), 0u);
-  const CellMap map(birds, finite, kClusterLink);
   for (uint32_t i : finite)
     map.around(birds[i].position, 1, [&](uint32_t j) {
       if (j > i && glm::distance(birds[i].position, birds[j].position) <= kClusterLink)
