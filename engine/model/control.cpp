@@ -83,8 +83,9 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded) {
   const double deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
+  const double height_share = std::clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
   return {height_error + deficit,
-          std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
+          height_share * std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
 }
 
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height) {

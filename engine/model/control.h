@@ -85,7 +85,9 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 
 // The energy errors, cm: `total` (height error plus the airspeed's kinetic-energy deficit over
 // g) feeds the wingbeat (eqs. 4, 5); `balance` (height error within balance_band less the same
-// deficit) is what the pitch corrects: > 0, too little height for the speed it has.
+// deficit) is what the pitch corrects: > 0, too little height for the speed it has. Below
+// min_speed the height's share of the balance shrinks, to none at kSpeedFirst min_speed: a slow
+// bird lowers its nose for speed first, whatever its height error, as it would near the stall.
 struct Energy {
   double total, balance;
 };

@@ -63,6 +63,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
+  // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
+  // bird eases its wingbeat rather than loop.
+  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, -1.0);
   c.balance = e.balance;
   // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
   // the arms' incidence rises by brake_incidence at full flare, over bank_time.

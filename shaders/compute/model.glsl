@@ -212,7 +212,8 @@ float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_b
 // x: the total energy error, y: the balance, cm.
 vec2 energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
   precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
-  return vec2(height_error + deficit, clamp(height_error, -s.balance_band, s.balance_band) - deficit);
+  float height_share = clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
+  return vec2(height_error + deficit, height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
 }
 
 float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height, float goal_height) {
@@ -475,6 +476,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
+  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, -1.0);  // step.cpp
   c.balance = e.y;
   float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
