@@ -20,6 +20,7 @@
 #include "model/constants.h"
 #include "model/control.h"
 #include "model/species.h"
+#include "model/step.h"
 #include "model/tail.h"
 #include "model/trim.h"
 #include "model/wingbeat.h"
@@ -452,6 +453,52 @@ TEST(Landing, PerchAirspeedMakesHalfTouchdownSpeedTowardsThePerch) {
   EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-300.0, 0.0, -400.0}), 600.0, 1e-9);
   // A 5 m/s crosswind: the air velocity (60, 0, 80) - (-400, 0, 300).
   EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-400.0, 0.0, 300.0}), std::hypot(460.0, 220.0), 1e-9);
+}
+
+// The energy errors (control.h): the total is the height error plus the kinetic-energy deficit
+// over g; the balance weighs the height error (within balance_band) whole at min_speed and
+// above, by nothing at kSpeedFirst min_speed and below: near the stall the pitch seeks speed.
+TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
+  const Species s = starling();  // min_speed 6 m/s, cruise 10, balance_band 5 m
+  const double c = s.cruise_speed;
+  auto deficit = [&](double v) { return (c * c - v * v) / (2.0 * kGravity); };
+  for (double v : {s.min_speed, 1.2 * s.min_speed, c}) {
+    const Energy e = energy_errors(s, 3000.0, v, c);
+    EXPECT_NEAR(e.total, 3000.0 + deficit(v), 1e-9) << v;
+    EXPECT_NEAR(e.balance, s.balance_band - deficit(v), 1e-9) << v;
+  }
+  const double slow = kSpeedFirst * s.min_speed;
+  for (double v : {slow, 0.5 * slow}) {
+    const Energy e = energy_errors(s, 3000.0, v, c);
+    EXPECT_NEAR(e.total, 3000.0 + deficit(v), 1e-9) << v;
+    EXPECT_NEAR(e.balance, -deficit(v), 1e-9) << v << ": the height does not count";
+  }
+  const double between = 0.5 * (slow + s.min_speed);  // half the height's share
+  EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance, -0.5 * s.balance_band - deficit(between), 1e-9);
+}
+
+// Pitched up kPitchOverrun past pitch_max, a bird eases its wingbeat (eqs. 4, 5 at their rates)
+// though its target is far above; pitched less, the same bird beats harder for it.
+TEST(Energy, PitchedPastTheOverrunTheWingbeatEases) {
+  const Species s = starling();
+  World w;
+  w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});  // 1 km ahead, 300 m up
+  w.routes.push_back(Route{"up", {0}});
+  w.move_targets(0.0);
+  for (double pitch_deg : {degrees(s.pitch_max + kPitchOverrun) + 2.0, degrees(s.pitch_max)}) {
+    BirdState b;
+    b.position = dvec3{0.0, 1e4, 0.0};
+    b.attitude = glm::angleAxis(radians(pitch_deg), dvec3{0.0, 0.0, 1.0});
+    b.velocity = b.attitude * dvec3{s.cruise_speed, 0.0, 0.0};
+    b.frequency = 0.5 * (s.f_min + s.f_max);
+    b.amplitude = 0.5 * (s.amp_min + s.amp_max);
+    const double dt = 1e-4;
+    BirdState after = b;
+    step_bird(after, s, w, 0.0, dt);
+    const bool overrun = radians(pitch_deg) > s.pitch_max + kPitchOverrun;
+    EXPECT_NEAR(after.amplitude - b.amplitude, (overrun ? -1.0 : 1.0) * s.K_a * dt, 1e-12) << pitch_deg;
+    EXPECT_NEAR(after.frequency - b.frequency, (overrun ? -1.0 : 1.0) * s.K_f * dt, 1e-12) << pitch_deg;
+  }
 }
 
 TEST(Landing, FlareShareIsTheDecelerationNeededOverFlareDecel) {
