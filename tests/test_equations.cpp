@@ -485,19 +485,22 @@ TEST(Energy, PitchedPastTheOverrunTheWingbeatEases) {
   w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});  // 1 km ahead, 300 m up
   w.routes.push_back(Route{"up", {0}});
   w.move_targets(0.0);
-  for (double pitch_deg : {degrees(s.pitch_max + kPitchOverrun) + 2.0, degrees(s.pitch_max)}) {
+  struct Case {
+    double pitch;  // rad
+    double sign;   // of the wingbeat's change
+  };
+  for (const Case k : {Case{s.pitch_max + kPitchOverrun + radians(2.0), -1.0}, Case{s.pitch_max, 1.0}}) {
     BirdState b;
     b.position = dvec3{0.0, 1e4, 0.0};
-    b.attitude = glm::angleAxis(radians(pitch_deg), dvec3{0.0, 0.0, 1.0});
+    b.attitude = glm::angleAxis(k.pitch, dvec3{0.0, 0.0, 1.0});
     b.velocity = b.attitude * dvec3{s.cruise_speed, 0.0, 0.0};
     b.frequency = 0.5 * (s.f_min + s.f_max);
     b.amplitude = 0.5 * (s.amp_min + s.amp_max);
     const double dt = 1e-4;
     BirdState after = b;
     step_bird(after, s, w, 0.0, dt);
-    const bool overrun = radians(pitch_deg) > s.pitch_max + kPitchOverrun;
-    EXPECT_NEAR(after.amplitude - b.amplitude, (overrun ? -1.0 : 1.0) * s.K_a * dt, 1e-12) << pitch_deg;
-    EXPECT_NEAR(after.frequency - b.frequency, (overrun ? -1.0 : 1.0) * s.K_f * dt, 1e-12) << pitch_deg;
+    EXPECT_NEAR(after.amplitude - b.amplitude, k.sign * s.K_a * dt, 1e-12) << degrees(k.pitch);
+    EXPECT_NEAR(after.frequency - b.frequency, k.sign * s.K_f * dt, 1e-12) << degrees(k.pitch);
   }
 }
 

@@ -296,14 +296,8 @@ class GpuEnvelope : public ::testing::TestWithParam<Species (*)()> {};
 
 TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  std::vector<EnvelopeCase> cases;
-  size_t k = 0;
-  for (const EnvelopeCase& c : envelope_cases()) {
-    if (c.kind != EnvelopeCase::Kind::flight) cases.push_back(c);  // every take-off and landing
-    if (c.kind == EnvelopeCase::Kind::flight && c.distance <= 30000.0 && k++ % 5 == 0)
-      cases.push_back(c);
-  }
-  ASSERT_GE(cases.size(), 200u);
+  const std::vector<EnvelopeCase> cases = envelope_sample(5, 30000.0);
+  ASSERT_EQ(cases.size(), 288u);
   const SimulationFactory cpu = [](Scenario s,
                                    std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
     return std::make_unique<CpuSimulation>(std::move(s), std::move(b));

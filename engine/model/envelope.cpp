@@ -116,6 +116,15 @@ std::vector<EnvelopeCase> envelope_cases(bool quick) {
   return cases;
 }
 
+std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest) {
+  std::vector<EnvelopeCase> cases;
+  size_t flights = 0;
+  for (const EnvelopeCase& c : envelope_cases())
+    if (c.kind != EnvelopeCase::Kind::flight || (c.distance <= farthest && flights++ % every == 0))
+      cases.push_back(c);
+  return cases;
+}
+
 std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
                                          const std::function<void(double)>& progress) {

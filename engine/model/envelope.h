@@ -3,6 +3,7 @@
 // defines a species learns from it whether the species flies (aeroflock envelope).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -50,6 +51,10 @@ struct EnvelopeResult {
 // 0, 5, 8 m/s in turn), then take-offs and branch landings from several directions and winds.
 // `quick`: a subset of short flights (tests).
 std::vector<EnvelopeCase> envelope_cases(bool quick = false);
+
+// A sample of the grid that still has every start, wind and target kind: every take-off and
+// landing, and every `every`-th of the flights at most `farthest` (cm) away, in grid order.
+std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest);
 
 // Makes the simulation that flies the cases (the CPU reference or the compute shaders).
 using SimulationFactory =
