@@ -729,6 +729,33 @@ TEST(BranchLanding, GripsOnlyAtTouchdownSpeed) {
   EXPECT_EQ(b.velocity, dvec3{0.0});
 }
 
+// A braking bird sunk under the branch, still sinking faster than it could climb back, goes round
+// (it no longer flares down past the branch until its pitch runs away). One sinking slower, or
+// not yet that far under, keeps braking.
+TEST(BranchLanding, SunkUnderTheBranchGoesRound) {
+  const Scenario scenario = load_scenario("fig18-branch-path-control");
+  const World& w = scenario.world;
+  const Species& sp = scenario.species[0];
+  BirdState b;
+  b.route = 0;
+  b.target = static_cast<uint32_t>(w.routes[0].targets.size());
+  b.mode = FlightMode::landing;
+  b.landing_stage = LandingStage::curve;
+  const dvec3 perch = perch_point(sp, w.branches[0]);
+  auto after = [&](double under, double sink) {
+    BirdState c = b;
+    c.position = perch - dvec3{0.1 * sp.perch_radius, under * sp.perch_radius, 0.0};
+    c.velocity = dvec3{0.5 * sp.touchdown_speed, -sink * sp.touchdown_speed, 0.0};
+    EXPECT_FALSE(approach_branch(c, sp, w));
+    return c;
+  };
+  const BirdState sunk = after(1.1 * kSunkPerchRadii, 1.1 * kSunkTouchdowns);
+  EXPECT_EQ(sunk.mode, FlightMode::flying);
+  EXPECT_EQ(sunk.landing_stage, LandingStage::none) << "the landing is planned again";
+  EXPECT_EQ(after(0.9 * kSunkPerchRadii, 1.1 * kSunkTouchdowns).mode, FlightMode::landing);
+  EXPECT_EQ(after(1.1 * kSunkPerchRadii, 0.9 * kSunkTouchdowns).mode, FlightMode::landing);
+}
+
 // --- 7. Moving targets (Fig. 21): a target moving at 5 m/s is caught and the route goes on.
 TEST(MovingTarget, IsCaughtAndTheRouteGoesOn) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";

@@ -40,6 +40,10 @@ AF_REAL(kSpeedFirst, 0.75)
 AF_REAL(kPitchOverrun, 0.17453292519943295)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
 AF_REAL(kFlareAimAbove, 0.5)
+// A braking bird sunk under its perch by kSunkPerchRadii perch radii and still sinking faster than
+// kSunkTouchdowns touchdown_speed cannot climb back onto it: it goes round (route.h).
+AF_REAL(kSunkPerchRadii, 0.25)
+AF_REAL(kSunkTouchdowns, 1.5)
 // A braking bird slower than this through the air (cm/s, horizontally) steers by where its head
 // points, faster by its course through the air (control.h: steer_towards).
 AF_REAL(kSteerAirspeed, 100.0)

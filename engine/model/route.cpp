@@ -38,6 +38,11 @@ bool flown_past(const BirdState& b, const Species& s, const dvec3& to_perch) {
   return glm::dot(horizontal(to_perch), horizontal(b.velocity)) <= 0.0 && glm::length(horizontal(to_perch)) > s.perch_radius;
 }
 
+// Sunk under the perch and still sinking fast: braking, it could not climb back onto it.
+bool sunk_under(const BirdState& b, const Species& s, const dvec3& to_perch) {
+  return to_perch.y > kSunkPerchRadii * s.perch_radius && b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
+}
+
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
 // becomes the goal, and the bird steers approach_distance ahead along the curve, which ends
 // perpendicular to the branch. Where the bird's heading line does not cross the branch's
@@ -143,11 +148,11 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     perch(b, s, *br);
     return true;
   }
-  // Overshot (flown past; landing_goal has sent it round through the gate on the same test): go
-  // round and plan the landing again.
+  // Overshot (flown past; landing_goal has sent it round through the gate on the same test) or
+  // sunk under the branch: go round and plan the landing again.
   const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
-  if (b.mode == FlightMode::landing && flown_past(b, s, to_perch)) {
-    b.mode = FlightMode::flying;  // overshot: go round and plan the landing again
+  if (b.mode == FlightMode::landing && (flown_past(b, s, to_perch) || sunk_under(b, s, to_perch))) {
+    b.mode = FlightMode::flying;
     b.mode_time = 0.0;
     b.landing_stage = LandingStage::none;
   } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&

@@ -24,7 +24,8 @@ glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);
 
 // For a bird whose route has brought it to its branch: starts braking (the flare) within
 // brake_distance, or sooner where it must already brake at kBrakeShare of its full flare; goes
-// round when it overshoots (flown past, out of perch_radius); perches within perch_radius at
+// round when it overshoots (flown past, out of perch_radius) or has sunk under the branch still
+// sinking fast (kSunkPerchRadii, kSunkTouchdowns); perches within perch_radius at
 // touchdown_speed or slower. Returns true once perched.
 bool approach_branch(BirdState& b, const Species& s, const World& w);
 

@@ -305,6 +305,11 @@ bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
   return dot(to_perch.xz, b.velocity.xz) <= 0.0 && length(to_perch.xz) > s.perch_radius;
 }
 
+// Sunk under the perch and still sinking fast (route.cpp).
+bool sunk_under(GpuBird b, GpuSpecies s, vec3 to_perch) {
+  return to_perch.y > kSunkPerchRadii * s.perch_radius && b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
+}
+
 bool into_wind(GpuSpecies s, vec3 across, vec3 wind) { return heeds_wind(s, abs(dot(wind, across))); }
 
 vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
@@ -421,7 +426,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     return true;
   }
   bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally (route.cpp)
-  if (b.mode == mode_landing && flown_past(b, s, to_perch)) {
+  if (b.mode == mode_landing && (flown_past(b, s, to_perch) || sunk_under(b, s, to_perch))) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
     b.landing_stage = stage_none;
