@@ -707,16 +707,22 @@ TEST(BranchLanding, LandsIntoTheWind) {
   }
 }
 
+// A bird of Fig. 18 braking for its branch (the branch is its goal).
+BirdState braking_for_branch(const World& w) {
+  BirdState b;
+  b.route = 0;
+  b.target = static_cast<uint32_t>(w.routes[0].targets.size());
+  b.mode = FlightMode::landing;
+  return b;
+}
+
 // A bird grips the branch only within perch_radius and at touchdown_speed or slower; faster, it
 // flies on (and goes round).
 TEST(BranchLanding, GripsOnlyAtTouchdownSpeed) {
   const Scenario scenario = load_scenario("fig18-branch-path-control");
   const World& w = scenario.world;
   const Species& sp = scenario.species[0];
-  BirdState b;
-  b.route = 0;
-  b.target = static_cast<uint32_t>(w.routes[0].targets.size());  // the branch is its goal
-  b.mode = FlightMode::landing;
+  BirdState b = braking_for_branch(w);
   const dvec3 perch = perch_point(sp, w.branches[0]);
   b.position = perch - dvec3{0.5 * sp.perch_radius, 0.0, 0.0};
   b.velocity = dvec3{1.01 * sp.touchdown_speed, 0.0, 0.0};
@@ -736,10 +742,7 @@ TEST(BranchLanding, SunkUnderTheBranchGoesRound) {
   const Scenario scenario = load_scenario("fig18-branch-path-control");
   const World& w = scenario.world;
   const Species& sp = scenario.species[0];
-  BirdState b;
-  b.route = 0;
-  b.target = static_cast<uint32_t>(w.routes[0].targets.size());
-  b.mode = FlightMode::landing;
+  BirdState b = braking_for_branch(w);
   b.landing_stage = LandingStage::curve;
   const dvec3 perch = perch_point(sp, w.branches[0]);
   auto after = [&](double under, double sink) {
