@@ -405,6 +405,25 @@ TEST(Steering, CoordinatedBank) {
   expect_rel(coordinated_bank(s, 5.0, 1000.0), s.bank_max);
 }
 
+// The bank allowed falls from bank_max to none as the pitch goes from kSteepPitch / 2 to
+// kSteepPitch, or the descent through the air from kSteepDescent / 2 to kSteepDescent.
+TEST(Steering, RecoveryBankLevelsTheWingsWhenSteep) {
+  const Species s = starling();
+  EXPECT_EQ(recovery_bank(s, 0.0, 0.0), s.bank_max);
+  EXPECT_EQ(recovery_bank(s, -kSteepPitch / 2.0, kSteepDescent / 2.0), s.bank_max);
+  EXPECT_NEAR(recovery_bank(s, 0.75 * kSteepPitch, 0.0), 0.5 * s.bank_max, 1e-12);
+  EXPECT_NEAR(recovery_bank(s, 0.0, 0.75 * kSteepDescent), 0.5 * s.bank_max, 1e-12);
+  EXPECT_NEAR(recovery_bank(s, -0.75 * kSteepPitch, 0.875 * kSteepDescent), 0.25 * s.bank_max, 1e-12)
+      << "the steeper of the two counts";
+  EXPECT_EQ(recovery_bank(s, 0.0, kSteepDescent), 0.0);
+  EXPECT_EQ(recovery_bank(s, kSteepPitch, 0.0), 0.0);
+  // The descent is the path's angle below the horizontal; a climb or level flight has none.
+  EXPECT_NEAR(descent_angle(dvec3{1000.0, -1000.0, 0.0}), kPi / 4.0, 1e-12);
+  EXPECT_NEAR(descent_angle(dvec3{0.0, -500.0, 0.0}), kPi / 2.0, 1e-12);
+  EXPECT_EQ(descent_angle(dvec3{1000.0, 300.0, 0.0}), 0.0);
+  EXPECT_EQ(descent_angle(dvec3{0.0}), 0.0);
+}
+
 // ------------------------------------------------------------------------------------------------
 // eqs. 4, 5: frequency and amplitude steps. Starling: f in [8, 10], K_f 1; amp in [0.6, 1],
 // K_a 0.25.
@@ -478,19 +497,26 @@ TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
 }
 
 // Pitched up kPitchOverrun past pitch_max, a bird eases its wingbeat (eqs. 4, 5 at their rates)
-// though its target is far above; pitched less, the same bird beats harder for it.
-TEST(Energy, PitchedPastTheOverrunTheWingbeatEases) {
+// though its target is far above; pitched less, the same bird beats harder for it. Pitched down
+// kPitchOverrun past pitch_min, it beats harder though its target is far below.
+TEST(Energy, PitchedPastTheOverrunTheWingbeatTurnsAgainstIt) {
   const Species s = starling();
   World w;
-  w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});  // 1 km ahead, 300 m up
+  w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});   // 1 km ahead, 300 m up
+  w.targets.push_back(Target{"below", dvec3{1e5, -3e4, 0.0}});  // 1 km ahead, 300 m down
   w.routes.push_back(Route{"up", {0}});
+  w.routes.push_back(Route{"down", {1}});
   w.move_targets(0.0);
   struct Case {
     double pitch;  // rad
+    uint32_t route;
     double sign;   // of the wingbeat's change
   };
-  for (const Case k : {Case{s.pitch_max + kPitchOverrun + radians(2.0), -1.0}, Case{s.pitch_max, 1.0}}) {
+  const double past = kPitchOverrun + radians(2.0);
+  for (const Case k : {Case{s.pitch_max + past, 0, -1.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
+                       Case{s.pitch_min, 1, -1.0}}) {
     BirdState b;
+    b.route = k.route;
     b.position = dvec3{0.0, 1e4, 0.0};
     b.attitude = glm::angleAxis(k.pitch, dvec3{0.0, 0.0, 1.0});
     b.velocity = b.attitude * dvec3{s.cruise_speed, 0.0, 0.0};

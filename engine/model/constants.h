@@ -31,12 +31,16 @@ AF_REAL(kLinedUpSine, 0.035)
 AF_REAL(kFarthestCrossing, 4.0)
 // Pitched this steeply (rad, up or down) a bird levels its wings (control.h: recovery_bank).
 AF_REAL(kSteepPitch, 1.0471975511965976)
+// Descending this steeply through the air (rad, 86 degrees) a bird levels its wings: banked, it is
+// in a spiral dive, which pitching up only tightens (control.h: recovery_bank).
+AF_REAL(kSteepDescent, 1.5)
 // Slower through the air than kSpeedFirst min_speed, a bird's pitch holds its airspeed alone: the
 // height's share of the balance grows from none there to whole at min_speed (control.h).
 AF_REAL(kSpeedFirst, 0.75)
 // Pitched up this far (rad, 10 degrees) past the most it commands (pitch_max, brake_pitch
 // braking), its tail and sweep have lost to the wingbeat's own nose-up moment: the wingbeat eases
-// (step.cpp).
+// (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's nose-down moment:
+// the wingbeat, whose downstroke lift the lead-lag carries forward, rises.
 AF_REAL(kPitchOverrun, 0.17453292519943295)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
 AF_REAL(kFlareAimAbove, 0.5)

@@ -158,8 +158,15 @@ double heading_bank(const Species& s, double heading_error, double distance, dou
   return coordinated_bank(s, rate, speed);
 }
 
-double recovery_bank(const Species& s, double pitch) {
-  return s.bank_max * std::clamp((kSteepPitch - std::fabs(pitch)) / (kSteepPitch - kSteepPitch / 2.0), 0.0, 1.0);
+double recovery_bank(const Species& s, double pitch, double descent) {
+  const double by_pitch = (kSteepPitch - std::fabs(pitch)) / (kSteepPitch / 2.0);
+  const double by_descent = (kSteepDescent - descent) / (kSteepDescent / 2.0);
+  return s.bank_max * std::clamp(std::min(by_pitch, by_descent), 0.0, 1.0);
+}
+
+double descent_angle(const dvec3& air_velocity) {
+  const double speed = glm::length(air_velocity);
+  return speed > 0.0 ? std::max(0.0, -std::asin(std::clamp(air_velocity.y / speed, -1.0, 1.0))) : 0.0;
 }
 
 double ground_bank(const Species& s, double height) {

@@ -64,10 +64,14 @@ double approach(double angle, double command, double rate, double dt);
 // distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band.
 double heading_bank(const Species& s, double heading_error, double distance, double speed);
 
-// The largest bank at `pitch`: bank_max up to kSteepPitch / 2, none from kSteepPitch on. A bird
-// pitched steeply up or down levels its wings first, so that a banked dive or climb does not
-// tighten into a spiral.
-double recovery_bank(const Species& s, double pitch);
+// The largest bank at `pitch` and `descent` (the flight path's angle below the horizontal through
+// the air, rad, >= 0): bank_max up to kSteepPitch / 2 of pitch and kSteepDescent / 2 of descent,
+// none from either steep angle on. A bird pitched steeply up or down, or descending steeply, levels
+// its wings first, so that a banked dive or climb does not tighten into a spiral.
+double recovery_bank(const Species& s, double pitch, double descent);
+
+// The flight path's angle below the horizontal through the air (rad, 0 when climbing or level).
+double descent_angle(const glm::dvec3& air_velocity);
 
 // The largest bank `height` (cm, body above the ground) allows: the wingtip stays above it.
 double ground_bank(const Species& s, double height);

@@ -66,6 +66,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird eases its wingbeat rather than loop.
   if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, -1.0);
+  // Pitched down well past the least it commands, the glide's nose-down moment is winning: the
+  // bird beats its wings harder rather than dive on.
+  if (pitch < sp.pitch_min - kPitchOverrun) c.energy_error = std::max(c.energy_error, 1.0);
   c.balance = e.balance;
   // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
   // the arms' incidence rises by brake_incidence at full flare, over bank_time.
@@ -94,7 +97,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else
     bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch));
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity - w.wind)));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
