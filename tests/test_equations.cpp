@@ -418,10 +418,10 @@ TEST(Steering, RecoveryBankLevelsTheWingsWhenSteep) {
   EXPECT_EQ(recovery_bank(s, 0.0, kSteepDescent), 0.0);
   EXPECT_EQ(recovery_bank(s, kSteepPitch, 0.0), 0.0);
   // The descent is the path's angle below the horizontal; a climb or level flight has none.
-  EXPECT_NEAR(descent_angle(dvec3{1000.0, -1000.0, 0.0}), kPi / 4.0, 1e-12);
-  EXPECT_NEAR(descent_angle(dvec3{0.0, -500.0, 0.0}), kPi / 2.0, 1e-12);
-  EXPECT_EQ(descent_angle(dvec3{1000.0, 300.0, 0.0}), 0.0);
-  EXPECT_EQ(descent_angle(dvec3{0.0}), 0.0);
+  EXPECT_NEAR(descent_angle(-1000.0, std::sqrt(2.0) * 1000.0), kPi / 4.0, 1e-12);
+  EXPECT_NEAR(descent_angle(-500.0, 500.0), kPi / 2.0, 1e-12);
+  EXPECT_EQ(descent_angle(300.0, std::hypot(1000.0, 300.0)), 0.0);
+  EXPECT_EQ(descent_angle(0.0, 0.0), 0.0);
 }
 
 // ------------------------------------------------------------------------------------------------

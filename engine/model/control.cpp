@@ -164,9 +164,8 @@ double recovery_bank(const Species& s, double pitch, double descent) {
   return s.bank_max * std::clamp(std::min(by_pitch, by_descent), 0.0, 1.0);
 }
 
-double descent_angle(const dvec3& air_velocity) {
-  const double speed = glm::length(air_velocity);
-  return speed > 0.0 ? std::max(0.0, -std::asin(std::clamp(air_velocity.y / speed, -1.0, 1.0))) : 0.0;
+double descent_angle(double air_climb, double airspeed) {
+  return airspeed > 0.0 ? std::max(0.0, -std::asin(std::clamp(air_climb / airspeed, -1.0, 1.0))) : 0.0;
 }
 
 double ground_bank(const Species& s, double height) {

@@ -70,8 +70,9 @@ double heading_bank(const Species& s, double heading_error, double distance, dou
 // its wings first, so that a banked dive or climb does not tighten into a spiral.
 double recovery_bank(const Species& s, double pitch, double descent);
 
-// The flight path's angle below the horizontal through the air (rad, 0 when climbing or level).
-double descent_angle(const glm::dvec3& air_velocity);
+// The flight path's angle below the horizontal through the air (rad, 0 when climbing or level),
+// from the air velocity's vertical part and its length (the airspeed).
+double descent_angle(double air_climb, double airspeed);
 
 // The largest bank `height` (cm, body above the ground) allows: the wingtip stays above it.
 double ground_bank(const Species& s, double height);

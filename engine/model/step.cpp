@@ -97,7 +97,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else
     bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity - w.wind)));
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed)));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.

@@ -201,9 +201,8 @@ float recovery_bank(GpuSpecies s, float pitch, float descent) {
   return s.bank_max * clamp(min(by_pitch, by_descent), 0.0, 1.0);
 }
 
-float descent_angle(vec3 air_velocity) {
-  float speed = length(air_velocity);
-  return speed > 0.0 ? max(0.0, -asin_p(clamp(air_velocity.y / speed, -1.0, 1.0))) : 0.0;
+float descent_angle(float air_climb, float airspeed) {
+  return airspeed > 0.0 ? max(0.0, -asin_p(clamp(air_climb / airspeed, -1.0, 1.0))) : 0.0;
 }
 
 float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.wing_length, 0.0, 1.0)); }
@@ -489,7 +488,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, -1.0);  // step.cpp
-  if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);
+  if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
   float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
@@ -511,7 +510,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
     bank_cmd = coordinated_bank(s, turn_rate, speed);
   else
     bank_cmd = heading_bank(s, c.steering.heading_error_ahead, length(goal.xz - b.position.xz), speed);
-  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity - wind)));
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed)));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
