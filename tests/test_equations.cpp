@@ -496,10 +496,10 @@ TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
   EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance, -0.5 * s.balance_band - deficit(between), 1e-9);
 }
 
-// Pitched up kPitchOverrun past pitch_max, a bird beats no harder (eqs. 4, 5 hold) though its
-// target is far above; pitched less, the same bird beats harder for it. Pitched down
-// kPitchOverrun past pitch_min, it beats harder (at their rates) though its target is far below.
-TEST(Energy, PitchedPastTheOverrunTheWingbeatStopsFeedingThePitch) {
+// Pitched up kPitchOverrun past pitch_max, a bird eases its wingbeat (eqs. 4, 5 at their rates)
+// though its target is far above; pitched less, the same bird beats harder for it. Pitched down
+// kPitchOverrun past pitch_min, it beats harder though its target is far below.
+TEST(Energy, PitchedPastTheOverrunTheWingbeatTurnsAgainstIt) {
   const Species s = starling();
   World w;
   w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});   // 1 km ahead, 300 m up
@@ -513,7 +513,7 @@ TEST(Energy, PitchedPastTheOverrunTheWingbeatStopsFeedingThePitch) {
     double sign;   // of the wingbeat's change
   };
   const double past = kPitchOverrun + radians(2.0);
-  for (const Case k : {Case{s.pitch_max + past, 0, 0.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
+  for (const Case k : {Case{s.pitch_max + past, 0, -1.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
                        Case{s.pitch_min, 1, -1.0}}) {
     BirdState b;
     b.route = k.route;

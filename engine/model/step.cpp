@@ -64,9 +64,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // (eqs. 4, 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
-  // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
-  // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
-  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, 0.0);
+  // bird eases its wingbeat rather than loop.
+  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, -1.0);
   // Pitched down well past the least it commands, the glide's nose-down moment is winning: the
   // bird beats its wings harder rather than dive on.
   if (pitch < sp.pitch_min - kPitchOverrun) c.energy_error = std::max(c.energy_error, 1.0);

@@ -487,7 +487,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
-  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, 0.0);  // step.cpp
+  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, -1.0);  // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
   float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
