@@ -496,10 +496,10 @@ TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
   EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance, -0.5 * s.balance_band - deficit(between), 1e-9);
 }
 
-// Pitched up kPitchOverrun past pitch_max, a bird eases its wingbeat (eqs. 4, 5 at their rates)
-// though its target is far above; pitched less, the same bird beats harder for it. Pitched down
-// kPitchOverrun past pitch_min, it beats harder though its target is far below.
-TEST(Energy, PitchedPastTheOverrunTheWingbeatTurnsAgainstIt) {
+// Pitched up kPitchOverrun past pitch_max, a bird beats no harder (eqs. 4, 5 hold) though its
+// target is far above; pitched less, the same bird beats harder for it. Pitched down
+// kPitchOverrun past pitch_min, it beats harder (at their rates) though its target is far below.
+TEST(Energy, PitchedPastTheOverrunTheWingbeatStopsFeedingThePitch) {
   const Species s = starling();
   World w;
   w.targets.push_back(Target{"above", dvec3{1e5, 3e4, 0.0}});   // 1 km ahead, 300 m up
@@ -513,7 +513,7 @@ TEST(Energy, PitchedPastTheOverrunTheWingbeatTurnsAgainstIt) {
     double sign;   // of the wingbeat's change
   };
   const double past = kPitchOverrun + radians(2.0);
-  for (const Case k : {Case{s.pitch_max + past, 0, -1.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
+  for (const Case k : {Case{s.pitch_max + past, 0, 0.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
                        Case{s.pitch_min, 1, -1.0}}) {
     BirdState b;
     b.route = k.route;
@@ -527,6 +527,33 @@ TEST(Energy, PitchedPastTheOverrunTheWingbeatTurnsAgainstIt) {
     step_bird(after, s, w, 0.0, dt);
     EXPECT_NEAR(after.amplitude - b.amplitude, k.sign * s.K_a * dt, 1e-12) << degrees(k.pitch);
     EXPECT_NEAR(after.frequency - b.frequency, k.sign * s.K_f * dt, 1e-12) << degrees(k.pitch);
+  }
+}
+
+// Issue 10: on its legs (crouching, pushing off) a bird cannot pitch, so its tail and sweep stay
+// neutral though it stands level below its climb pitch: wound up to pitch up, it left the ground
+// pitching past 60 degrees (Fig. 19). The same state in flight moves both nose-up.
+TEST(TakeOff, OnItsLegsTheTailAndSweepStayNeutral) {
+  const Species s = starling();
+  World w;
+  w.targets.push_back(Target{"up", dvec3{5000.0, 1000.0, 0.0}});
+  w.routes.push_back(Route{"takeoff", {0}});
+  w.move_targets(0.0);
+  for (const FlightMode mode : {FlightMode::taking_off, FlightMode::flying}) {
+    BirdState b;
+    b.mode = mode;
+    b.position = dvec3{0.0, s.stand_height, 0.0};
+    b.frequency = s.f_max;
+    b.amplitude = s.amp_max;
+    const double dt = 1e-3;
+    step_bird(b, s, w, 0.0, dt);
+    if (mode == FlightMode::taking_off) {
+      EXPECT_EQ(b.sweep, 0.0);
+      EXPECT_EQ(b.tail_bend, 0.0);
+    } else {
+      EXPECT_NEAR(b.sweep, s.sweep_rate * dt, 1e-12) << "nose-up: forward";
+      EXPECT_NEAR(b.tail_bend, s.tail_rate * dt, 1e-12) << "nose-up: bent up";
+    }
   }
 }
 

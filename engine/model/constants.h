@@ -38,8 +38,8 @@ AF_REAL(kSteepDescent, 1.5)
 // height's share of the balance grows from none there to whole at min_speed (control.h).
 AF_REAL(kSpeedFirst, 0.75)
 // Pitched up this far (rad, 10 degrees) past the most it commands (pitch_max, brake_pitch
-// braking), its tail and sweep have lost to the wingbeat's own nose-up moment: the wingbeat eases
-// (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's nose-down moment:
+// braking), its tail and sweep have lost to the wingbeat's own nose-up moment: the wingbeat rises
+// no further (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's nose-down moment:
 // the wingbeat, whose downstroke lift the lead-lag carries forward, rises.
 AF_REAL(kPitchOverrun, 0.17453292519943295)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).

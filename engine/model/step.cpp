@@ -64,8 +64,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // (eqs. 4, 5 as the paper has them).
   c.energy_error = braking ? c.steering.height_error : e.total;
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
-  // bird eases its wingbeat rather than loop.
-  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, -1.0);
+  // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
+  // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
+  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, 0.0);
   // Pitched down well past the least it commands, the glide's nose-down moment is winning: the
   // bird beats its wings harder rather than dive on.
   if (pitch < sp.pitch_min - kPitchOverrun) c.energy_error = std::max(c.energy_error, 1.0);
@@ -75,9 +76,12 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const double flare =
       braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, w.wind), to_perch) : 0.0;
   c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
+  // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
+  // the ground trimmed rather than wound up to pitch up.
   const double pitch_command =
-      braking ? flare_pitch(sp, b.pitch_trim, flare)
-              : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
+      on_legs   ? pitch
+      : braking ? flare_pitch(sp, b.pitch_trim, flare)
+                : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
   const PitchControl p = pitch_control(sp, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
   c.sweep = p.sweep;

@@ -487,12 +487,13 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x;
-  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, -1.0);  // step.cpp
+  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, 0.0);  // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
   float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
-  float pitch_command = braking ? flare_pitch(s, b.pitch_trim, flare)
+  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
+                      : braking ? flare_pitch(s, b.pitch_trim, flare)
                                 : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
   vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.x;
