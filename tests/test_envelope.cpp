@@ -60,6 +60,23 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
   EXPECT_NE(h[1].outcome, Outcome::reached) << name(h[1].outcome);
 }
 
+// Issue 10: an eagle 30 % lighter than the preset spirals up to a target 50 m above and 50 m away
+// and then circled it at its height for 15 s, the target 4 m from the centre of its 15 m circle,
+// never passing within three radii. Now it flies off on level wings and turns onto it.
+TEST(Envelope, AnEagleDoesNotCircleItsTargetForEver) {
+  EnvelopeCase c;
+  c.speed = 500.0;
+  c.pitch = radians(-30.0);
+  c.bank = radians(-60.0);
+  c.rise = 5000.0;
+  c.bearing = radians(90.0);
+  c.distance = 5000.0;
+  Species light = eagle();
+  light.mass *= 0.7;
+  const std::vector<EnvelopeResult> r = fly_envelope(light, {c}, cpu());
+  EXPECT_EQ(r[0].outcome, Outcome::reached) << name(r[0].outcome) << " at " << r[0].time << " s";
+}
+
 // Issue 10: each preset flies every case of the grid (1,692 flights, take-offs and branch
 // landings, crosswinds of 0, 5 and 8 m/s) on the CPU reference, within the limits throughout.
 // One test per preset and crosswind (564 cases each), so that ctest spreads them over the cores.

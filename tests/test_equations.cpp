@@ -405,6 +405,29 @@ TEST(Steering, CoordinatedBank) {
   expect_rel(coordinated_bank(s, 5.0, 1000.0), s.bank_max);
 }
 
+// Issue 10: a goal abeam inside the full-bank circle (kWideTurn times v^2 / (g tan bank_max)), at
+// about the bird's height, is never reached by turning in calm air (eagles circled their target
+// for 15 s and more): after kCirclingTurn of a turn the bird flies on with its wings level
+// (step.cpp). Far above or below it is spiralled to; in a wind the circle drifts over it.
+TEST(Steering, AGoalInsideTheFullBankCircleIsNotCircled) {
+  const Species s = eagle();  // bank_max 45 deg: 10.2 m at 10 m/s, widened 15.3 m
+  const double v = 1000.0, circle = 2.0 * kWideTurn * v * v / (kGravity * std::tan(s.bank_max));
+  const double abeam = radians(90.0), near = 0.9 * circle, calm = 0.0;
+  EXPECT_TRUE(circles_goal(s, abeam, near, v, 0.0, calm)) << "inside";
+  EXPECT_TRUE(circles_goal(s, -abeam, near, v, 0.19 * near, calm)) << "either side, a little above";
+  EXPECT_FALSE(circles_goal(s, abeam, 1.1 * circle, v, 0.0, calm)) << "outside: turns in";
+  EXPECT_FALSE(circles_goal(s, abeam, near, v, -0.21 * near, calm)) << "below: spirals down";
+  EXPECT_FALSE(circles_goal(s, abeam, near, v, 0.21 * near, calm)) << "above: spirals up";
+  EXPECT_TRUE(circles_goal(s, abeam, near, v, 0.0, 0.99 * v / (2.0 * kPi))) << "a breeze";
+  EXPECT_FALSE(circles_goal(s, abeam, near, v, 0.0, 1.01 * v / (2.0 * kPi))) << "a wind drifts the circle";
+  // Behind (179 degrees off) the goal is outside the circle however near: the bird turns round.
+  EXPECT_FALSE(circles_goal(s, radians(179.0), 1000.0, v, 0.0, calm));
+  EXPECT_EQ(heading_bank(s, radians(179.0), 1000.0, v), s.bank_max);
+  // 30 degrees off: inside within 2 R sin(30) = R.
+  EXPECT_TRUE(circles_goal(s, radians(30.0), 0.45 * circle, v, 0.0, calm));
+  EXPECT_FALSE(circles_goal(s, radians(30.0), 0.55 * circle, v, 0.0, calm));
+}
+
 // The bank allowed falls from bank_max to none as the pitch goes from kSteepPitch / 2 to
 // kSteepPitch, or the descent through the air from kSteepDescent / 2 to kSteepDescent.
 TEST(Steering, RecoveryBankLevelsTheWingsWhenSteep) {

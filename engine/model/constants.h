@@ -42,6 +42,17 @@ AF_REAL(kSpeedFirst, 0.75)
 // no further (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's nose-down moment:
 // the wingbeat, whose downstroke lift the lead-lag carries forward, rises.
 AF_REAL(kPitchOverrun, 0.17453292519943295)
+// A bird turning at full bank flies a circle this many times wider than the coordinated turn's
+// v^2 / (g tan bank_max): part of its weight hangs on the wingbeat's thrust, not the banked lift
+// (an eagle at 10 m/s, banked 45 degrees: 15 m, not 10). Sizes the circle a goal inside is never
+// reached from (control.h: circles_goal).
+AF_REAL(kWideTurn, 1.5)
+// A goal less than this many times its horizontal distance above or below the bird is at about
+// its height (control.h: circles_goal).
+AF_REAL(kLevelGoal, 0.2)
+// Circling a goal inside its full-bank circle for this share of a turn, a bird flies on with its
+// wings level until it can turn onto it (step.cpp).
+AF_REAL(kCirclingTurn, 0.25)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
 AF_REAL(kFlareAimAbove, 0.5)
 // A braking bird sunk under its perch by kSunkPerchRadii perch radii and still sinking faster than

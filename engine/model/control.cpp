@@ -146,6 +146,15 @@ double approach(double angle, double command, double rate, double dt) {
   return angle + std::clamp(command - angle, -step, step);
 }
 
+bool circles_goal(const Species& s, double heading_error, double distance, double speed, double rise, double wind) {
+  // In a wind the circle drifts over the goal: by more than its radius each turn (2 pi wide / speed
+  // long) once the wind is faster than speed / (2 pi).
+  if (2.0 * kPi * wind >= speed) return false;
+  // The full-bank circle's centre lies `wide` abeam; the goal inside it when d < 2 wide |sin(phi)|.
+  const double wide = kWideTurn * speed * speed / (kGravity * std::tan(s.bank_max));
+  return std::fabs(rise) < kLevelGoal * distance && distance < 2.0 * wide * std::fabs(std::sin(heading_error));
+}
+
 double heading_bank(const Species& s, double heading_error, double distance, double speed) {
   if (std::fabs(heading_error) <= s.dead_band) return 0.0;
   if (std::fabs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;

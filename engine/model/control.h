@@ -64,6 +64,13 @@ double approach(double angle, double command, double rate, double dt);
 // distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band.
 double heading_bank(const Species& s, double heading_error, double distance, double speed);
 
+// Whether a goal `distance` away (horizontally) and `rise` above lies inside the circle the bird
+// flies at full bank (kWideTurn wider than the coordinated turn's) and at about its height
+// (|rise| < kLevelGoal distance), in air calm enough (`wind`, horizontal, slower than speed / 2 pi)
+// that the circle does not drift over it: turning, the bird would circle it for ever. A goal far
+// above or below is spiralled to.
+bool circles_goal(const Species& s, double heading_error, double distance, double speed, double rise, double wind);
+
 // The largest bank at `pitch` and `descent` (the flight path's angle below the horizontal through
 // the air, rad, >= 0): bank_max up to kSteepPitch / 2 of pitch and kSteepDescent / 2 of descent,
 // none from either steep angle on. A bird pitched steeply up or down, or descending steeply, levels

@@ -32,6 +32,7 @@ struct Commands {
   double incidence;     // the arms' added incidence (braking)
   double opening;       // the tail's opening now, eq. 10 (fully open while braking)
   dvec3 omega;          // body rates used this step, with the controller's kinematic ones
+  bool circling;        // the goal lies inside the full-bank circle
 };
 
 Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal, double airspeed_command) {
@@ -89,6 +90,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Kinematic body rates: the bank (both turning models), the yaw at the standard rate R
   // (fixed-rate model, eq. 3). Pitch and the rest come from the torque.
   c.omega = b.omega;
+  c.circling = false;
   if (on_legs) {
     c.omega = dvec3{0.0};
     return c;
@@ -99,8 +101,19 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   double bank_cmd = 0.0;
   if (fixed_rate)
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
-  else
-    bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, glm::length(horizontal(goal - b.position)), speed);
+  else {
+    const double distance = glm::length(horizontal(goal - b.position));
+    // To a target (the landing curve and gate have their own go-rounds, route.cpp).
+    const bool to_target = !way && b.landing_stage == LandingStage::none;
+    c.circling = to_target && circles_goal(sp, c.steering.heading_error_ahead, distance, speed, goal.y - b.position.y,
+                                           glm::length(horizontal(w.wind)));
+    // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
+    // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
+    // (Fig. 16's eagle would fly off its circle of targets).
+    const double revolution = 2.0 * kPi * kWideTurn * speed / (kGravity * std::tan(sp.bank_max));
+    if (!(c.circling && b.circling > kCirclingTurn * revolution))
+      bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
+  }
   const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed)));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
@@ -207,6 +220,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   b.tail_twist = approach(b.tail_twist, c.twist, sp.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, sp.sweep_rate, dt);
   b.mode_time += dt;
+  b.circling = c.circling ? b.circling + dt : 0.0;
   if (on_legs && b.mode_time >= sp.crouch_time + sp.leg_time) {
     b.mode = FlightMode::flying;
     b.mode_time = 0.0;

@@ -185,6 +185,12 @@ float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
   return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
+bool circles_goal(GpuSpecies s, float heading_error, float distance, float speed, float rise, float wind) {
+  if (2.0 * kPi * wind >= speed) return false;  // control.cpp
+  float wide = kWideTurn * speed * speed / (kGravity * s.tan_bank_max);
+  return abs(rise) < kLevelGoal * distance && distance < 2.0 * wide * abs(sin_p(heading_error));
+}
+
 float heading_bank(GpuSpecies s, float heading_error, float distance, float speed) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
   if (abs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
@@ -456,6 +462,7 @@ struct Commands {
   float incidence;     // the arms' added incidence (braking)
   float opening;
   vec3 omega;
+  bool circling;       // the goal lies inside the full-bank circle (step.cpp)
 };
 
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
@@ -500,6 +507,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   c.sweep = p.y;
 
   c.omega = b.omega;
+  c.circling = false;
   if (on_legs) {
     c.omega = vec3(0.0);
     return c;
@@ -509,8 +517,14 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float bank_cmd = 0.0;
   if (fixed_rate)
     bank_cmd = coordinated_bank(s, turn_rate, speed);
-  else
-    bank_cmd = heading_bank(s, c.steering.heading_error_ahead, length(goal.xz - b.position.xz), speed);
+  else {
+    float distance = length(goal.xz - b.position.xz);
+    bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
+    c.circling = to_target && circles_goal(s, c.steering.heading_error_ahead, distance, speed, goal.y - b.position.y, length(wind.xz));
+    float revolution = 2.0 * kPi * kWideTurn * speed / (kGravity * s.tan_bank_max);
+    if (!(c.circling && b.circling > kCirclingTurn * revolution))  // step.cpp
+      bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
+  }
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed)));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
@@ -637,6 +651,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);
   b.mode_time += dt;
+  b.circling = c.circling ? b.circling + dt : 0.0;
   if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
     b.mode = mode_flying;
     b.mode_time = 0.0;
