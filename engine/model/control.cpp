@@ -146,12 +146,16 @@ double approach(double angle, double command, double rate, double dt) {
   return angle + std::clamp(command - angle, -step, step);
 }
 
+double full_bank_radius(const Species& s, double speed) {
+  return kWideTurn * speed * speed / (kGravity * std::tan(s.bank_max));
+}
+
 bool circles_goal(const Species& s, double heading_error, double distance, double speed, double rise, double wind) {
   // In a wind the circle drifts over the goal: by more than its radius each turn (2 pi wide / speed
   // long) once the wind is faster than speed / (2 pi).
   if (2.0 * kPi * wind >= speed) return false;
   // The full-bank circle's centre lies `wide` abeam; the goal inside it when d < 2 wide |sin(phi)|.
-  const double wide = kWideTurn * speed * speed / (kGravity * std::tan(s.bank_max));
+  const double wide = full_bank_radius(s, speed);
   return std::fabs(rise) < kLevelGoal * distance && distance < 2.0 * wide * std::fabs(std::sin(heading_error));
 }
 

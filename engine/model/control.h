@@ -64,6 +64,9 @@ double approach(double angle, double command, double rate, double dt);
 // distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band.
 double heading_bank(const Species& s, double heading_error, double distance, double speed);
 
+// The radius of the circle a bird flies at full bank: kWideTurn times v^2 / (g tan bank_max).
+double full_bank_radius(const Species& s, double speed);
+
 // Whether a goal `distance` away (horizontally) and `rise` above lies inside the circle the bird
 // flies at full bank (kWideTurn wider than the coordinated turn's) and at about its height
 // (|rise| < kLevelGoal distance), in air calm enough (`wind`, horizontal, slower than speed / 2 pi)

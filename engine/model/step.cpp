@@ -110,7 +110,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
-    const double revolution = 2.0 * kPi * kWideTurn * speed / (kGravity * std::tan(sp.bank_max));
+    const double revolution = 2.0 * kPi * full_bank_radius(sp, speed) / speed;
     if (!(c.circling && b.circling > kCirclingTurn * revolution))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }

@@ -185,9 +185,11 @@ float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
   return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
+float full_bank_radius(GpuSpecies s, float speed) { return kWideTurn * speed * speed / (kGravity * s.tan_bank_max); }
+
 bool circles_goal(GpuSpecies s, float heading_error, float distance, float speed, float rise, float wind) {
   if (2.0 * kPi * wind >= speed) return false;  // control.cpp
-  float wide = kWideTurn * speed * speed / (kGravity * s.tan_bank_max);
+  float wide = full_bank_radius(s, speed);
   return abs(rise) < kLevelGoal * distance && distance < 2.0 * wide * abs(sin_p(heading_error));
 }
 
@@ -521,7 +523,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
     float distance = length(goal.xz - b.position.xz);
     bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
     c.circling = to_target && circles_goal(s, c.steering.heading_error_ahead, distance, speed, goal.y - b.position.y, length(wind.xz));
-    float revolution = 2.0 * kPi * kWideTurn * speed / (kGravity * s.tan_bank_max);
+    float revolution = 2.0 * kPi * full_bank_radius(s, speed) / speed;
     if (!(c.circling && b.circling > kCirclingTurn * revolution))  // step.cpp
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
