@@ -411,21 +411,42 @@ TEST(Steering, CoordinatedBank) {
 // (step.cpp). Far above or below it is spiralled to; in a wind the circle drifts over it.
 TEST(Steering, AGoalInsideTheFullBankCircleIsNotCircled) {
   const Species s = eagle();  // bank_max 45 deg: 10.2 m at 10 m/s, widened 15.3 m
-  const double v = 1000.0, circle = 2.0 * kWideTurn * v * v / (kGravity * std::tan(s.bank_max));
+  const double v = 10.0, radius = full_bank_radius(s, v), circle = 2.0 * radius;
+  expect_rel(radius, kWideTurn * v * v / (kGravity * std::tan(s.bank_max)));
   const double abeam = radians(90.0), near = 0.9 * circle, calm = 0.0;
-  EXPECT_TRUE(circles_goal(s, abeam, near, v, 0.0, calm)) << "inside";
-  EXPECT_TRUE(circles_goal(s, -abeam, near, v, 0.19 * near, calm)) << "either side, a little above";
-  EXPECT_FALSE(circles_goal(s, abeam, 1.1 * circle, v, 0.0, calm)) << "outside: turns in";
-  EXPECT_FALSE(circles_goal(s, abeam, near, v, -0.21 * near, calm)) << "below: spirals down";
-  EXPECT_FALSE(circles_goal(s, abeam, near, v, 0.21 * near, calm)) << "above: spirals up";
-  EXPECT_TRUE(circles_goal(s, abeam, near, v, 0.0, 0.99 * v / (2.0 * kPi))) << "a breeze";
-  EXPECT_FALSE(circles_goal(s, abeam, near, v, 0.0, 1.01 * v / (2.0 * kPi))) << "a wind drifts the circle";
+  EXPECT_TRUE(circles_goal(abeam, near, radius, v, 0.0, calm)) << "inside";
+  EXPECT_TRUE(circles_goal(-abeam, near, radius, v, 0.19 * near, calm)) << "either side, a little above";
+  EXPECT_FALSE(circles_goal(abeam, 1.1 * circle, radius, v, 0.0, calm)) << "outside: turns in";
+  EXPECT_FALSE(circles_goal(abeam, near, radius, v, -0.21 * near, calm)) << "below: spirals down";
+  EXPECT_FALSE(circles_goal(abeam, near, radius, v, 0.21 * near, calm)) << "above: spirals up";
+  EXPECT_TRUE(circles_goal(abeam, near, radius, v, 0.0, 0.99 * v / (2.0 * kPi))) << "a breeze";
+  EXPECT_FALSE(circles_goal(abeam, near, radius, v, 0.0, 1.01 * v / (2.0 * kPi))) << "a wind drifts the circle";
   // Behind (179 degrees off) the goal is outside the circle however near: the bird turns round.
-  EXPECT_FALSE(circles_goal(s, radians(179.0), 1000.0, v, 0.0, calm));
-  EXPECT_EQ(heading_bank(s, radians(179.0), 1000.0, v), s.bank_max);
+  EXPECT_FALSE(circles_goal(radians(179.0), 0.1 * radius, radius, v, 0.0, calm));
+  EXPECT_EQ(heading_bank(s, radians(179.0), 0.1 * radius, v), s.bank_max);
   // 30 degrees off: inside within 2 R sin(30) = R.
-  EXPECT_TRUE(circles_goal(s, radians(30.0), 0.45 * circle, v, 0.0, calm));
-  EXPECT_FALSE(circles_goal(s, radians(30.0), 0.55 * circle, v, 0.0, calm));
+  EXPECT_TRUE(circles_goal(radians(30.0), 0.45 * circle, radius, v, 0.0, calm));
+  EXPECT_FALSE(circles_goal(radians(30.0), 0.55 * circle, radius, v, 0.0, calm));
+}
+
+// Issue 10: a heavy eagle spiralling down onto a goal 150 m below reversed its bank each time the
+// goal, passing beneath it, crossed its tail, and pitched past 60 degrees in a reversal. With the
+// goal behind (beyond kBehind) a bird banked more than half bank_max turns on the way it banks.
+TEST(Steering, AGoalBehindIsTurnedToTheWayTheBirdBanks) {
+  const Species s = eagle();
+  const double behind = radians(150.0), banked = 0.6 * s.bank_max;
+  auto turned = [&](double error, double bank) {
+    Steering st{error, error + 0.1, 0.0, 0.0, 0.0};
+    turn_on(s, bank, st);
+    EXPECT_NEAR(st.heading_error_ahead - st.heading_error, 0.1, 1e-12) << "the lead is kept";
+    return st.heading_error;
+  };
+  expect_rel(turned(-behind, banked), 2.0 * kPi - behind);  // the long way round, to the right
+  expect_rel(turned(behind, -banked), behind - 2.0 * kPi);
+  EXPECT_GT(heading_bank(s, turned(-behind, banked), 1000.0, 1000.0), 0.0) << "banks on the way it turns";
+  expect_rel(turned(behind, banked), behind);                   // already turning towards it
+  expect_rel(turned(-behind, 0.4 * s.bank_max), -behind);       // hardly banked: the short way
+  expect_rel(turned(-radians(110.0), banked), -radians(110.0));  // abeam: the short way
 }
 
 // The bank allowed falls from bank_max to none as the pitch goes from kSteepPitch / 2 to

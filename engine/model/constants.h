@@ -47,6 +47,8 @@ AF_REAL(kPitchOverrun, 0.17453292519943295)
 // (an eagle at 10 m/s, banked 45 degrees: 15 m, not 10). Sizes the circle a goal inside is never
 // reached from (control.h: circles_goal).
 AF_REAL(kWideTurn, 1.5)
+// A goal more than this far off the heading (rad, 120 degrees) is behind the bird (control.h: turn_on).
+AF_REAL(kBehind, 2.0943951023931953)
 // A goal less than this many times its horizontal distance above or below the bird is at about
 // its height (control.h: circles_goal).
 AF_REAL(kLevelGoal, 0.2)

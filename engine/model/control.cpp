@@ -18,6 +18,14 @@ double sign_outside(double x, double band) {
   return 0.0;
 }
 
+void turn_on(const Species& s, double bank, Steering& st) {
+  if (std::fabs(bank) <= 0.5 * s.bank_max || std::fabs(st.heading_error) <= kBehind) return;
+  const double turn = bank > 0.0 ? 1.0 : -1.0;
+  if (st.heading_error * turn > 0.0) return;
+  st.heading_error += turn * 2.0 * kPi;
+  st.heading_error_ahead += turn * 2.0 * kPi;
+}
+
 double steer_share(const Species& s, double heading_error) {
   if (std::fabs(heading_error) <= s.dead_band) return 0.0;
   return std::clamp(heading_error / s.steer_full_error, -1.0, 1.0);
@@ -150,13 +158,12 @@ double full_bank_radius(const Species& s, double speed) {
   return kWideTurn * speed * speed / (kGravity * std::tan(s.bank_max));
 }
 
-bool circles_goal(const Species& s, double heading_error, double distance, double speed, double rise, double wind) {
-  // In a wind the circle drifts over the goal: by more than its radius each turn (2 pi wide / speed
-  // long) once the wind is faster than speed / (2 pi).
+bool circles_goal(double heading_error, double distance, double radius, double speed, double rise, double wind) {
+  // In a wind the circle drifts over the goal: by more than its radius each turn (2 pi radius /
+  // speed long) once the wind is faster than speed / (2 pi).
   if (2.0 * kPi * wind >= speed) return false;
-  // The full-bank circle's centre lies `wide` abeam; the goal inside it when d < 2 wide |sin(phi)|.
-  const double wide = full_bank_radius(s, speed);
-  return std::fabs(rise) < kLevelGoal * distance && distance < 2.0 * wide * std::fabs(std::sin(heading_error));
+  // The circle's centre lies `radius` abeam; the goal inside it when d < 2 radius |sin(phi)|.
+  return std::fabs(rise) < kLevelGoal * distance && distance < 2.0 * radius * std::fabs(std::sin(heading_error));
 }
 
 double heading_bank(const Species& s, double heading_error, double distance, double speed) {

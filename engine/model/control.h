@@ -30,6 +30,12 @@ struct Steering {
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
                        const glm::dvec3& goal, const glm::dvec3& wind, double ground_speed, bool by_course);
 
+// With the goal well behind (more than kBehind off the heading), a bird banked more than half
+// bank_max keeps turning the way it banks: either way round is about as long, and a goal passing
+// beneath it (spiralled down to) would swing its bank from side to side as the goal's bearing
+// crossed its tail. The heading errors are then measured that way round (beyond pi).
+void turn_on(const Species& s, double bank, Steering& st);
+
 // The horizontal air velocity that makes `ground_speed` over the ground towards the goal:
 // ground_speed along the way to it, less the wind (0 at the goal).
 glm::dvec3 crab_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double ground_speed);
@@ -67,12 +73,12 @@ double heading_bank(const Species& s, double heading_error, double distance, dou
 // The radius of the circle a bird flies at full bank: kWideTurn times v^2 / (g tan bank_max).
 double full_bank_radius(const Species& s, double speed);
 
-// Whether a goal `distance` away (horizontally) and `rise` above lies inside the circle the bird
-// flies at full bank (kWideTurn wider than the coordinated turn's) and at about its height
-// (|rise| < kLevelGoal distance), in air calm enough (`wind`, horizontal, slower than speed / 2 pi)
-// that the circle does not drift over it: turning, the bird would circle it for ever. A goal far
-// above or below is spiralled to.
-bool circles_goal(const Species& s, double heading_error, double distance, double speed, double rise, double wind);
+// Whether a goal `distance` away (horizontally) and `rise` above lies inside a circle of `radius`
+// tangent to the heading (the one the bird flies at full bank, full_bank_radius) and at about its
+// height (|rise| < kLevelGoal distance), in air calm enough (`wind`, horizontal, slower than
+// speed / 2 pi) that the circle does not drift over it: turning, the bird would circle it for
+// ever. A goal far above or below is spiralled to.
+bool circles_goal(double heading_error, double distance, double radius, double speed, double rise, double wind);
 
 // The largest bank at `pitch` and `descent` (the flight path's angle below the horizontal through
 // the air, rad, >= 0): bank_max up to kSteepPitch / 2 of pitch and kSteepDescent / 2 of descent,

@@ -53,6 +53,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
   const double pitch = pitch_angle(b.attitude);
+  if (!fixed_rate) turn_on(sp, bank, c.steering);
   c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
                        std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
@@ -105,13 +106,13 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     const double distance = glm::length(horizontal(goal - b.position));
     // To a target (the landing curve and gate have their own go-rounds, route.cpp).
     const bool to_target = !way && b.landing_stage == LandingStage::none;
-    c.circling = to_target && circles_goal(sp, c.steering.heading_error_ahead, distance, speed, goal.y - b.position.y,
+    const double circle = full_bank_radius(sp, speed);
+    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y,
                                            glm::length(horizontal(w.wind)));
     // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
-    const double revolution = 2.0 * kPi * full_bank_radius(sp, speed) / speed;
-    if (!(c.circling && b.circling > kCirclingTurn * revolution))
+    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }
   const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed)));

@@ -172,6 +172,14 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, v
   return st;
 }
 
+void turn_on(GpuSpecies s, float bank, inout Steering st) {  // control.cpp
+  if (abs(bank) <= 0.5 * s.bank_max || abs(st.heading_error) <= kBehind) return;
+  float turn = bank > 0.0 ? 1.0 : -1.0;
+  if (st.heading_error * turn > 0.0) return;
+  st.heading_error += turn * 2.0 * kPi;
+  st.heading_error_ahead += turn * 2.0 * kPi;
+}
+
 float rate_step(float value, float lo, float hi, float rate, float dy, float dt) {
   return clamp(value + sign(dy) * rate * dt, lo, hi);
 }
@@ -187,10 +195,9 @@ float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
 
 float full_bank_radius(GpuSpecies s, float speed) { return kWideTurn * speed * speed / (kGravity * s.tan_bank_max); }
 
-bool circles_goal(GpuSpecies s, float heading_error, float distance, float speed, float rise, float wind) {
+bool circles_goal(float heading_error, float distance, float radius, float speed, float rise, float wind) {
   if (2.0 * kPi * wind >= speed) return false;  // control.cpp
-  float wide = full_bank_radius(s, speed);
-  return abs(rise) < kLevelGoal * distance && distance < 2.0 * wide * abs(sin_p(heading_error));
+  return abs(rise) < kLevelGoal * distance && distance < 2.0 * radius * abs(sin_p(heading_error));
 }
 
 float heading_bank(GpuSpecies s, float heading_error, float distance, float speed) {
@@ -488,6 +495,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float pitch = pitch_angle(b.attitude);
   vec3 wind = pc.wind_ground.xyz;
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
+  if (!fixed_rate) turn_on(s, bank, c.steering);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
@@ -522,9 +530,9 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   else {
     float distance = length(goal.xz - b.position.xz);
     bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
-    c.circling = to_target && circles_goal(s, c.steering.heading_error_ahead, distance, speed, goal.y - b.position.y, length(wind.xz));
-    float revolution = 2.0 * kPi * full_bank_radius(s, speed) / speed;
-    if (!(c.circling && b.circling > kCirclingTurn * revolution))  // step.cpp
+    float circle = full_bank_radius(s, speed);
+    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y, length(wind.xz));
+    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))  // step.cpp
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed)));
