@@ -450,17 +450,21 @@ TEST(Steering, AGoalBehindIsTurnedToTheWayTheBirdBanks) {
 }
 
 // The bank allowed falls from bank_max to none as the pitch goes from kSteepPitch / 2 to
-// kSteepPitch, or the descent through the air from kSteepDescent / 2 to kSteepDescent.
-TEST(Steering, RecoveryBankLevelsTheWingsWhenSteep) {
+// kSteepPitch, the descent through the air from kSteepDescent / 2 to kSteepDescent, or the
+// airspeed from kDiveSpeed - 0.5 to kDiveSpeed times max_speed (issue 10: a heavy eagle's spiral dive).
+TEST(Steering, RecoveryBankLevelsTheWingsWhenSteepOrFast) {
   const Species s = starling();
-  EXPECT_EQ(recovery_bank(s, 0.0, 0.0), s.bank_max);
-  EXPECT_EQ(recovery_bank(s, -kSteepPitch / 2.0, kSteepDescent / 2.0), s.bank_max);
-  EXPECT_NEAR(recovery_bank(s, 0.75 * kSteepPitch, 0.0), 0.5 * s.bank_max, 1e-12);
-  EXPECT_NEAR(recovery_bank(s, 0.0, 0.75 * kSteepDescent), 0.5 * s.bank_max, 1e-12);
-  EXPECT_NEAR(recovery_bank(s, -0.75 * kSteepPitch, 0.875 * kSteepDescent), 0.25 * s.bank_max, 1e-12)
+  const double cruise = s.cruise_speed, fast = (kDiveSpeed - 0.5) * s.max_speed;
+  EXPECT_EQ(recovery_bank(s, 0.0, 0.0, cruise), s.bank_max);
+  EXPECT_EQ(recovery_bank(s, -kSteepPitch / 2.0, kSteepDescent / 2.0, fast), s.bank_max);
+  EXPECT_NEAR(recovery_bank(s, 0.75 * kSteepPitch, 0.0, cruise), 0.5 * s.bank_max, 1e-12);
+  EXPECT_NEAR(recovery_bank(s, 0.0, 0.75 * kSteepDescent, cruise), 0.5 * s.bank_max, 1e-12);
+  EXPECT_NEAR(recovery_bank(s, 0.0, 0.0, (kDiveSpeed - 0.25) * s.max_speed), 0.5 * s.bank_max, 1e-12);
+  EXPECT_NEAR(recovery_bank(s, -0.75 * kSteepPitch, 0.875 * kSteepDescent, cruise), 0.25 * s.bank_max, 1e-12)
       << "the steeper of the two counts";
-  EXPECT_EQ(recovery_bank(s, 0.0, kSteepDescent), 0.0);
-  EXPECT_EQ(recovery_bank(s, kSteepPitch, 0.0), 0.0);
+  EXPECT_EQ(recovery_bank(s, 0.0, kSteepDescent, cruise), 0.0);
+  EXPECT_EQ(recovery_bank(s, kSteepPitch, 0.0, cruise), 0.0);
+  EXPECT_EQ(recovery_bank(s, 0.0, 0.0, kDiveSpeed * s.max_speed), 0.0);
   // The descent is the path's angle below the horizontal; a climb or level flight has none.
   EXPECT_NEAR(descent_angle(-1000.0, std::sqrt(2.0) * 1000.0), kPi / 4.0, 1e-12);
   EXPECT_NEAR(descent_angle(-500.0, 500.0), kPi / 2.0, 1e-12);

@@ -34,6 +34,10 @@ AF_REAL(kSteepPitch, 1.0471975511965976)
 // Descending this steeply through the air (rad, 86 degrees) a bird levels its wings: banked, it is
 // in a spiral dive, which pitching up only tightens (control.h: recovery_bank).
 AF_REAL(kSteepDescent, 1.5)
+// Faster through the air than this many times its max_speed a bird levels its wings: banked, a
+// heavy eagle gliding down to a goal beneath it sped up to 28 m/s in a spiral dive, stalled nose
+// high, and pitched past 60 degrees rolling out (control.h: recovery_bank).
+AF_REAL(kDiveSpeed, 2.25)
 // Slower through the air than kSpeedFirst min_speed, a bird's pitch holds its airspeed alone: the
 // height's share of the balance grows from none there to whole at min_speed (control.h).
 AF_REAL(kSpeedFirst, 0.75)

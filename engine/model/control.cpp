@@ -178,10 +178,11 @@ double heading_bank(const Species& s, double heading_error, double distance, dou
   return coordinated_bank(s, rate, speed);
 }
 
-double recovery_bank(const Species& s, double pitch, double descent) {
+double recovery_bank(const Species& s, double pitch, double descent, double airspeed) {
   const double by_pitch = (kSteepPitch - std::fabs(pitch)) / (kSteepPitch / 2.0);
   const double by_descent = (kSteepDescent - descent) / (kSteepDescent / 2.0);
-  return s.bank_max * std::clamp(std::min(by_pitch, by_descent), 0.0, 1.0);
+  const double by_speed = (kDiveSpeed * s.max_speed - airspeed) / (0.5 * s.max_speed);
+  return s.bank_max * std::clamp(std::min({by_pitch, by_descent, by_speed}), 0.0, 1.0);
 }
 
 double descent_angle(double air_climb, double airspeed) {

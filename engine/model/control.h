@@ -30,7 +30,7 @@ struct Steering {
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
                        const glm::dvec3& goal, const glm::dvec3& wind, double ground_speed, bool by_course);
 
-// With the goal well behind (more than kBehind off the heading), a bird banked more than half
+// With the target well behind (more than kBehind off the heading), a bird banked more than half
 // bank_max keeps turning the way it banks: either way round is about as long, and a goal passing
 // beneath it (spiralled down to) would swing its bank from side to side as the goal's bearing
 // crossed its tail. The heading errors are then measured that way round (beyond pi).
@@ -80,11 +80,12 @@ double full_bank_radius(const Species& s, double speed);
 // ever. A goal far above or below is spiralled to.
 bool circles_goal(double heading_error, double distance, double radius, double speed, double rise, double wind);
 
-// The largest bank at `pitch` and `descent` (the flight path's angle below the horizontal through
-// the air, rad, >= 0): bank_max up to kSteepPitch / 2 of pitch and kSteepDescent / 2 of descent,
-// none from either steep angle on. A bird pitched steeply up or down, or descending steeply, levels
-// its wings first, so that a banked dive or climb does not tighten into a spiral.
-double recovery_bank(const Species& s, double pitch, double descent);
+// The largest bank at `pitch`, `descent` (the flight path's angle below the horizontal through
+// the air, rad, >= 0) and `airspeed`: bank_max up to kSteepPitch / 2 of pitch, kSteepDescent / 2
+// of descent and kDiveSpeed - 0.5 times max_speed, none from the steep angles or kDiveSpeed times
+// max_speed on. A bird pitched steeply up or down, descending steeply or diving fast levels its
+// wings first, so that a banked dive or climb does not tighten into a spiral.
+double recovery_bank(const Species& s, double pitch, double descent, double airspeed);
 
 // The flight path's angle below the horizontal through the air (rad, 0 when climbing or level),
 // from the air velocity's vertical part and its length (the airspeed).

@@ -53,7 +53,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
   const double pitch = pitch_angle(b.attitude);
-  if (!fixed_rate) turn_on(sp, bank, c.steering);
+  // To a target (the landing curve and gate have their own go-rounds, route.cpp).
+  const bool to_target = !way && b.landing_stage == LandingStage::none;
+  if (to_target && !fixed_rate) turn_on(sp, bank, c.steering);
   c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
                        std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
@@ -104,8 +106,6 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     bank_cmd = coordinated_bank(sp, turn_rate, speed);
   else {
     const double distance = glm::length(horizontal(goal - b.position));
-    // To a target (the landing curve and gate have their own go-rounds, route.cpp).
-    const bool to_target = !way && b.landing_stage == LandingStage::none;
     const double circle = full_bank_radius(sp, speed);
     c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y,
                                            glm::length(horizontal(w.wind)));
@@ -115,7 +115,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed)));
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed), airspeed));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.

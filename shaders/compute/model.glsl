@@ -210,10 +210,11 @@ float heading_bank(GpuSpecies s, float heading_error, float distance, float spee
   return coordinated_bank(s, rate, speed);
 }
 
-float recovery_bank(GpuSpecies s, float pitch, float descent) {
+float recovery_bank(GpuSpecies s, float pitch, float descent, float airspeed) {
   float by_pitch = (kSteepPitch - abs(pitch)) / (kSteepPitch / 2.0);
   float by_descent = (kSteepDescent - descent) / (kSteepDescent / 2.0);
-  return s.bank_max * clamp(min(by_pitch, by_descent), 0.0, 1.0);
+  float by_speed = (kDiveSpeed * s.max_speed - airspeed) / (0.5 * s.max_speed);
+  return s.bank_max * clamp(min(by_pitch, min(by_descent, by_speed)), 0.0, 1.0);
 }
 
 float descent_angle(float air_climb, float airspeed) {
@@ -495,7 +496,8 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float pitch = pitch_angle(b.attitude);
   vec3 wind = pc.wind_ground.xyz;
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
-  if (!fixed_rate) turn_on(s, bank, c.steering);
+  bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
+  if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
@@ -529,13 +531,12 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
     bank_cmd = coordinated_bank(s, turn_rate, speed);
   else {
     float distance = length(goal.xz - b.position.xz);
-    bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
     float circle = full_bank_radius(s, speed);
     c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y, length(wind.xz));
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))  // step.cpp
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
-  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed)));
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed), airspeed));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
