@@ -53,7 +53,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
   const double bank = bank_angle(b.attitude);
   const double pitch = pitch_angle(b.attitude);
-  // To a target (the landing curve and gate have their own go-rounds, route.cpp).
+  // A target well behind is turned to the way the bird banks (turn_on); the landing curve and
+  // gate have their own go-rounds (route.cpp).
   const bool to_target = !way && b.landing_stage == LandingStage::none;
   if (to_target && !fixed_rate) turn_on(sp, bank, c.steering);
   c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
