@@ -544,6 +544,20 @@ TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
   EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance, -0.5 * s.balance_band - deficit(between), 1e-9);
 }
 
+// What a bird sinking at 3 m/s still sinks while its wingbeat rises to full amplitude at K_a: half
+// the time that takes, times the sink (control.h: spool_lead). Nothing climbing, level, at full
+// amplitude, or when the amplitude cannot rise.
+TEST(Energy, SpoolLeadIsWhatTheBirdSinksWhileItsWingbeatRises) {
+  Species s = eagle();  // amplitude 0 to 1 at K_a 0.25 /s: 4 s from a glide
+  EXPECT_NEAR(spool_lead(s, 0.0, -300.0), 0.5 * 4.0 * 300.0, 1e-9);
+  EXPECT_NEAR(spool_lead(s, 0.5, -300.0), 0.5 * 2.0 * 300.0, 1e-9);
+  EXPECT_EQ(spool_lead(s, s.amp_max, -300.0), 0.0);
+  EXPECT_EQ(spool_lead(s, 0.0, 0.0), 0.0);
+  EXPECT_EQ(spool_lead(s, 0.0, 300.0), 0.0);
+  s.K_a = 0.0;
+  EXPECT_EQ(spool_lead(s, 0.0, -300.0), 0.0);
+}
+
 // Pitched up kPitchOverrun past pitch_max, a bird beats no harder (eqs. 4, 5 hold) though its
 // target is far above; pitched less, the same bird beats harder for it. Pitched down
 // kPitchOverrun past pitch_min, it beats harder (at their rates) though its target is far below.

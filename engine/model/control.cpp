@@ -96,6 +96,11 @@ Energy energy_errors(const Species& s, double height_error, double airspeed, dou
           height_share * std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
 }
 
+double spool_lead(const Species& s, double amplitude, double air_climb) {
+  if (s.K_a <= 0.0 || air_climb >= 0.0) return 0.0;
+  return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
+}
+
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height) {
   const double pitch = std::clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
   const double floor = std::min(s.clearance, goal_height);

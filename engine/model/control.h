@@ -115,6 +115,13 @@ struct Energy {
 };
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded);
 
+// How far (cm) a bird sinking through the air at `air_climb` < 0 (cm/s) still sinks while its
+// wingbeat rises from `amplitude` to amp_max at K_a (eq. 5): half the time that takes, the
+// amplitude rising evenly. The wingbeat's energy error counts it, so that a gliding bird starts
+// beating before it reaches its goal's height, not on it (a heavy eagle gliding down onto a target
+// sank 19 m under it while its amplitude rose from 0 over 4 s). 0 climbing or level.
+double spool_lead(const Species& s, double amplitude, double air_climb);
+
 // The pitch the bird holds: its integral trim plus balance_gain times the balance, within
 // [pitch_min, pitch_max]; `height` (cm above the ground) below the clearance, and the goal not
 // lower, no less than climb_pitch in proportion to how far below.

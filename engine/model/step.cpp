@@ -66,8 +66,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const double commanded = commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
-  // (eqs. 4, 5 as the paper has them).
-  c.energy_error = braking ? c.steering.height_error : e.total;
+  // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
+  // answers (spool_lead).
+  c.energy_error = braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, b.velocity.y - w.wind.y);
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
   // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.

@@ -238,6 +238,11 @@ vec2 energy_errors(GpuSpecies s, float height_error, float airspeed, float comma
   return vec2(height_error + deficit, height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
 }
 
+float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
+  if (s.K_a <= 0.0 || air_climb >= 0.0) return 0.0;
+  return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
+}
+
 float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height, float goal_height) {
   float pitch = clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
   float floor_height = min(s.clearance, goal_height);
@@ -505,7 +510,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float airspeed = length(b.velocity - wind);
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
-  c.energy_error = braking ? c.steering.height_error : e.x;
+  c.energy_error = braking ? c.steering.height_error : e.x + spool_lead(s, b.amplitude, b.velocity.y - wind.y);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, 0.0);  // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
