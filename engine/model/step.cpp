@@ -63,12 +63,13 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - w.wind);
+  const double air_climb = b.velocity.y - w.wind.y;
   const double commanded = commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).
-  c.energy_error = braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, b.velocity.y - w.wind.y);
+  c.energy_error = braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, air_climb);
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
   // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
@@ -117,7 +118,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(b.velocity.y - w.wind.y, airspeed), airspeed));
+  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(air_climb, airspeed), airspeed));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.

@@ -508,9 +508,10 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   c.opening = tail_opening(s, b);
 
   float airspeed = length(b.velocity - wind);
+  float air_climb = b.velocity.y - wind.y;
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
-  c.energy_error = braking ? c.steering.height_error : e.x + spool_lead(s, b.amplitude, b.velocity.y - wind.y);
+  c.energy_error = braking ? c.steering.height_error : e.x + spool_lead(s, b.amplitude, air_climb);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, 0.0);  // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
@@ -541,7 +542,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))  // step.cpp
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
-  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(b.velocity.y - wind.y, airspeed), airspeed));
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
