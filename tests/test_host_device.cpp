@@ -89,6 +89,8 @@ TEST(HostDevice, GpuBirdHasTheSameLayoutInTheShaders) {
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) {#name, uint32_t(offsetof(GpuBird, name))},
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
+      {"tile_x", uint32_t(offsetof(GpuBird, tile_x))},  // the device's own (world tiles)
+      {"tile_z", uint32_t(offsetof(GpuBird, tile_z))},
   };
   EXPECT_EQ(spirv, cpp);
   EXPECT_EQ(step.stride("GpuBird"), sizeof(GpuBird));
@@ -123,7 +125,12 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
   EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"), offsetof(StepConstants, frame_seconds));
   EXPECT_EQ(perceive.offsets("StepConstants").at("grid_cell"), offsetof(StepConstants, grid_cell));
   EXPECT_EQ(pose.offsets("PoseConstants").at("lod_scale"), offsetof(PoseConstants, lod_scale));
+  EXPECT_EQ(pose.offsets("PoseConstants").at("tile_z"), offsetof(PoseConstants, tile_z));
   EXPECT_EQ(bird.offsets("FrameConstants").at("list_offset"), offsetof(FrameConstants, list_offset));
+  const SpirvLayouts solid(shader_spirv("solid_vert"));
+  EXPECT_EQ(solid.offsets("FrameConstants").at("tile_z"), offsetof(FrameConstants, tile_z));
+  EXPECT_EQ(solid.offsets("GpuTarget").at("tile_z"), offsetof(GpuTarget, tile_z));
+  EXPECT_EQ(solid.offsets("GpuBranch").at("tile_z"), offsetof(GpuBranch, tile_z));
 }
 
 }  // namespace

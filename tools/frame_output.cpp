@@ -26,11 +26,12 @@ render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
   const double radius = std::clamp(flock.radius, 200.0, 1e5);
   const float ease = first_ ? 1.0f : 0.1f;
   first_ = false;
-  centre_ = glm::mix(centre_, glm::vec3(flock.centre), ease);
+  centre_ = glm::mix(centre_, flock.centre, double(ease));
   radius_ = radius_ + ease * (float(radius) - radius_);
   render::Camera camera;
-  camera.target = centre_;
-  camera.eye = centre_ + glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
+  camera.origin = centre_;
+  camera.target = glm::vec3(0.0f);
+  camera.eye = glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
   return camera;
 }
 

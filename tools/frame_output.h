@@ -29,7 +29,7 @@ class AutoCamera {
 
  private:
   bool first_ = true;
-  glm::vec3 centre_{0.0f};
+  glm::dvec3 centre_{0.0};
   float radius_ = 0.0f;
 };
 

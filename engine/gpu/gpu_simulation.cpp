@@ -59,7 +59,7 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
 const std::vector<uint32_t> kPerceiveBindings = {
     kBindingBirds,    kBindingSpecies,    kBindingTargets,     kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
     kBindingPerception, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
-    kBindingGridPoints};
+    kBindingGridPoints, kBindingGridCells};
 
 }  // namespace
 
@@ -71,6 +71,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, GridShape grid, uint32_t
       blocks(grid_buffer(device, grid.buckets / kScanBlock, "grid blocks")),
       sorted(grid_buffer(device, birds, "birds in the grid")),
       points(grid_buffer(device, 4 * size_t{birds}, "birds in the grid")),
+      cells(grid_buffer(device, 4 * size_t{birds}, "birds in the grid")),
       count(device, shader_spirv("grid_count"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
              kBindingGridPlace, kBindingGridCounts, kBindingPerception},
@@ -81,7 +82,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, GridShape grid, uint32_t
                   sizeof(StepConstants), 1),
       scatter(device, shader_spirv("grid_scatter"),
               {kBindingBirds, kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
-               kBindingGridPoints},
+               kBindingGridPoints, kBindingGridCells},
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2) {
   scan_blocks.set_buffers({&counts, &starts, &blocks});
@@ -128,13 +129,13 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
     slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
-                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted, &f.points});
+                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted, &f.points, &f.cells});
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
     f.count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_, &f.place,
                          &f.counts, &perception_});
-    f.scatter.set_buffers({&birds_, &f.place, &f.starts, &f.blocks, &f.sorted, &f.points});
+    f.scatter.set_buffers({&birds_, &f.place, &f.starts, &f.blocks, &f.sorted, &f.points, &f.cells});
   }
 }
 

@@ -56,7 +56,7 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    Buffer place, counts, starts, blocks, sorted, points;
+    Buffer place, counts, starts, blocks, sorted, points, cells;
     ComputePipeline count, scan_blocks, scan_totals, scatter, perceive;
     Flocking(const Device& device, GridShape shape, uint32_t birds);
   };

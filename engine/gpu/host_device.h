@@ -2,7 +2,7 @@
 // engine/render) and as GLSL (shaders/): every GPU-visible struct, binding index, push-constant
 // block and the workgroup size. Buffers are std430; in C++ every vec3 and vec4 member is aligned
 // to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
-// (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint,
+// (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint, int,
 // vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid out
 // differently by C++. All descriptors are storage buffers in set 0, and no binding number serves
 // two buffers, compute or render.
@@ -33,6 +33,18 @@ using uint = uint32_t;
 // Invocations per workgroup of every compute shader.
 AF_UINT(kWorkgroupSize, 64)
 
+// World tiles: the device keeps a position as the whole tile it is in (x and z, ints) and its
+// offset from that tile's centre (floats, within about half a tile), so that a step of 0.3 cm
+// is kept to a few micrometres anywhere within 20,000 km of the origin. Heights (y) stay
+// absolute. A tile is 2^kTileLog2 cm (163.84 m); the neighbour grid's cells divide it.
+AF_UINT(kTileLog2, 14)
+#ifndef __cplusplus
+// What a point of tile (x, z) is moved by to be seen from tile (from_x, from_z): the whole tiles
+// between them, exact in float (gpu/layout.h: tiled, tile_centre).
+const float kTile = float(1u << kTileLog2);
+vec3 tile_shift(int x, int z, int from_x, int from_z) { return vec3(float(x - from_x), 0.0, float(z - from_z)) * kTile; }
+#endif
+
 // Bindings (set 0). Compute: the flock and its world, and the forces the step records.
 AF_UINT(kBindingBirds, 0)
 AF_UINT(kBindingSpecies, 1)
@@ -57,7 +69,8 @@ AF_UINT(kBindingGridCounts, 14)
 AF_UINT(kBindingGridStarts, 15)
 AF_UINT(kBindingGridBlocks, 16)
 AF_UINT(kBindingGridSorted, 17)
-AF_UINT(kBindingGridPoints, 18)  // the sorted birds' positions (xyz) and flocks (w, as bits)
+AF_UINT(kBindingGridPoints, 18)  // the sorted birds' places in their cells (xyz) and flocks (w, as bits)
+AF_UINT(kBindingGridCells, 19)   // the sorted birds' cells (xyz)
 
 // Buckets per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
 // has a whole number of such blocks.
@@ -83,10 +96,12 @@ AF_UINT(kRoutePathControl, 2)
 #define AF_GPU_uint uint
 #define AF_GPU_vec3 AF_V16 vec3
 #define AF_GPU_vec4 AF_V16 vec4
+// Its position, landing_start and via_point are offsets from the centre of tile (tile_x, tile_z).
 struct GpuBird {
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) AF_GPU_##gpu_type name;
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
+  int tile_x, tile_z;
 };
 
 // A species (engine/model/species.def), then what the step derives from it, computed once on the
@@ -105,8 +120,9 @@ struct GpuSpecies {
 };
 
 struct GpuTarget {
-  AF_V16 vec4 centre_radius;  // where it is at the frame's start (cm), radius
+  AF_V16 vec4 centre_radius;  // where it is at the frame's start (cm, from its tile), radius
   AF_V16 vec4 velocity;       // xyz, cm/s
+  int tile_x, tile_z;
 };
 
 struct GpuRoute {
@@ -117,8 +133,9 @@ struct GpuRoute {
 };
 
 struct GpuBranch {
-  AF_V16 vec4 point;
+  AF_V16 vec4 point;  // from its tile
   AF_V16 vec4 direction;
+  int tile_x, tile_z;
 };
 
 // One bird's forces of one step (engine/model/step.h: StepForces), world frame but the torques.
@@ -177,21 +194,27 @@ struct DrawCommand {  // VkDrawIndirectCommand
 
 // Push constants of pose.comp.
 struct PoseConstants {
-  AF_V16 vec4 eye;    // xyz camera position
+  AF_V16 vec4 eye;    // xyz camera position, from the centre of tile (tile_x, tile_z)
   uint bird_count;
   uint capacity;      // of each list
   float lod_scale;    // a bird farther than its span times this is distant
-  uint pad;
+  int tile_x;         // the tile the picture is drawn around (FrameConstants)
+  int tile_z;
+  uint pad0, pad1, pad2;
 };
 
-// Push constants of every render shader (frame.glsl): the camera and the light.
+// Push constants of every render shader (frame.glsl): the camera and the light. Everything is
+// drawn from the centre of tile (tile_x, tile_z), the camera's, so that a flock 1,000 km out is
+// drawn in small floats as one at the origin.
 struct FrameConstants {
   AF_V16 mat4 view_projection;
-  AF_V16 vec4 eye;        // xyz camera position (cm), w time (s)
+  AF_V16 vec4 eye;        // xyz camera position (cm, from the tile), w time (s)
   AF_V16 vec4 sun;        // xyz towards the sun, w fog density (1/cm)
   AF_V16 vec4 fog_color;  // rgb, w ground height
   uint list_offset;       // where the draw's birds start in the lists (bird.vert)
-  uint pad0, pad1, pad2;
+  int tile_x;
+  int tile_z;
+  uint pad;
 };
 
 // A mesh vertex (engine/render/meshes.h), read by vertex index.

@@ -14,9 +14,9 @@ namespace {
 // compares every member with the shaders' SPIR-V).
 static_assert(sizeof(GpuBird) % 16 == 0);
 static_assert(sizeof(GpuSpecies) % 4 == 0);
-static_assert(sizeof(GpuTarget) == 32 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 32);
+static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 48);
 static_assert(sizeof(GpuForces) == 11 * 16);
-static_assert(sizeof(StepConstants) == 64 && sizeof(PoseConstants) == 32);
+static_assert(sizeof(StepConstants) == 64 && sizeof(PoseConstants) == 48);
 static_assert(sizeof(GpuPerception) == 32);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 
@@ -38,11 +38,25 @@ void from_gpu(uint v, E& out) { out = static_cast<E>(v); }
 
 }  // namespace
 
+Tiled tiled(const glm::dvec3& world) {
+  const glm::dvec2 tile = glm::round(glm::dvec2(world.x, world.z) / kTile);
+  return {glm::ivec2(tile), glm::dvec3(tile.x * kTile, 0.0, tile.y * kTile)};
+}
+
+glm::dvec3 tile_centre(int tile_x, int tile_z) { return glm::dvec3(tile_x * kTile, 0.0, tile_z * kTile); }
+
 GpuBird pack(const BirdState& b) {
   GpuBird g{};
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) g.name = to_gpu(b.name);
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
+  // The points in the world, from the bird's tile.
+  const Tiled t = tiled(b.position);
+  g.tile_x = t.tile.x;
+  g.tile_z = t.tile.y;
+  g.position = to_gpu(b.position - t.centre);
+  g.landing_start = to_gpu(b.landing_start - t.centre);
+  g.via_point = to_gpu(b.via_point - t.centre);
   return g;
 }
 
@@ -51,6 +65,10 @@ BirdState unpack(const GpuBird& g) {
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) from_gpu(g.name, b.name);
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
+  const glm::dvec3 centre = tile_centre(g.tile_x, g.tile_z);
+  b.position += centre;
+  b.landing_start += centre;
+  b.via_point += centre;
   return b;
 }
 
@@ -102,11 +120,14 @@ Perception unpack(const GpuPerception& g) {
   return {glm::dvec3(g.direction), double(g.airspeed), g.neighbours, double(g.nearest), g.seen_key};
 }
 
+GpuTarget pack_target(const Target& t, const glm::dvec3& centre) {
+  const Tiled at = tiled(centre);
+  return {vec4(vec3(centre - at.centre), float(t.radius)), vec4(vec3(t.velocity), 0.0f), at.tile.x, at.tile.y};
+}
+
 std::vector<GpuTarget> pack_targets(const World& w, double time) {
   std::vector<GpuTarget> out;
-  for (const Target& t : w.targets)
-    out.push_back(
-        {vec4(vec3(target_position(t, time)), float(t.radius)), vec4(vec3(t.velocity), 0.0f)});
+  for (const Target& t : w.targets) out.push_back(pack_target(t, target_position(t, time)));
   return out;
 }
 
@@ -118,8 +139,10 @@ GpuWorld pack(const World& w) {
                         uint32_t(r.branch + 1)});
     g.route_targets.insert(g.route_targets.end(), r.targets.begin(), r.targets.end());
   }
-  for (const Branch& b : w.branches)
-    g.branches.push_back({vec4(vec3(b.point), 0.0f), vec4(vec3(b.direction), 0.0f)});
+  for (const Branch& b : w.branches) {
+    const Tiled at = tiled(b.point);
+    g.branches.push_back({vec4(vec3(b.point - at.centre), 0.0f), vec4(vec3(b.direction), 0.0f), at.tile.x, at.tile.y});
+  }
   return g;
 }
 

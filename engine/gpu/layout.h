@@ -4,6 +4,8 @@
 
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "gpu/host_device.h"
 #include "model/bird.h"
 #include "model/flock.h"
@@ -12,6 +14,15 @@
 #include "model/world.h"
 
 namespace aeroflock::gpu {
+
+// World tiles (host_device.h): the tile a world point is over, and that tile's centre.
+inline constexpr double kTile = double(1u << kTileLog2);  // cm
+struct Tiled {
+  glm::ivec2 tile;     // x, z
+  glm::dvec3 centre;   // world, cm (y 0)
+};
+Tiled tiled(const glm::dvec3& world);
+glm::dvec3 tile_centre(int tile_x, int tile_z);
 
 GpuBird pack(const BirdState& b);
 BirdState unpack(const GpuBird& g);
@@ -27,6 +38,7 @@ struct GpuWorld {
   std::vector<GpuBranch> branches;
 };
 GpuWorld pack(const World& w);
+GpuTarget pack_target(const Target& t, const glm::dvec3& centre);  // the target at `centre`
 std::vector<GpuTarget> pack_targets(const World& w, double time);
 
 }  // namespace aeroflock::gpu

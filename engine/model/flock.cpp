@@ -121,6 +121,7 @@ GridShape grid_shape(const std::vector<Species>& species, size_t birds) {
   GridShape g;
   for (const Species& s : species)
     g.cell = std::max({g.cell, 0.6 * s.separation_radius, s.perception_radius / 12.0});
+  g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
   g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds, 1024)));
   return g;
 }

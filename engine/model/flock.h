@@ -57,10 +57,13 @@ struct GridShape {
   uint32_t buckets = 0;  // power of two
 };
 // The shape for `birds` birds of these species: cells of 0.6 the largest separation_radius (at
-// least a twelfth of the largest perception_radius: a bird alone searches at most 12 rings), about
-// two buckets a bird (at least 1,024). Measured on lavapipe (10,000 starlings of `murmuration`):
+// least a twelfth of the largest perception_radius), to the nearest power of two of cm within
+// [kMinGridCell, kMaxGridCell] (so that a whole number of cells fills the device's world tile,
+// gpu/host_device.h, and a cell and a bird's place in it are exact there: a bird alone searches
+// at most 17 rings), about two buckets a bird (at least 1,024). Measured on lavapipe (10,000 starlings of `murmuration`):
 // cells of 0.45, 0.6, 0.8 and 1 separation_radius cost 2.9, 2.8, 3.2 and 3.7 s for 1.5 s flown. It sets only how
 // fast the search is, never what it finds.
+inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, size_t birds);
 glm::ivec3 grid_cell(const glm::dvec3& position, double cell);
 uint32_t grid_bucket(const glm::ivec3& cell, uint32_t buckets);

@@ -10,4 +10,12 @@ glm::mat4 Camera::view_projection(float aspect) const {
   return projection * glm::lookAtRH(eye, target, up);
 }
 
+Camera Camera::from(const glm::dvec3& new_origin) const {
+  Camera c = *this;
+  c.origin = new_origin;
+  c.eye = glm::vec3(eye_world() - new_origin);
+  c.target = glm::vec3(target_world() - new_origin);
+  return c;
+}
+
 }  // namespace aeroflock::render

@@ -24,13 +24,16 @@ float glide(float seconds) { return 1.0f - std::exp(-kGlideRate * seconds); }
 
 }  // namespace
 
-void CameraControl::reset(glm::vec3 centre, float radius) {
+void CameraControl::reset(const glm::dvec3& centre, float radius) {
   mode_ = Mode::orbit;
   distance_ = std::max(1500.0f, 3.0f * radius);
   free_speed_ = std::max(500.0f, 0.5f * distance_);
-  camera_.target = centre;
-  camera_.eye = centre + distance_ * direction(yaw_, pitch_);
+  camera_.origin = centre;
+  camera_.target = glm::vec3(0.0f);
+  camera_.eye = distance_ * direction(yaw_, pitch_);
 }
+
+void CameraControl::move_origin(const glm::dvec3& to) { camera_ = camera_.from(to); }
 
 void CameraControl::set_mode(Mode mode) {
   if (mode == Mode::free) {
@@ -69,12 +72,13 @@ void CameraControl::move(glm::vec3 d, float seconds, bool fast) {
   camera_.eye += step * (d.x * right + d.y * glm::vec3(0.0f, 1.0f, 0.0f) + d.z * forward);
 }
 
-const Camera& CameraControl::update(float seconds, glm::vec3 centre, glm::vec3 bird,
+const Camera& CameraControl::update(float seconds, const glm::dvec3& centre, const glm::dvec3& bird,
                                     glm::vec3 velocity) {
   switch (mode_) {
     case Mode::orbit:
-      camera_.target = centre;
-      camera_.eye = centre + distance_ * direction(yaw_, pitch_);
+      move_origin(centre);
+      camera_.target = glm::vec3(0.0f);
+      camera_.eye = distance_ * direction(yaw_, pitch_);
       break;
     case Mode::follow: {
       // From behind the bird's horizontal heading (the last one while it hovers or stands); the
@@ -84,11 +88,13 @@ const Camera& CameraControl::update(float seconds, glm::vec3 centre, glm::vec3 b
       const glm::vec3 offset =
           follow_distance_ * direction(follow_heading_ + kPi + follow_yaw_, follow_pitch_);
       follow_offset_ += (offset - follow_offset_) * glide(seconds);
-      camera_.eye = bird + follow_offset_;
-      camera_.target = bird;
+      move_origin(bird);
+      camera_.eye = follow_offset_;
+      camera_.target = glm::vec3(0.0f);
       break;
     }
     case Mode::free:
+      move_origin(camera_.eye_world());
       camera_.target = camera_.eye + direction(free_yaw_, free_pitch_);
       break;
   }

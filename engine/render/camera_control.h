@@ -12,8 +12,8 @@ class CameraControl {
  public:
   enum class Mode { orbit, follow, free };
 
-  // Orbit around `centre` from far enough to see a flock of that `radius` (cm).
-  void reset(glm::vec3 centre, float radius);
+  // Orbit around `centre` (world) from far enough to see a flock of that `radius` (cm).
+  void reset(const glm::dvec3& centre, float radius);
 
   Mode mode() const { return mode_; }
   // The free camera starts where the camera is now.
@@ -28,11 +28,14 @@ class CameraControl {
   void move(glm::vec3 direction, float seconds, bool fast);
 
   // Advances the camera by `seconds` of wall time: the orbit around `centre`, the follow camera
-  // gliding to behind `bird` flying with `velocity`. Returns the camera to draw with.
-  const Camera& update(float seconds, glm::vec3 centre, glm::vec3 bird, glm::vec3 velocity);
+  // gliding to behind `bird` flying with `velocity` (centre and bird: world). Returns the camera
+  // to draw with, its origin on what it looks at (on itself, free), so its floats stay small.
+  const Camera& update(float seconds, const glm::dvec3& centre, const glm::dvec3& bird, glm::vec3 velocity);
   const Camera& camera() const { return camera_; }
 
  private:
+  void move_origin(const glm::dvec3& to);  // the same camera, from `to`
+
   Mode mode_ = Mode::orbit;
   Camera camera_;
   float yaw_ = -1.5708f;  // rad: where the camera is seen from the centre (orbit, follow)

@@ -411,9 +411,12 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
       VkDrawIndirectCommand{r.distant_vertices, 0, r.bird_vertices, 0}};
   vkCmdUpdateBuffer(cmd, r.draws->handle(), 0, sizeof empty_draws, empty_draws.data());
   gpu::barrier_to_compute(cmd);
-  const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * view.camera.fov_y);
-  const PoseConstants pose{glm::vec4(view.camera.eye, 0.0f), bird_count, r.pose_capacity,
-                           focal_pixels / kDetailPixels};
+  // Everything is drawn from the centre of the camera's tile (host_device.h: FrameConstants).
+  const gpu::Tiled tile = gpu::tiled(view.camera.eye_world());
+  const Camera camera = view.camera.from(tile.centre);
+  const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * camera.fov_y);
+  const PoseConstants pose{glm::vec4(camera.eye, 0.0f), bird_count, r.pose_capacity,
+                           focal_pixels / kDetailPixels, tile.tile.x, tile.tile.y};
   if (bird_count > 0)
     r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose,
                              sizeof pose);
@@ -421,13 +424,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   // The targets where they are now, written in the command stream (no host race with frames in
   // flight); then every earlier write (compute, transfer) before the vertex shaders read.
   if (r.target_count > 0) {
-    const std::vector<gpu::GpuTarget> now = gpu::pack_targets(world, 0.0);
     std::vector<gpu::GpuTarget> placed(r.target_count);
     for (uint32_t i = 0; i < r.target_count; ++i)
-      placed[i] = {glm::vec4(glm::vec3(world.target_now.size() > i ? world.target_now[i]
-                                                                    : world.targets[i].centre),
-                             float(world.targets[i].radius)),
-                   now[i].velocity};
+      placed[i] = gpu::pack_target(world.targets[i],
+                                   world.target_now.size() > i ? world.target_now[i] : world.targets[i].centre);
     vkCmdUpdateBuffer(cmd, r.targets.handle(), 0, placed.size() * sizeof(gpu::GpuTarget), placed.data());
   }
   VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -453,8 +453,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   vkCmdSetScissor(cmd, 0, 1, &scissor);
 
   FrameConstants frame{};
-  frame.view_projection = view.camera.view_projection(float(r.extent.width) / float(r.extent.height));
-  frame.eye = glm::vec4(view.camera.eye, view.time);
+  frame.view_projection = camera.view_projection(float(r.extent.width) / float(r.extent.height));
+  frame.eye = glm::vec4(camera.eye, view.time);
+  frame.tile_x = tile.tile.x;
+  frame.tile_z = tile.tile.y;
   frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);
   frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,

@@ -34,8 +34,8 @@ struct FlockSnapshot {
   double time = 0.0;                             // simulated time of the readback
 
   // The centroid and the followed bird at simulated time `t`, carried on at their velocities.
-  glm::vec3 centroid_at(double t) const { return glm::vec3(centroid + mean_velocity * (t - time)); }
-  glm::vec3 bird_at(double t) const { return glm::vec3(bird + bird_velocity * (t - time)); }
+  glm::dvec3 centroid_at(double t) const { return centroid + mean_velocity * (t - time); }
+  glm::dvec3 bird_at(double t) const { return bird + bird_velocity * (t - time); }
 };
 
 FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, double time) {
@@ -123,7 +123,7 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
       frames_(device),
       paused_(options.paused) {
   read_flock();
-  camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
+  camera_.reset(flock_.centroid, flock_.radius);
 }
 
 void Viewer::run() {
@@ -199,7 +199,7 @@ void Viewer::handle(const Input& input, float seconds) {
         break;
       case GLFW_KEY_R:
         read_flock();
-        camera_.reset(glm::vec3(flock_.centroid), flock_.radius);
+        camera_.reset(flock_.centroid, flock_.radius);
         break;
       default:
         break;

@@ -44,18 +44,20 @@ void offer(uint k, uint j, float d2) {
 
 uint bucket_start(uint k) { return grid_starts[k] + grid_blocks[k / kScanBlock]; }
 
-// Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by).
+// Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by), in the frame of
+// its cell's low corner: cells and places in them are exact (grid.glsl), so the offsets between
+// birds are as fine 1,000 km out as at the origin.
 void search(uint i, GpuBird b, GpuSpecies s, uint k) {
   near_count = 0u;
   vec3 ahead = flight_direction(b);
   float cell = pc.grid_cell;
-  ivec3 home = grid_cell(b.position, cell);
+  vec3 inside;
+  ivec3 home = grid_cell(b, cell, inside);
   int rings = int(ceil(s.perception_radius / cell));
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
-  vec3 low_home = vec3(home) * cell;
-  vec3 inside = min(b.position - low_home, low_home + cell - b.position);
-  float edge = max(0.0, min(inside.x, min(inside.y, inside.z)));
+  vec3 to_edge = min(inside, cell - inside);
+  float edge = max(0.0, min(to_edge.x, min(to_edge.y, to_edge.z)));
   for (int r = 0; r <= rings; ++r) {
     float inner = float(r - 1) * cell + edge;
     if (r > 0 && near_full(k) && inner * inner >= near_d2[k - 1u]) break;
@@ -63,24 +65,24 @@ void search(uint i, GpuBird b, GpuSpecies s, uint k) {
       for (int dy = -r; dy <= r; ++dy) {
         bool side = abs(dx) == r || abs(dy) == r;
         for (int dz = -r; dz <= r; dz += side ? 1 : max(2 * r, 1)) {
-          ivec3 c = home + ivec3(dx, dy, dz);
-          vec3 low = vec3(c) * cell;
-          vec3 gap = max(max(low - b.position, b.position - (low + cell)), vec3(0.0));
+          ivec3 dc = ivec3(dx, dy, dz);
+          vec3 low = vec3(dc) * cell;  // the cell's low corner
+          vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
           float gap2 = dot(gap, gap);
           if (gap2 > radius2 || (near_full(k) && gap2 > near_d2[k - 1u])) continue;
+          ivec3 c = home + dc;
           uint bucket = grid_bucket(c, pc.buckets);
           uint first = bucket_start(bucket);
           uint end = first + grid_counts[bucket];
           for (uint e = first; e < end; ++e) {
             vec4 point = grid_points[e];  // only birds that flock now are in the grid
-            vec3 offset = point.xyz - b.position;
+            vec3 offset = low + point.xyz - inside;  // if it is in cell c (checked below)
             float d2 = dot(offset, offset);
             if (d2 > radius2 || floatBitsToUint(point.w) != b.flock || (near_full(k) && d2 > near_d2[k - 1u])) continue;
             uint j = grid_sorted[e];
             // Not itself, nearer than the worst so far, in this very cell (not one hashed into the
             // same bucket: each bird is met once), and not in the blind sector.
-            if (j == i || !beats_worst(k, j, d2) || grid_cell(point.xyz, cell) != c ||
-                !outside_blind(ahead, offset, d2, cos_blind))
+            if (j == i || !beats_worst(k, j, d2) || grid_cells[e].xyz != c || !outside_blind(ahead, offset, d2, cos_blind))
               continue;
             offer(k, j, d2);
           }
@@ -99,7 +101,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   uint beyond = 0u;
   for (uint e = 0u; e < near_count; ++e) {
     GpuBird o = birds[near_index[e]];
-    vec3 offset = o.position - b.position;
+    vec3 offset = o.position + tile_shift(o.tile_x, o.tile_z, b.tile_x, b.tile_z) - b.position;
     float distance = length(offset);
     if (distance < s.separation_radius)
       separation -= unit_or_zero(offset) * pow(1.0 - distance / s.separation_radius, 2.0);

@@ -1,6 +1,13 @@
 // The neighbour grid's cells and their hashed buckets (flock.cpp: grid_cell, grid_bucket), and
 // when a bird perceives.
-ivec3 grid_cell(vec3 position, float cell) { return ivec3(floor(position / cell)); }
+// A bird's cell, counted from the origin, and where it is inside it (each of x, y, z in
+// [0, cell)), both exact: cells are 2^k cm and a whole number of them fill a tile (grid_shape).
+ivec3 grid_cell(GpuBird b, float cell, out vec3 inside) {
+  ivec3 c = ivec3(floor(b.position / cell));
+  inside = b.position - vec3(c) * cell;
+  int per_tile = int(kTile / cell);
+  return c + ivec3(b.tile_x * per_tile, 0, b.tile_z * per_tile);
+}
 
 uint grid_bucket(ivec3 c, uint buckets) {
   uint h = (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u);

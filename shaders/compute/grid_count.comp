@@ -18,7 +18,8 @@ void main() {
   GpuBird b = birds[i];
   uvec2 place = uvec2(kNoBucket, 0u);
   if (flocks_now(b)) {
-    place.x = grid_bucket(grid_cell(b.position, pc.grid_cell), pc.buckets);
+    vec3 inside;
+    place.x = grid_bucket(grid_cell(b, pc.grid_cell, inside), pc.buckets);
     place.y = atomicAdd(grid_counts[place.x], 1u);
   } else if (pc.frame % reaction_frames(species[b.species], pc.frame_seconds) == 0u) {
     perception[i] = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);

@@ -325,7 +325,10 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 
 // --- Route and landing (route.cpp) ------------------------------------------------------------
 
-vec3 perch_point(GpuSpecies s, uint branch) { return branches[branch].point.xyz + vec3(0.0, s.stand_height, 0.0); }
+vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
+  GpuBranch br = branches[branch];
+  return br.point.xyz + tile_shift(br.tile_x, br.tile_z, b.tile_x, b.tile_z) + vec3(0.0, s.stand_height, 0.0);
+}
 
 // Moving away from the branch horizontally, out of perch_radius (route.cpp).
 bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
@@ -350,7 +353,7 @@ void place_curve(inout GpuBird b, uint branch, vec3 q2) {
 }
 
 vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
-  vec3 q2 = perch_point(s, branch);
+  vec3 q2 = perch_point(b, s, branch);
   vec3 direction = branches[branch].direction.xyz;
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   bool windward = into_wind(s, across, wind);
@@ -401,7 +404,7 @@ Leg load_leg(GpuBird b, uint targets_from) {
   l.velocity = vec3(0.0);
   if (l.route.count > 0u) {
     GpuTarget t = targets[targets_from + route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
-    l.centre_radius = t.centre_radius;
+    l.centre_radius = t.centre_radius + vec4(tile_shift(t.tile_x, t.tile_z, b.tile_x, b.tile_z), 0.0);
     l.velocity = t.velocity.xyz;
   }
   return l;
@@ -422,7 +425,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, pc.wind_ground.xyz) : perch_point(s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, pc.wind_ground.xyz) : perch_point(b, s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -437,7 +440,7 @@ void come_to_rest(inout GpuBird b, vec3 at) {
 }
 
 void perch(inout GpuBird b, GpuSpecies s, uint branch) {
-  come_to_rest(b, perch_point(s, branch));
+  come_to_rest(b, perch_point(b, s, branch));
   b.mode = mode_perched;
   b.targets_reached += 1u;
 }
@@ -446,7 +449,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
   GpuRoute r = leg.route;
   if (r.branch == 0u || b.target < r.count) return false;
   uint branch = r.branch - 1u;
-  vec3 to_perch = perch_point(s, branch) - b.position;
+  vec3 to_perch = perch_point(b, s, branch) - b.position;
   float d = length(to_perch);
   if (d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed) {
     perch(b, s, branch);
@@ -484,7 +487,7 @@ struct Commands {
 // (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
 vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
   if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
-  vec3 way = perch_point(s, leg.route.branch - 1u) - b.position;
+  vec3 way = perch_point(b, s, leg.route.branch - 1u) - b.position;
   return vec4(way, length(way));
 }
 

@@ -11,6 +11,7 @@ layout(std430, set = 0, binding = kBindingGridStarts) readonly buffer GridStarts
 layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks { uint grid_blocks[]; };
 layout(std430, set = 0, binding = kBindingGridSorted) readonly buffer GridSorted { uint grid_sorted[]; };
 layout(std430, set = 0, binding = kBindingGridPoints) readonly buffer GridPoints { vec4 grid_points[]; };
+layout(std430, set = 0, binding = kBindingGridCells) readonly buffer GridCells { ivec4 grid_cells[]; };
 #include "model.glsl"
 #include "flock.glsl"
 

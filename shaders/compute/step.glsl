@@ -14,6 +14,20 @@ layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuF
 
 #include "model.glsl"
 
+// Moves the bird into the tile its position is now over, by whole tiles (exact: host_device.h),
+// with the points it carries, once a frame: its offset stays within about half a tile. Not while
+// it lands: its curve's via point is compared with the perch point bit for bit (model.glsl).
+void retile(inout GpuBird b) {
+  vec2 tiles = round(b.position.xz / kTile);
+  if (tiles == vec2(0.0) || b.landing_stage != stage_none) return;
+  vec3 shift = vec3(tiles.x, 0.0, tiles.y) * kTile;
+  b.position -= shift;
+  b.landing_start -= shift;
+  b.via_point -= shift;
+  b.tile_x += int(tiles.x);
+  b.tile_z += int(tiles.y);
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.bird_count) return;
@@ -23,6 +37,7 @@ void main() {
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
   for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+  retile(b);
   birds[i] = b;
 #ifdef RECORD_FORCES
   {

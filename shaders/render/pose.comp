@@ -35,7 +35,7 @@ void main() {
 
   vec4 q = b.attitude;
   mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
-  vec3 position = b.position;
+  vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z);  // from the camera's tile
 
   // Body: the box a x b x b.
   store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);

@@ -1,5 +1,5 @@
 #version 450
-// Sky above the horizon, the ground (a checkerboard of 10 m squares, fogged) below it. The
+// Sky above the horizon, the ground (a checkerboard of 10.24 m squares, fogged) below it. The
 // ground writes its depth so that birds below it are hidden.
 #extension GL_GOOGLE_include_directive : require
 
@@ -15,7 +15,7 @@ void main() {
   if (ray.y < 0.0 && height > 0.0) {
     float t = height / -ray.y;
     vec3 hit = frame.eye.xyz + t * ray;
-    vec2 cell = floor(hit.xz / 1000.0);
+    vec2 cell = floor(hit.xz / 1024.0);  // 16 squares a tile: the same wherever the camera's tile is
     float checker = mod(cell.x + cell.y, 2.0);
     vec3 grass = mix(vec3(0.30, 0.42, 0.22), vec3(0.34, 0.47, 0.25), checker);
     out_color = vec4(shade(grass, vec3(0, 1, 0), hit), 1.0);

@@ -1,6 +1,6 @@
 #version 450
 // Target spheres and branches: a unit mesh per instance, placed and scaled from the world's
-// buffers (targets: centre and radius; branches: point and direction).
+// buffers (targets: centre and radius; branches: point and direction), from the camera's tile.
 #extension GL_GOOGLE_include_directive : require
 
 #include "frame.glsl"
@@ -22,18 +22,20 @@ void main() {
   vec3 in_position = mesh[vertex].position.xyz, in_normal = mesh[vertex].normal.xyz;
   vec3 world, normal = in_normal;
   if (kKind == 0u) {
-    vec4 cr = targets[gl_InstanceIndex].centre_radius;
-    world = cr.xyz + cr.w * in_position;
+    GpuTarget t = targets[gl_InstanceIndex];
+    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) + t.centre_radius.w * in_position;
   } else if (kKind == 2u) {
     uvec2 ends = segments[gl_InstanceIndex];
-    world = targets[gl_VertexIndex == 0 ? ends.x : ends.y].centre_radius.xyz;
+    GpuTarget t = targets[gl_VertexIndex == 0 ? ends.x : ends.y];
+    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z);
     normal = vec3(0.0, 1.0, 0.0);
   } else {
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
     mat3 m = mat3(along, up, across);
     // A branch 1 m long and 4 cm thick, its top at the perch point.
-    world = br.point.xyz + m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
+    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) +
+            m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
     normal = m * in_normal;
   }
   out_normal = normal;
