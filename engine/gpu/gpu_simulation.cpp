@@ -204,6 +204,10 @@ void GpuSimulation::step(uint32_t steps, bool record_forces) {
   c.flocking = flocking_ ? 1u : 0u;
   c.frame = uint32_t(frames() - 1);
   c.frame_seconds = float(scenario().frame_seconds());
+  c.wind_profile = uint32_t(world().wind_profile);
+  c.wind_height = float(world().wind_height);
+  c.wind_exponent = float(world().wind_exponent);
+  c.wind_roughness = float(world().wind_roughness);
   if (flocking_) {
     c.grid_cell = float(flocking_->shape.cell);
     c.buckets = flocking_->shape.buckets;

@@ -175,6 +175,10 @@ struct StepConstants {
   uint buckets;           // its buckets, a power of two, a whole number of kScanBlock
   uint frame;             // the frame's index (perceive.comp: whose reaction is due)
   float frame_seconds;
+  uint wind_profile;      // WindProfile (engine/model/world.h): 0 uniform, 1 power law, 2 logarithmic
+  float wind_height;      // where the wind is wind_ground.xyz, cm above the ground
+  float wind_exponent;    // of the power law
+  float wind_roughness;   // z0 of the logarithmic profile, cm
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

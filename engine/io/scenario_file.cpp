@@ -20,8 +20,10 @@ using io::TableReader;
 
 using Keys = std::span<const std::string_view>;
 
-constexpr std::string_view kTopKeys[] = {"simulation", "ground", "species", "targets",
-                                         "branches",   "routes", "flocks"};
+constexpr std::string_view kTopKeys[] = {"units",    "simulation", "wind",   "ground",
+                                         "species",  "targets",    "branches", "routes", "flocks"};
+constexpr std::string_view kUnitsKeys[] = {"length"};
+constexpr std::string_view kWindKeys[] = {"velocity", "profile", "height", "exponent", "roughness"};
 constexpr std::string_view kSimulationKeys[] = {
     "name", "description", "dt", "steps_per_frame", "duration", "seed", "turning", "wind"};
 constexpr std::string_view kGroundKeys[] = {"height", "effect"};
@@ -43,11 +45,37 @@ Keys species_keys() {
   return keys;
 }
 
+// The file's unit of length ([units] length): every length and speed of the world (ground,
+// wind, targets, branches, flocks) is read in it; species keep their own units (species.def).
+struct Lengths {
+  double cm = 1.0;  // cm per unit
+
+  double number(const TableReader& r, std::string_view key, double fallback_cm, Range range = Range::any) const {
+    return r.find(key) ? r.number(key, 0.0, range) * cm : fallback_cm;
+  }
+  glm::dvec3 vec3(const TableReader& r, std::string_view key, const glm::dvec3& fallback_cm,
+                  Range range = Range::any) const {
+    return r.find(key) ? r.vec3(key, glm::dvec3(0.0), range) * cm : fallback_cm;
+  }
+};
+
+Lengths read_units(const TableReader& top) {
+  Lengths l;
+  const auto units = top.table("units", kUnitsKeys);
+  if (!units) return l;
+  const auto length = units->located_string("length");
+  if (!length) return l;
+  constexpr std::pair<std::string_view, double> kKnown[] = {{"mm", 0.1}, {"cm", 1.0}, {"m", 100.0}, {"km", 1.0e5}};
+  for (const auto& [name, cm] : kKnown)
+    if (length->value == name) return {cm};
+  io::fail(length->where, "expected \"mm\", \"cm\", \"m\" or \"km\", got \"" + length->value + "\"");
+}
+
 std::string stem(std::string_view source_name) {
   return std::filesystem::path(source_name).stem().string();
 }
 
-void read_simulation(const TableReader& top, std::string_view source_name, Scenario& s) {
+void read_simulation(const TableReader& top, std::string_view source_name, const Lengths& L, Scenario& s) {
   s.name = stem(source_name);
   const auto sim = top.table("simulation", kSimulationKeys);
   if (!sim) return;
@@ -67,13 +95,39 @@ void read_simulation(const TableReader& top, std::string_view source_name, Scena
       io::fail(turning->where,
                "expected \"tail\" or \"fixed-rate\", got \"" + turning->value + "\"");
   }
-  s.world.wind = sim->vec3("wind", s.world.wind);
+  s.world.wind = L.vec3(*sim, "wind", s.world.wind);
 }
 
-void read_ground(const TableReader& top, World& world) {
+// [wind]: the wind at a reference height and how it grows with height (world.h: WindProfile).
+void read_wind(const TableReader& top, const Lengths& L, World& world) {
+  const auto wind = top.table("wind", kWindKeys);
+  if (!wind) return;
+  const auto shorthand = top.table("simulation", kSimulationKeys);
+  if (shorthand && shorthand->find("wind"))
+    shorthand->fail("wind", "the wind is set in [wind] too: give it in one place");
+  world.wind = L.vec3(*wind, "velocity", world.wind);
+  if (auto profile = wind->located_string("profile")) {
+    if (profile->value == "uniform")
+      world.wind_profile = WindProfile::uniform;
+    else if (profile->value == "power-law")
+      world.wind_profile = WindProfile::power_law;
+    else if (profile->value == "logarithmic")
+      world.wind_profile = WindProfile::logarithmic;
+    else
+      io::fail(profile->where, "expected \"uniform\", \"power-law\" or \"logarithmic\", got \"" + profile->value + "\"");
+  }
+  world.wind_height = L.number(*wind, "height", world.wind_height, Range::positive);
+  world.wind_exponent = wind->number("exponent", world.wind_exponent, Range::non_negative);
+  if (world.wind_exponent > 1.0) wind->fail("exponent", "expected a number within [0, 1], got " + io::describe(*wind->find("exponent")));
+  world.wind_roughness = L.number(*wind, "roughness", world.wind_roughness, Range::positive);
+  if (world.wind_roughness >= world.wind_height)
+    wind->fail(wind->find("roughness") ? "roughness" : "height", "the roughness length must be below the reference height");
+}
+
+void read_ground(const TableReader& top, const Lengths& L, World& world) {
   const auto ground = top.table("ground", kGroundKeys);
   if (!ground) return;
-  world.ground_height = ground->number("height", world.ground_height);
+  world.ground_height = L.number(*ground, "height", world.ground_height);
   world.ground_effect = ground->boolean("effect", world.ground_effect);
 }
 
@@ -135,30 +189,30 @@ Species read_species(const TableReader& r, const std::vector<Species>& known) {
   return s;
 }
 
-Target read_target(const TableReader& r, const std::vector<Target>& known) {
+Target read_target(const TableReader& r, const Lengths& L, const std::vector<Target>& known) {
   Target t;
   t.name = unique_name(r, known, "target");
   r.require("centre");
-  t.centre = r.vec3("centre", t.centre);
-  t.radius = r.number("radius", t.radius, Range::positive);
-  t.velocity = r.vec3("velocity", t.velocity);
-  t.amplitude = r.vec3("amplitude", t.amplitude);
+  t.centre = L.vec3(r, "centre", t.centre);
+  t.radius = L.number(r, "radius", t.radius, Range::positive);
+  t.velocity = L.vec3(r, "velocity", t.velocity);
+  t.amplitude = L.vec3(r, "amplitude", t.amplitude);
   t.period = r.number("period", t.period, Range::non_negative);
   return t;
 }
 
-Branch read_branch(const TableReader& r, const std::vector<Branch>& known) {
+Branch read_branch(const TableReader& r, const Lengths& L, const std::vector<Branch>& known) {
   Branch b;
   b.name = unique_name(r, known, "branch");
   r.require("point");
-  b.point = r.vec3("point", b.point);
+  b.point = L.vec3(r, "point", b.point);
   const glm::dvec3 d = r.vec3("direction", b.direction);
   const double horizontal = std::hypot(d.x, d.z);
   // Horizontal-ish: at most about 6 degrees out of the horizontal plane.
   if (!(horizontal > 0) || std::abs(d.y) > 0.1 * horizontal)
     r.fail("direction", "expected a non-zero horizontal direction [x, 0, z]");
   b.direction = glm::dvec3(d.x / horizontal, 0.0, d.z / horizontal);
-  b.length = r.number("length", b.length, Range::positive);
+  b.length = L.number(r, "length", b.length, Range::positive);
   return b;
 }
 
@@ -180,7 +234,7 @@ Route read_route(const TableReader& r, const World& world) {
   return route;
 }
 
-Flock read_flock(const TableReader& r, size_t index, const Scenario& s,
+Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Lengths& L,
                  const std::vector<Flock>& known) {
   r.require("species");
   r.require("route");
@@ -191,10 +245,10 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s,
   f.species = io::index_by_name(s.species, *r.located_string("species"), "species");
   f.route = io::index_by_name(s.world.routes, *r.located_string("route"), "route");
   f.count = static_cast<uint32_t>(r.integer("count", f.count, 1, UINT32_MAX));
-  f.spawn_centre = r.vec3("centre", f.spawn_centre);
-  f.spawn_extent = r.vec3("extent", f.spawn_extent, Range::non_negative);
+  f.spawn_centre = L.vec3(r, "centre", f.spawn_centre);
+  f.spawn_extent = L.vec3(r, "extent", f.spawn_extent, Range::non_negative);
   f.heading = radians(r.number("heading", degrees(f.heading)));
-  f.speed = r.number("speed", f.speed, Range::non_negative);
+  f.speed = L.number(r, "speed", f.speed, Range::non_negative);
   f.frequency = r.number("frequency", f.frequency, Range::non_negative);
   f.amplitude = r.number("amplitude", f.amplitude, Range::non_negative);
   f.standing = r.boolean("standing", f.standing);
@@ -224,20 +278,22 @@ Scenario parse_scenario(std::string_view text, std::string_view source_name) {
   }
   const TableReader top(source_name, doc, "", kTopKeys);
   Scenario s;
-  read_simulation(top, source_name, s);
-  read_ground(top, s.world);
+  const Lengths lengths = read_units(top);
+  read_simulation(top, source_name, lengths, s);
+  read_wind(top, lengths, s.world);
+  read_ground(top, lengths, s.world);
   s.species = species_presets();
   read_all(top, "species", species_keys(), s.species,
            [&](const TableReader& r) { return read_species(r, s.species); });
   World& w = s.world;
   read_all(top, "targets", kTargetKeys, w.targets,
-           [&](const TableReader& r) { return read_target(r, w.targets); });
+           [&](const TableReader& r) { return read_target(r, lengths, w.targets); });
   read_all(top, "branches", kBranchKeys, w.branches,
-           [&](const TableReader& r) { return read_branch(r, w.branches); });
+           [&](const TableReader& r) { return read_branch(r, lengths, w.branches); });
   read_all(top, "routes", kRouteKeys, w.routes,
            [&](const TableReader& r) { return read_route(r, w); });
   read_all(top, "flocks", kFlockKeys, s.flocks,
-           [&](const TableReader& r) { return read_flock(r, s.flocks.size(), s, s.flocks); });
+           [&](const TableReader& r) { return read_flock(r, s.flocks.size(), s, lengths, s.flocks); });
   // Targets start at their centres (target_position at t = 0).
   for (const Target& t : w.targets) w.target_now.push_back(t.centre);
   try {

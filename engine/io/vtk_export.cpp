@@ -11,7 +11,9 @@
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkFieldData.h>
 #include <vtkPoints.h>
+#include <vtkStringArray.h>
 #include <vtkPolyData.h>
 #include <vtkType.h>
 #include <vtkUnsignedIntArray.h>
@@ -333,6 +335,14 @@ struct VtkExporter::Writer {
     failed = true;
   }
 
+  // Field data "length_unit": what the points' coordinates (world, Float64) are in.
+  static void add_length_unit(vtkPolyData* data) {
+    vtkNew<vtkStringArray> unit;
+    unit->SetName("length_unit");
+    unit->InsertNextValue("cm");
+    data->GetFieldData()->AddArray(unit);
+  }
+
   void write_frame(const Frame& frame) {
     const vtkIdType n = static_cast<vtkIdType>(frame.birds.size());
     vtkNew<vtkPoints> points;
@@ -377,6 +387,7 @@ struct VtkExporter::Writer {
     vtkPointData* pd = data->GetPointData();
     for (const auto& a : arrays) pd->AddArray(a);
     pd->SetActiveVectors("velocity");
+    add_length_unit(data);
 
     const std::string name = "frames/" + frame_name(collection.size());
     write_polydata(data, dir / name, compression);
@@ -446,6 +457,7 @@ struct VtkExporter::Writer {
     data->GetPointData()->AddArray(time);
     data->GetPointData()->AddArray(speed);
     data->GetCellData()->AddArray(bird_id);
+    add_length_unit(data);
     write_polydata(data, dir / "trajectories.vtp", compression);
     trajectories_stale = false;
     trajectories_written = Clock::now();

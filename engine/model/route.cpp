@@ -130,7 +130,7 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   if (b.target < n) return w.target_now[r.targets[b.target]];
   if (r.branch < 0) return w.target_now[r.targets[n - 1]];
   const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
-  return r.path_control ? landing_goal(b, s, br, w.wind) : perch_point(s, br);  // or straight in
+  return r.path_control ? landing_goal(b, s, br, wind_at(w, b.position.y)) : perch_point(s, br);  // or straight in
 }
 
 std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const World& w) {
@@ -157,7 +157,8 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     b.landing_stage = LandingStage::none;
   } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&
              (distance <= s.brake_distance ||
-              flare_share(s, glm::length(b.velocity - w.wind), perch_airspeed(s, to_perch, w.wind), distance) >= kBrakeShare)) {
+              flare_share(s, glm::length(b.velocity - wind_at(w, b.position.y)),
+                          perch_airspeed(s, to_perch, wind_at(w, b.position.y)), distance) >= kBrakeShare)) {
     b.mode = FlightMode::landing;
     b.mode_time = 0.0;
   }

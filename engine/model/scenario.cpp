@@ -16,8 +16,21 @@ void validate(const Scenario& s) {
   if (s.species.empty()) fail("no species");
   for (const Species& sp : s.species) validate(sp);
   const World& w = s.world;
-  for (const Target& t : w.targets)
+  if (!(w.wind_height > 0.0) || !std::isfinite(w.wind_height)) fail("wind_height must be > 0");
+  if (!(w.wind_exponent >= 0.0 && w.wind_exponent <= 1.0)) fail("wind_exponent must be within [0, 1]");
+  if (!(w.wind_roughness > 0.0 && w.wind_roughness < w.wind_height))
+    fail("wind_roughness must be > 0 and below wind_height");
+  // The world the device keeps exact (gpu/host_device.h: world tiles).
+  auto within_world = [&](const glm::dvec3& p, const std::string& what) {
+    if (!(std::fabs(p.x) <= kWorldRadius && std::fabs(p.z) <= kWorldRadius))
+      fail(what + " lies farther than 20,000 km from the origin");
+  };
+  for (const Target& t : w.targets) {
     if (!(t.radius > 0.0)) fail("target '" + t.name + "': radius must be > 0");
+    within_world(t.centre, "target '" + t.name + "'");
+  }
+  for (const Branch& b : w.branches) within_world(b.point, "branch '" + b.name + "'");
+  for (const Flock& f : s.flocks) within_world(f.spawn_centre, "flock '" + f.name + "'");
   for (const Route& r : w.routes) {
     if (r.targets.empty() && r.branch < 0) fail("route '" + r.name + "' has no targets");
     if (r.loop && r.targets.size() < 2) fail("route '" + r.name + "' loops over fewer than 2 targets");
@@ -35,6 +48,15 @@ void validate(const Scenario& s) {
     if (f.route >= w.routes.size()) fail("flock '" + f.name + "': route out of range");
     if (f.count < 1) fail("flock '" + f.name + "': count must be >= 1");
   }
+}
+
+Scenario moved_by(Scenario s, const glm::dvec3& offset) {
+  for (Target& t : s.world.targets) t.centre += offset;
+  for (glm::dvec3& p : s.world.target_now) p += offset;
+  for (Branch& b : s.world.branches) b.point += offset;
+  for (Flock& f : s.flocks) f.spawn_centre += offset;
+  s.world.ground_height += offset.y;
+  return s;
 }
 
 bool any_flocking(const Scenario& s) {

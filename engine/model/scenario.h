@@ -49,6 +49,12 @@ struct Scenario {
 // Throws std::invalid_argument naming what is wrong (indices out of range, dt <= 0, ...).
 void validate(const Scenario& s);
 
+// How far out (x, z) a scenario may place anything: 20,000 km, in cm.
+inline constexpr double kWorldRadius = 2.0e9;
+
+// The same scenario moved by `offset` (cm): targets, branches, spawn boxes and the ground.
+Scenario moved_by(Scenario s, const glm::dvec3& offset);
+
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);
 

@@ -46,8 +46,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
   const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double to_perch = way ? glm::length(*way) : -1.0;
+  const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, w.wind, approach_speed(sp, to_perch), braking);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind, approach_speed(sp, to_perch), braking);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
@@ -62,8 +63,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   c.opening = tail_opening(sp, b);
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
-  const double airspeed = glm::length(b.velocity - w.wind);
-  const double air_climb = b.velocity.y - w.wind.y;
+  const double airspeed = glm::length(b.velocity - wind);
+  const double air_climb = b.velocity.y - wind.y;
   const double commanded = commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
@@ -81,7 +82,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
   // the arms' incidence rises by brake_incidence at full flare, over bank_time.
   const double flare =
-      braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, w.wind), to_perch) : 0.0;
+      braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, wind), to_perch) : 0.0;
   c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up.
@@ -111,7 +112,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
     const double distance = glm::length(horizontal(goal - b.position));
     const double circle = full_bank_radius(sp, speed);
     c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y,
-                                           glm::length(horizontal(w.wind)));
+                                           glm::length(horizontal(wind)));
     // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
@@ -136,7 +137,7 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
-  const dvec3 body_wind = to_body * w.wind;
+  const dvec3 body_wind = to_body * wind_at(w, b.position.y);
   const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_wind - body_velocity, c.omega);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
@@ -186,7 +187,8 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
   }
   if (b.mode == FlightMode::standing) {
     // A bird takes off into the wind: turned away from it, it would first fall back through it.
-    if (heeds_wind(sp, glm::length(horizontal(w.wind)))) b.attitude = facing(-w.wind);
+    const dvec3 wind = wind_at(w, b.position.y);
+    if (heeds_wind(sp, glm::length(horizontal(wind)))) b.attitude = facing(-wind);
     b.mode = FlightMode::taking_off;
     b.mode_time = 0.0;
     b.frequency = sp.f_max;

@@ -39,6 +39,11 @@ struct Route {
 
 enum class TurningModel : uint32_t { tail = 0, fixed_rate = 1 };
 
+// How the wind grows with height h above the ground: uniform (the same everywhere), a power law
+// (h / h_ref)^alpha, or logarithmic ln(h / z0) / ln(h_ref / z0) (none below z0); the wind is
+// World::wind at h_ref = wind_height.
+enum class WindProfile : uint32_t { uniform = 0, power_law = 1, logarithmic = 2 };
+
 struct World {
   std::vector<Target> targets;
   std::vector<Route> routes;
@@ -46,10 +51,17 @@ struct World {
   double ground_height = 0.0;  // cm
   bool ground_effect = true;   // eq. 15 on or off
   TurningModel turning = TurningModel::tail;
-  glm::dvec3 wind{0.0};        // cm/s
+  glm::dvec3 wind{0.0};        // cm/s, at wind_height (every height: uniform)
+  WindProfile wind_profile = WindProfile::uniform;
+  double wind_height = 1000.0;    // h_ref, cm above the ground
+  double wind_exponent = 1.0 / 7.0;  // alpha of the power law (open country)
+  double wind_roughness = 3.0;    // z0 of the logarithmic profile, cm (short grass)
   // Where each target is now: the host moves targets between frames.
   std::vector<glm::dvec3> target_now;
   void move_targets(double time);
 };
+
+// The wind at world height y (cm).
+glm::dvec3 wind_at(const World& w, double y);
 
 }  // namespace aeroflock

@@ -323,6 +323,17 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
   return u;
 }
 
+// --- The wind (world.cpp) ---------------------------------------------------------------------
+
+// At world height y: pc.wind_ground.xyz at pc.wind_height above the ground, by the profile.
+vec3 wind_at(float y) {
+  if (pc.wind_profile == 0u) return pc.wind_ground.xyz;
+  float h = y - pc.wind_ground.w;
+  if (pc.wind_profile == 1u) return h > 0.0 ? pc.wind_ground.xyz * pow(h / pc.wind_height, pc.wind_exponent) : vec3(0.0);
+  return h > pc.wind_roughness ? pc.wind_ground.xyz * (log(h / pc.wind_roughness) / log(pc.wind_height / pc.wind_roughness))
+                               : vec3(0.0);
+}
+
 // --- Route and landing (route.cpp) ------------------------------------------------------------
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
@@ -425,7 +436,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, pc.wind_ground.xyz) : perch_point(b, s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, wind_at(b.position.y)) : perch_point(b, s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -462,7 +473,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance ||
-              flare_share(s, length(b.velocity - pc.wind_ground.xyz), perch_airspeed(s, to_perch, pc.wind_ground.xyz), d) >= kBrakeShare)) {
+              flare_share(s, length(b.velocity - wind_at(b.position.y)), perch_airspeed(s, to_perch, wind_at(b.position.y)), d) >= kBrakeShare)) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }
@@ -502,7 +513,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   Commands c;
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
-  vec3 wind = pc.wind_ground.xyz;
+  vec3 wind = wind_at(b.position.y);
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
@@ -560,7 +571,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
 // what is read survives compilation: the stepping loop keeps the total and the torque.
 GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
-  vec3 body_air = rotate_back(b.attitude, pc.wind_ground.xyz - b.velocity);
+  vec3 body_air = rotate_back(b.attitude, wind_at(b.position.y) - b.velocity);
   WingPoint right[2];
   right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right[0], right[1]);
   // The aerodynamic forces are summed in the body frame and turned to the world once.
@@ -637,7 +648,8 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     return no_forces();
   }
   if (b.mode == mode_standing) {
-    if (heeds_wind(s, length(pc.wind_ground.xz))) b.attitude = facing(-pc.wind_ground.xyz);  // step.cpp
+    vec3 wind = wind_at(b.position.y);
+    if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // step.cpp
     b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
