@@ -24,6 +24,7 @@
 #include "model/tail.h"
 #include "model/trim.h"
 #include "model/wingbeat.h"
+#include "model/world.h"
 
 namespace aeroflock {
 namespace {
@@ -802,6 +803,35 @@ TEST(Cruise, EagleGlideDragIsAboutHalfItsWeight) {
   const double drag = -avg.force.x;
   EXPECT_GT(drag, 0.3 * weight) << "drag / weight " << drag / weight;
   EXPECT_LT(drag, 0.7 * weight) << "drag / weight " << drag / weight;
+}
+
+}  // namespace
+}  // namespace aeroflock
+
+namespace aeroflock {
+namespace {
+
+// The wind's height profile (world.h), against hand-computed values: 4 m/s at 10 m.
+TEST(Wind, ProfilesAtGivenHeights) {
+  World w;
+  w.wind = glm::dvec3(300.0, 0.0, 400.0);
+  w.ground_height = 1000.0;  // heights are above the ground
+  w.wind_height = 1000.0;
+  EXPECT_EQ(wind_at(w, 1.0e5), w.wind);  // uniform: everywhere
+  EXPECT_EQ(wind_at(w, -50.0), w.wind);
+  w.wind_profile = WindProfile::power_law;
+  w.wind_exponent = 1.0 / 7.0;
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 1000.0)), 500.0, 1e-9);            // at h_ref
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 861.2777, 1e-3);         // 500 (45)^(1/7)
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 100.0)), 359.8428, 1e-3);           // 500 (0.1)^(1/7)
+  EXPECT_EQ(wind_at(w, 1000.0), glm::dvec3(0.0));                                 // none on the ground
+  EXPECT_NEAR(wind_at(w, 1000.0 + 45000.0).x / wind_at(w, 1000.0 + 45000.0).z, 0.75, 1e-12);  // same direction
+  w.wind_profile = WindProfile::logarithmic;
+  w.wind_roughness = 3.0;
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 1000.0)), 500.0, 1e-9);
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 827.6441, 1e-3);  // 500 ln(15000) / ln(333.3)
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 30.0)), 198.1863, 1e-3);     // 500 ln(10) / ln(333.3)
+  EXPECT_EQ(wind_at(w, 1000.0 + 2.0), glm::dvec3(0.0));                    // below z0
 }
 
 }  // namespace

@@ -217,12 +217,18 @@ const std::map<std::string, double> kStateTolerance = {
 
 TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  // In still air and in a wind (crabbing, banking for the airspeed, landing into the wind).
+  // In still air and in a wind (crabbing, banking for the airspeed, landing into the wind), the
+  // same at every height or growing with it (world.h: WindProfile).
+  for (const WindProfile profile : {WindProfile::uniform, WindProfile::power_law, WindProfile::logarithmic})
   for (const dvec3& wind : {dvec3{0.0}, dvec3{300.0, 0.0, -200.0}}) {
-    const std::string in = glm::length(wind) > 0.0 ? "wind_" : "calm_";
+    if (profile != WindProfile::uniform && wind == dvec3{0.0}) continue;
+    const std::string in = glm::length(wind) == 0.0 ? "calm_" : profile == WindProfile::uniform ? "wind_"
+                           : profile == WindProfile::power_law ? "power_law_wind_" : "logarithmic_wind_";
     SCOPED_TRACE(in);
     Scenario scenario = probe_scenario();
     scenario.world.wind = wind;
+    scenario.world.wind_profile = profile;
+    scenario.world.wind_exponent = 0.2;
     const std::vector<BirdState> birds = random_birds(scenario, 12000, 7);
     gpu::GpuSimulation gpu_sim(device, scenario, birds);
     gpu_sim.step(0, true);  // no step: the forces of the next step from the state as given

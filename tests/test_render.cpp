@@ -16,36 +16,13 @@
 #include "model/simulation.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
+#include "render_image.h"
 
 namespace aeroflock {
 namespace {
 
-struct Image {
-  uint32_t width, height;
-  std::vector<uint8_t> rgba;
-  glm::ivec3 at(int x, int y) const {
-    const size_t i = (size_t(y) * width + x) * 4;
-    return {rgba[i], rgba[i + 1], rgba[i + 2]};
-  }
-};
-
-// Renders the birds of `sim` as they are, seen by `camera`.
-Image render(const gpu::Device& device, gpu::GpuSimulation& sim, const render::Camera& camera,
-             VkExtent2D size) {
-  render::Renderer renderer(device, sim.scenario(), render::Offscreen::kFormat, size);
-  render::Offscreen target(device, size);
-  gpu::Submitter submitter(device, 1);
-  render::View view;
-  view.camera = camera;
-  view.show_targets = false;
-  sim.birds();  // the last frame has finished
-  submitter.run([&](VkCommandBuffer cmd) {
-    renderer.record(cmd, target.image(), target.view(), sim.bird_buffer(), sim.bird_count(),
-                    sim.world(), view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    target.record_copy(cmd);
-  });
-  return {size.width, size.height, target.pixels()};
-}
+using testing::Image;
+using testing::render;
 
 // Pixel coordinates of a world point.
 glm::vec2 project(const render::Camera& camera, VkExtent2D size, const glm::dvec3& p) {

@@ -242,12 +242,108 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:20:16: error: species[0].perch_radius: species 'x': perch_radius must be <= brake_distance"},
       {"turning", replace(kValid, "dt = 0.0003", "turning = \"left\""),
        "bad.toml:2:11: error: simulation.turning: expected \"tail\" or \"fixed-rate\""},
+      {"length unit", "[units]\nlength = \"furlong\"\n" + kValid,
+       "bad.toml:2:10: error: units.length: expected \"mm\", \"cm\", \"m\" or \"km\", got \"furlong\""},
+      {"length unit type", "[units]\nlength = 100\n" + kValid, "bad.toml:2:10: error: units.length: expected a string"},
+      {"wind profile", kValid + "[wind]\nprofile = \"cubic\"\n",
+       "bad.toml:17:11: error: wind.profile: expected \"uniform\", \"power-law\" or \"logarithmic\", got \"cubic\""},
+      {"wind exponent", kValid + "[wind]\nexponent = 1.5\n",
+       "bad.toml:17:12: error: wind.exponent: expected a number within [0, 1], got 1.5"},
+      {"wind roughness", kValid + "[wind]\nheight = 500.0\nroughness = 600.0\n",
+       "bad.toml:18:13: error: wind.roughness: the roughness length must be below the reference height"},
+      {"wind twice", replace(kValid, "dt = 0.0003", "wind = [100.0, 0.0, 0.0]") + "[wind]\nvelocity = [1.0, 0.0, 0.0]\n",
+       "bad.toml:2:8: error: simulation.wind: the wind is set in [wind] too"},
+      {"beyond 20,000 km", replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [3.0e9, 3000.0, 0.0]"),
+       "bad.toml: error: target 't1' lies farther than 20,000 km from the origin"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);
     const std::string message = error_of(c.text);
     EXPECT_EQ(message.substr(0, c.message.size()), c.message) << message;
   }
+}
+
+TEST(ScenarioFile, LengthsInTheFilesUnit) {
+  // Every length and speed of the world in the [units] length; species keep theirs.
+  const std::string world = R"(
+[simulation]
+wind = [2.0, 0.0, -1.0]
+
+[ground]
+height = 12.5
+
+[[targets]]
+name = "t1"
+centre = [500.0, 0.3, -2.0]
+radius = 0.05
+velocity = [0.001, 0.0, 0.0]
+amplitude = [0.0, 0.01, 0.0]
+period = 4.0
+
+[[branches]]
+name = "b"
+point = [1.0, 0.002, 0.0]
+length = 0.0015
+
+[[routes]]
+name = "r"
+targets = ["t1"]
+
+[[flocks]]
+species = "starling"
+route = "r"
+centre = [499.0, 0.3, 0.0]
+extent = [0.01, 0.002, 0.01]
+speed = 0.012
+
+[[species]]
+name = "s"
+base = "starling"
+perception_radius = 1500.0
+)";
+  for (const auto& [unit, cm] : {std::pair{"mm", 0.1}, {"cm", 1.0}, {"m", 100.0}, {"km", 1.0e5}}) {
+    SCOPED_TRACE(unit);
+    const Scenario s = parse_scenario("[units]\nlength = \"" + std::string(unit) + "\"\n" + world, "u.toml");
+    const World& w = s.world;
+    EXPECT_DOUBLE_EQ(w.wind.x, 2.0 * cm);
+    EXPECT_DOUBLE_EQ(w.wind.z, -1.0 * cm);
+    EXPECT_DOUBLE_EQ(w.ground_height, 12.5 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].centre.x, 500.0 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].centre.y, 0.3 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].radius, 0.05 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].velocity.x, 0.001 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].amplitude.y, 0.01 * cm);
+    EXPECT_DOUBLE_EQ(w.targets[0].period, 4.0);  // seconds stay seconds
+    EXPECT_DOUBLE_EQ(w.branches[0].point.y, 0.002 * cm);
+    EXPECT_DOUBLE_EQ(w.branches[0].length, 0.0015 * cm);
+    EXPECT_DOUBLE_EQ(s.flocks[0].spawn_centre.x, 499.0 * cm);
+    EXPECT_DOUBLE_EQ(s.flocks[0].spawn_extent.y, 0.002 * cm);
+    EXPECT_DOUBLE_EQ(s.flocks[0].speed, 0.012 * cm);
+    EXPECT_DOUBLE_EQ(species_named(s, "s").perception_radius, 1500.0);  // species.def's cm
+  }
+  // Without [units]: cm.
+  EXPECT_DOUBLE_EQ(parse_scenario(world, "u.toml").world.targets[0].centre.x, 500.0);
+}
+
+TEST(ScenarioFile, WindProfile) {
+  const Scenario s = parse_scenario(kValid + R"(
+[units]
+length = "m"
+
+[wind]
+velocity = [3.0, 0.0, 4.0]
+profile = "logarithmic"
+height = 10.0
+roughness = 0.03
+)", "w.toml");
+  EXPECT_EQ(s.world.wind_profile, WindProfile::logarithmic);
+  EXPECT_DOUBLE_EQ(s.world.wind.z, 400.0);
+  EXPECT_DOUBLE_EQ(s.world.wind_height, 1000.0);
+  EXPECT_DOUBLE_EQ(s.world.wind_roughness, 3.0);
+  const Scenario p = parse_scenario(kValid + "[wind]\nprofile = \"power-law\"\nexponent = 0.2\n", "w.toml");
+  EXPECT_EQ(p.world.wind_profile, WindProfile::power_law);
+  EXPECT_DOUBLE_EQ(p.world.wind_exponent, 0.2);
+  EXPECT_DOUBLE_EQ(p.world.wind_height, 1000.0);  // the default reference: 10 m
 }
 
 TEST(ScenarioFile, ErrorsNameTheFileTheyCameFrom) {

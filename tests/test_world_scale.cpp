@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -16,11 +17,13 @@
 #include "gpu/layout.h"
 #include "flock_run.h"
 #include "gpu_test_device.h"
+#include "io/image.h"
 #include "io/scenario_file.h"
 #include "model/flock_geometry.h"
 #include "model/simulation.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
+#include "render_image.h"
 
 namespace aeroflock {
 namespace {
@@ -104,7 +107,7 @@ TEST(WorldScale, TiledPositionsRoundTripToTheMicrometre) {
 // Each bird on its own (the default scenario with flocking off, as issue 12 measured it): both
 // backends fly the same at every offset, bird for bird.
 TEST(WorldScale, EveryBirdFliesTheSameAtEveryOffsetOnBothBackends) {
-  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  AEROFLOCK_DEVICE_OR_SKIP(device, true);  // one device for the program: it draws too
   constexpr double kSeconds = 20.0;
   std::vector<Flight> cpu, vulkan;
   for (const double x : kOffsets) {
@@ -144,7 +147,7 @@ TEST(WorldScale, EveryBirdFliesTheSameAtEveryOffsetOnBothBackends) {
 // 0.3 % of the distance flown apart after 20 s), so the flock is compared by what it shows: the
 // same targets and the flock metrics within the CPU-to-Vulkan tolerances (test_flock_vulkan.cpp).
 TEST(WorldScale, TheFlockFliesTheSameAtEveryOffsetOnVulkan) {
-  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  AEROFLOCK_DEVICE_OR_SKIP(device, true);  // one device for the program: it draws too
   std::vector<Flight> runs;
   for (const double x : kOffsets) {
     gpu::GpuSimulation sim(device, default_at(dvec3(x, 0.0, 0.0), true));
@@ -168,6 +171,63 @@ TEST(WorldScale, TheFlockFliesTheSameAtEveryOffsetOnVulkan) {
                 "(%.4f), too close %.4f (%.4f)\n",
                 km, b.mean_median_nearest, a.mean_median_nearest, b.mean_polarisation, a.mean_polarisation,
                 b.mean_largest_cluster, a.mean_largest_cluster, b.mean_too_close, a.mean_too_close);
+  }
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// The same flock 1,000 km out is drawn as at the origin (the renderer draws from the camera's
+// tile: host_device.h, FrameConstants): from where the flock is framed, and close up.
+TEST(WorldScale, APictureOfTheFlockAThousandKilometresOutIsTheOneAtTheOrigin) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, true);
+  const Scenario scenario = load_scenario("default");
+  CpuSimulation flown(scenario);
+  while (flown.time() < 3.0 - 1e-9) flown.step_frame();
+  const VkExtent2D size{480, 270};
+  std::vector<testing::Image> framed, close;
+  // About 1,000 km east and 300 km north: whole pairs of the ground's 10.24 m squares, so that the
+  // ground looks the same under the flock.
+  constexpr double kPair = 2048.0;
+  for (const dvec3 offset : {dvec3(0.0), dvec3(std::round(1000 * kKm / kPair) * kPair, 0.0, -std::round(300 * kKm / kPair) * kPair)}) {
+    std::vector<BirdState> birds = flown.birds();
+    for (BirdState& b : birds) {
+      b.position += offset;
+      b.landing_start += offset;
+      b.via_point += offset;
+    }
+    gpu::GpuSimulation sim(device, moved_by(scenario, offset), birds);
+    render::Camera camera;
+    camera.origin = flock_extent(birds).centre;
+    camera.target = glm::vec3(0.0f);
+    camera.eye = glm::vec3(-1800.0f, 800.0f, -1500.0f);
+    framed.push_back(testing::render(device, sim, camera, size, true));
+    camera.origin = birds[0].position;  // a starling 1.2 m away
+    camera.eye = glm::vec3(-80.0f, 40.0f, -100.0f);
+    close.push_back(testing::render(device, sim, camera, size));
+  }
+  for (const auto* pictures : {&framed, &close}) {
+    const testing::Image& a = (*pictures)[0];
+    const testing::Image& b = (*pictures)[1];
+    size_t differ = 0, background = 0;
+    for (uint32_t y = 0; y < size.height; ++y)
+      for (uint32_t x = 0; x < size.width; ++x) {
+        const glm::ivec3 d = glm::abs(a.at(x, y) - b.at(x, y));
+        differ += std::max({d.x, d.y, d.z}) > 8;
+        background += a.at(x, y) == a.at(0, 0);
+      }
+    const double share = double(differ) / double(size.width * size.height);
+    std::printf("%s: %zu of %u pixels differ (%.4f %%); %.1f %% of the picture is not sky\n",
+                pictures == &framed ? "framed" : "close up", differ, size.width * size.height, 100 * share,
+                100.0 - 100.0 * double(background) / double(size.width * size.height));
+    EXPECT_LT(share, 1e-3);  // a few edge pixels at most
+    if (const char* dir = std::getenv("AEROFLOCK_TEST_PICTURES")) {
+      const std::string stem = std::string(dir) + "/" + (pictures == &framed ? "framed" : "close");
+      write_png(stem + "_origin.png", size.width, size.height, a.rgba);
+      write_png(stem + "_1000km.png", size.width, size.height, b.rgba);
+      std::vector<uint8_t> diff(a.rgba.size(), 255);
+      for (size_t i = 0; i < diff.size(); i += 4)
+        for (int c = 0; c < 3; ++c) diff[i + c] = uint8_t(std::min(255, 16 * std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c]))));
+      write_png(stem + "_diff.png", size.width, size.height, diff);
+    }
   }
   EXPECT_EQ(device.validation_errors(), 0u);
 }

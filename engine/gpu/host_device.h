@@ -198,21 +198,23 @@ struct DrawCommand {  // VkDrawIndirectCommand
 
 // Push constants of pose.comp.
 struct PoseConstants {
-  AF_V16 vec4 eye;    // xyz camera position, from the centre of tile (tile_x, tile_z)
+  AF_V16 vec4 eye;    // xyz the eye, from the centre of tile (tile_x, tile_z) (FrameConstants)
   uint bird_count;
   uint capacity;      // of each list
   float lod_scale;    // a bird farther than its span times this is distant
-  int tile_x;         // the tile the picture is drawn around (FrameConstants)
+  int tile_x;
   int tile_z;
   uint pad0, pad1, pad2;
 };
 
 // Push constants of every render shader (frame.glsl): the camera and the light. Everything is
-// drawn from the centre of tile (tile_x, tile_z), the camera's, so that a flock 1,000 km out is
-// drawn in small floats as one at the origin.
+// drawn from the eye (view_projection has it at the origin), so that a flock 1,000 km out is drawn
+// in small floats as one at the origin, and the view rays are exact; eye is where the eye is, from
+// the centre of its tile (tile_x, tile_z): what is drawn is moved by -eye and the whole tiles
+// between.
 struct FrameConstants {
   AF_V16 mat4 view_projection;
-  AF_V16 vec4 eye;        // xyz camera position (cm, from the tile), w time (s)
+  AF_V16 vec4 eye;        // xyz the eye (cm, from its tile's centre; y: world height), w time (s)
   AF_V16 vec4 sun;        // xyz towards the sun, w fog density (1/cm)
   AF_V16 vec4 fog_color;  // rgb, w ground height
   uint list_offset;       // where the draw's birds start in the lists (bird.vert)

@@ -20,8 +20,8 @@ using io::TableReader;
 
 using Keys = std::span<const std::string_view>;
 
-constexpr std::string_view kTopKeys[] = {"units",    "simulation", "wind",   "ground",
-                                         "species",  "targets",    "branches", "routes", "flocks"};
+constexpr std::string_view kTopKeys[] = {"simulation", "ground",  "units",    "wind",  "species",
+                                         "targets",    "branches", "routes", "flocks"};
 constexpr std::string_view kUnitsKeys[] = {"length"};
 constexpr std::string_view kWindKeys[] = {"velocity", "profile", "height", "exponent", "roughness"};
 constexpr std::string_view kSimulationKeys[] = {

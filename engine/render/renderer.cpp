@@ -411,12 +411,14 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
       VkDrawIndirectCommand{r.distant_vertices, 0, r.bird_vertices, 0}};
   vkCmdUpdateBuffer(cmd, r.draws->handle(), 0, sizeof empty_draws, empty_draws.data());
   gpu::barrier_to_compute(cmd);
-  // Everything is drawn from the centre of the camera's tile (host_device.h: FrameConstants).
-  const gpu::Tiled tile = gpu::tiled(view.camera.eye_world());
-  const Camera camera = view.camera.from(tile.centre);
+  // Everything is drawn from the eye (host_device.h: FrameConstants).
+  const glm::dvec3 eye_world = view.camera.eye_world();
+  const gpu::Tiled tile = gpu::tiled(eye_world);
+  const glm::vec4 eye_in_tile(glm::vec3(eye_world - tile.centre), view.time);
+  const Camera camera = view.camera.from(eye_world);
   const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * camera.fov_y);
-  const PoseConstants pose{glm::vec4(camera.eye, 0.0f), bird_count, r.pose_capacity,
-                           focal_pixels / kDetailPixels, tile.tile.x, tile.tile.y};
+  const PoseConstants pose{eye_in_tile, bird_count, r.pose_capacity, focal_pixels / kDetailPixels, tile.tile.x,
+                           tile.tile.y};
   if (bird_count > 0)
     r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose,
                              sizeof pose);
@@ -454,7 +456,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
 
   FrameConstants frame{};
   frame.view_projection = camera.view_projection(float(r.extent.width) / float(r.extent.height));
-  frame.eye = glm::vec4(camera.eye, view.time);
+  frame.eye = eye_in_tile;
   frame.tile_x = tile.tile.x;
   frame.tile_z = tile.tile.y;
   frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);

@@ -35,7 +35,7 @@ void main() {
 
   vec4 q = b.attitude;
   mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
-  vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z);  // from the camera's tile
+  vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z) - pc.eye.xyz;  // from the eye
 
   // Body: the box a x b x b.
   store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
@@ -65,7 +65,7 @@ void main() {
   store(i, 3u, attitude * tail * s.tail_length, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
   // Detailed or distant: how wide the bird is on screen (its span about three body lengths).
   float span = 3.0 * s.box_a;
-  uint list = distance(position, pc.eye.xyz) > span * pc.lod_scale ? 1u : 0u;
+  uint list = length(position) > span * pc.lod_scale ? 1u : 0u;
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
   // The tail's opening as the model has it now: fully open while braking to land.

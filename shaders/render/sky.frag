@@ -14,8 +14,8 @@ void main() {
   float height = frame.eye.y - frame.fog_color.w;  // fog_color.w: ground height
   if (ray.y < 0.0 && height > 0.0) {
     float t = height / -ray.y;
-    vec3 hit = frame.eye.xyz + t * ray;
-    vec2 cell = floor(hit.xz / 1024.0);  // 16 squares a tile: the same wherever the camera's tile is
+    vec3 hit = t * ray;
+    vec2 cell = floor((hit.xz + frame.eye.xz) / 1024.0);  // from the eye's tile: 16 squares a tile
     float checker = mod(cell.x + cell.y, 2.0);
     vec3 grass = mix(vec3(0.30, 0.42, 0.22), vec3(0.34, 0.47, 0.25), checker);
     out_color = vec4(shade(grass, vec3(0, 1, 0), hit), 1.0);

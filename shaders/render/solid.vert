@@ -1,6 +1,6 @@
 #version 450
 // Target spheres and branches: a unit mesh per instance, placed and scaled from the world's
-// buffers (targets: centre and radius; branches: point and direction), from the camera's tile.
+// buffers (targets: centre and radius; branches: point and direction), from the eye.
 #extension GL_GOOGLE_include_directive : require
 
 #include "frame.glsl"
@@ -23,18 +23,18 @@ void main() {
   vec3 world, normal = in_normal;
   if (kKind == 0u) {
     GpuTarget t = targets[gl_InstanceIndex];
-    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) + t.centre_radius.w * in_position;
+    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz + t.centre_radius.w * in_position;
   } else if (kKind == 2u) {
     uvec2 ends = segments[gl_InstanceIndex];
     GpuTarget t = targets[gl_VertexIndex == 0 ? ends.x : ends.y];
-    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z);
+    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz;
     normal = vec3(0.0, 1.0, 0.0);
   } else {
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
     mat3 m = mat3(along, up, across);
     // A branch 1 m long and 4 cm thick, its top at the perch point.
-    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) +
+    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz +
             m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
     normal = m * in_normal;
   }
