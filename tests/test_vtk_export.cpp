@@ -9,6 +9,8 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkFieldData.h>
+#include <vtkStringArray.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include <cmath>
@@ -280,6 +282,41 @@ TEST(VtkExport, UncompressedAndASingleFrame) {
   EXPECT_EQ(traj->GetNumberOfPoints(), 5);
   EXPECT_EQ(traj->GetNumberOfCells(), 5);
   EXPECT_NE(traj->GetCellData()->GetArray("bird_id"), nullptr);
+}
+
+// Positions are Float64 in world coordinates, and the files say their length unit: a flock
+// 1,000 km out reads back to the millimetre (to the last bit, in fact).
+TEST(VtkExport, AFrameAThousandKilometresOutReadsBackToTheMillimetre) {
+  VtkOptions options;
+  options.dir = fresh_dir("far");
+  const glm::dvec3 offset(1.0e8, 0.0, -3.0e7);
+  const Scenario scenario = moved_by(load_scenario("fig21-moving-target"), offset);
+  CpuSimulation sim(scenario, 5);
+  for (int i = 0; i < 3; ++i) sim.step_frame();
+  {
+    VtkExporter exporter(options, sim.scenario(), sim.birds().size());
+    sim.step_frame(true);
+    exporter.offer(sim.snapshot());
+    exporter.finish();
+  }
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 1u);
+  vtkSmartPointer<vtkPolyData> frame = read_vtp(options.dir / pvd[0].file);
+  ASSERT_EQ(frame->GetNumberOfPoints(), 5);
+  EXPECT_EQ(frame->GetPoints()->GetDataType(), VTK_DOUBLE);
+  for (vtkIdType i = 0; i < 5; ++i) {
+    double p[3];
+    frame->GetPoint(i, p);
+    const glm::dvec3 want = sim.birds()[size_t(i)].position;
+    EXPECT_GT(want.x, 0.99e8);  // really out there
+    EXPECT_LT(glm::length(glm::dvec3(p[0], p[1], p[2]) - want), 0.1) << "bird " << i;  // cm
+  }
+  vtkSmartPointer<vtkPolyData> trajectories = read_vtp(options.dir / "trajectories.vtp");
+  for (vtkPolyData* data : {frame.Get(), trajectories.Get()}) {
+    auto* unit = vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray("length_unit"));
+    ASSERT_NE(unit, nullptr);
+    EXPECT_EQ(unit->GetValue(0), "cm");
+  }
 }
 
 TEST(VtkExport, NoFramesStillWritesValidFiles) {
