@@ -163,13 +163,8 @@ int run(const RunOptions& opt) {
     sim->step_frame(vtk && vtk->due(sim->frames() + 1));
     if (images) images->frame(*sim, frame);
     if (vtk) vtk->offer_ready(*sim);
-    if (progress.due() || frame + 1 == frames) {
-      const double w = wall();
-      char line[128];
-      std::snprintf(line, sizeof line, "t = %.2f / %.2f s   %zu birds   %.3g bird-steps/s", sim->time(),
-                    seconds, birds, w > 0 ? birds * double(sim->steps()) / w : 0.0);
-      progress.show(line);
-    }
+    if (progress.due() || frame + 1 == frames)
+      progress.show(run_progress(sim->time(), seconds, birds, double(sim->steps()), wall()));
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace aeroflock {
@@ -27,6 +29,30 @@ void Progress::clear() {
 
 void Progress::finish() {
   if (enabled_) std::fputs("\n", stderr);
+}
+
+std::string human_duration(double seconds) {
+  char text[48];
+  const long s = std::lround(std::max(0.0, seconds));
+  if (s < 60)
+    std::snprintf(text, sizeof text, "%ld s", s);
+  else if (s < 3600)
+    std::snprintf(text, sizeof text, "%ld min %02ld s", s / 60, s % 60);
+  else
+    std::snprintf(text, sizeof text, "%ld h %02ld min", s / 3600, s / 60 % 60);
+  return text;
+}
+
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double steps, double wall_seconds) {
+  char text[192];
+  int n = std::snprintf(text, sizeof text, "t = %.2f / %.2f s (%.0f %%)   %zu birds", sim_seconds, total_seconds,
+                        100.0 * sim_seconds / total_seconds, birds);
+  if (wall_seconds > 0.0 && sim_seconds > 0.0) {
+    const double pace = sim_seconds / wall_seconds;  // simulated seconds per wall second
+    std::snprintf(text + n, sizeof text - size_t(n), "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
+                  double(birds) * steps / wall_seconds, human_duration((total_seconds - sim_seconds) / pace).c_str());
+  }
+  return text;
 }
 
 }  // namespace aeroflock

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <string>
 
 namespace aeroflock {
@@ -23,5 +24,12 @@ class Progress {
   bool enabled_;
   std::chrono::steady_clock::time_point last_{};
 };
+
+// A duration for people: "42 s", "7 min 12 s", "2 h 05 min".
+std::string human_duration(double seconds);
+
+// The run's line: simulated time of all (and the share done), the birds, how fast against the
+// wall clock (times real time, bird-steps per second) and the wall time left at that pace.
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double steps, double wall_seconds);
 
 }  // namespace aeroflock
