@@ -76,6 +76,28 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
+// The same 1,000 km east and 300 km north: the grid's cells and the birds' places in them are
+// exact on the device (world tiles), so it finds what it finds at the origin.
+TEST(GpuFlock, SameNeighboursAndSocialGoalAThousandKilometresOut) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const dvec3 offset(1.0e8, 0.0, -3.0e7);
+  const Scenario scenario = flocking_scenario();
+  CpuSimulation flown(scenario);
+  while (flown.time() < 5.0) flown.step_frame();
+  std::vector<BirdState> birds = flown.birds();
+  for (BirdState& b : birds) b.position += offset;
+  const Compared c = perceive_on_both(device, moved_by(scenario, offset), birds);
+  EXPECT_GT(c.seeing, c.birds * 9 / 10);
+  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << c.same_neighbours << " of " << c.birds;
+  EXPECT_LT(c.worst_direction, 1e-4);
+  EXPECT_LT(c.worst_airspeed, 0.05);
+  EXPECT_LT(c.worst_nearest, 0.01);
+  std::printf("1,000 km out: same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, airspeed %.2g "
+              "cm/s, nearest %.2g cm\n",
+              c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
 TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = flocking_scenario();

@@ -38,12 +38,12 @@ void from_gpu(uint v, E& out) { out = static_cast<E>(v); }
 
 }  // namespace
 
-Tiled tiled(const glm::dvec3& world) {
-  const glm::dvec2 tile = glm::round(glm::dvec2(world.x, world.z) / kTile);
-  return {glm::ivec2(tile), glm::dvec3(tile.x * kTile, 0.0, tile.y * kTile)};
-}
-
 glm::dvec3 tile_centre(int tile_x, int tile_z) { return glm::dvec3(tile_x * kTile, 0.0, tile_z * kTile); }
+
+Tiled tiled(const glm::dvec3& world) {
+  const glm::ivec2 tile(glm::round(glm::dvec2(world.x, world.z) / kTile));
+  return {tile, tile_centre(tile.x, tile.y)};
+}
 
 GpuBird pack(const BirdState& b) {
   GpuBird g{};
