@@ -38,17 +38,6 @@ dvec3 crab_aim(const dvec3& to_goal, const dvec3& wind, double ground_speed) {
   return way * (ground_speed / length) - horizontal(wind);
 }
 
-double made_good(const dvec3& to_goal, const dvec3& wind, double airspeed, double fallback) {
-  const dvec3 way = horizontal(to_goal);
-  const double length = glm::length(way);
-  if (length == 0.0) return fallback;
-  const dvec3 along = way / length;
-  const double w_along = glm::dot(horizontal(wind), along);
-  const dvec3 across = horizontal(wind) - along * w_along;
-  const double left = airspeed * airspeed - glm::dot(across, across);
-  return left > 0.0 ? w_along + std::sqrt(left) : fallback;
-}
-
 double approach_speed(const Species& s, double to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   const double room = std::max(0.0, to_branch - s.perch_radius);

@@ -40,12 +40,6 @@ void turn_on(const Species& s, double bank, Steering& st);
 // ground_speed along the way to it, less the wind (0 at the goal).
 glm::dvec3 crab_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double ground_speed);
 
-// The ground speed towards the goal that `airspeed` makes good: the wind along the way plus what
-// the airspeed leaves once it cancels the wind across it (`fallback` where that wind is as fast as
-// the bird, or at the goal). A bird flying to a target aims for it (step.cpp), so that flying
-// faster (or slower) through the air than its crab aim it neither over- nor under-crabs.
-double made_good(const glm::dvec3& to_goal, const glm::dvec3& wind, double airspeed, double fallback);
-
 // The ground speed the bird makes towards its goal: cruise_speed, or on the way to a branch
 // (`to_branch` cm from its perch, < 0: no branch ahead) no faster than it can brake to
 // touchdown_speed at brake_decel by perch_radius.

@@ -47,13 +47,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double to_perch = way ? glm::length(*way) : -1.0;
   const dvec3 wind = wind_at(w, b.position.y);
-  double ground_speed = approach_speed(sp, to_perch);
-  if (to_perch < 0.0) {  // to a target: the ground speed its commanded airspeed makes good
-    const double aim_speed = glm::length(crab_aim(goal - b.position, wind, ground_speed));
-    ground_speed = made_good(goal - b.position, wind, commanded_airspeed(sp, airspeed_command, aim_speed, false), ground_speed);
-  }
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind, ground_speed, braking);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind, approach_speed(sp, to_perch), braking);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.

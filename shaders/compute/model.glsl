@@ -149,16 +149,6 @@ vec2 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
   return len == 0.0 ? vec2(0.0) : to_goal.xz * (ground_speed / len) - wind.xz;
 }
 
-float made_good(vec3 to_goal, vec3 wind, float airspeed, float fallback) {  // control.cpp
-  float len = length(to_goal.xz);
-  if (len == 0.0) return fallback;
-  vec2 along = to_goal.xz / len;
-  float w_along = dot(wind.xz, along);
-  vec2 across = wind.xz - along * w_along;
-  float left = airspeed * airspeed - dot(across, across);
-  return left > 0.0 ? w_along + sqrt(left) : fallback;
-}
-
 float approach_speed(GpuSpecies s, float to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   float room = max(0.0, to_branch - s.perch_radius);
@@ -524,12 +514,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   vec3 wind = wind_at(b.position.y);
-  float ground_speed = approach_speed(s, to_perch);
-  if (to_perch < 0.0) {  // to a target: the ground speed its commanded airspeed makes good (step.cpp)
-    float aim_speed = length(crab_aim(goal - b.position, wind, ground_speed));
-    ground_speed = made_good(goal - b.position, wind, commanded_airspeed(s, airspeed_command, aim_speed, false), ground_speed);
-  }
-  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, ground_speed, braking);
+  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
   c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
