@@ -54,8 +54,8 @@ class Buffer {
 // Throws Error unless `bytes` (that many bytes of `element_size` each, e.g. the birds' state) fit
 // in one storage buffer of the device: maxStorageBufferRange, maxMemoryAllocationSize and the
 // largest device-local heap. The message names the limit and the most elements that fit, e.g.
-// "2000000 birds need 288000000 bytes in one storage buffer; llvmpipe (...) allows 134217728
-// (maxStorageBufferRange): at most 932067 birds".
+// "2000000 birds need 352000000 bytes in one storage buffer; llvmpipe (...) allows 134217728
+// (maxStorageBufferRange): at most 762600 birds".
 void check_storage_size(const Device& device, VkDeviceSize bytes, size_t element_size,
                         std::string_view what = "birds");
 
