@@ -82,9 +82,10 @@ Apart apart(const Flight& a, const Flight& b) {
 }
 
 void print(const char* backend, double offset, const Flight& f) {
-  std::printf("%-6s %6.0f km: %llu targets, centroid (%.3f, %.3f, %.3f) m from the offset, flown %.1f m\n", backend,
-              offset / kKm, (unsigned long long)f.targets, f.centroid.x / 100, f.centroid.y / 100, f.centroid.z / 100,
-              f.flown / 100);
+  std::printf("%-6s %6.0f km: %llu targets, centroid (%.3f, %.3f, %.3f) m from the offset", backend, offset / kKm,
+              (unsigned long long)f.targets, f.centroid.x / 100, f.centroid.y / 100, f.centroid.z / 100);
+  if (f.flown > 0.0) std::printf(", flown %.1f m", f.flown / 100);
+  std::printf("\n");
 }
 
 const std::vector<double> kOffsets = {0.0, 10 * kKm, 100 * kKm, 1000 * kKm, 10000 * kKm};
