@@ -35,7 +35,7 @@ AF_UINT(kWorkgroupSize, 64)
 
 // World tiles: the device keeps a position as the whole tile it is in (x and z, ints) and its
 // offset from that tile's centre (floats, within about half a tile), so that a step of 0.3 cm
-// is kept to a few micrometres anywhere within 20,000 km of the origin. Heights (y) stay
+// is kept to 10 micrometres anywhere within 20,000 km of the origin. Heights (y) stay
 // absolute. A tile is 2^kTileLog2 cm (163.84 m); the neighbour grid's cells divide it.
 AF_UINT(kTileLog2, 14)
 #ifndef __cplusplus
