@@ -421,7 +421,7 @@ Leg load_leg(GpuBird b, uint targets_from) {
   return l;
 }
 
-vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg, vec3 wind) {
+vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   GpuRoute r = leg.route;
   if (b.target < r.count) {
     vec3 to_target = leg.centre_radius.xyz - b.position;
@@ -436,7 +436,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg, vec3 wind) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, wind) : perch_point(b, s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, wind_at(b.position.y)) : perch_point(b, s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -456,7 +456,7 @@ void perch(inout GpuBird b, GpuSpecies s, uint branch) {
   b.targets_reached += 1u;
 }
 
-bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg, vec3 wind) {
+bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
   GpuRoute r = leg.route;
   if (r.branch == 0u || b.target < r.count) return false;
   uint branch = r.branch - 1u;
@@ -473,7 +473,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg, vec3 wind) {
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance ||
-              flare_share(s, length(b.velocity - wind), perch_airspeed(s, to_perch, wind), d) >= kBrakeShare)) {
+              flare_share(s, length(b.velocity - wind_at(b.position.y)), perch_airspeed(s, to_perch, wind_at(b.position.y)), d) >= kBrakeShare)) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }
@@ -502,7 +502,7 @@ vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
   return vec4(way, length(way));
 }
 
-Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_command, vec3 wind) {
+Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_command) {
   float to_perch = way.w;
   float ground = pc.wind_ground.w + s.stand_height;
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
@@ -513,6 +513,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   Commands c;
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
+  vec3 wind = wind_at(b.position.y);
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
@@ -568,9 +569,9 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
 
 // The step's forces as GpuForces (host_device.h): world frame, torques in the body frame. Only
 // what is read survives compilation: the stepping loop keeps the total and the torque.
-GpuForces forces(GpuBird b, GpuSpecies s, Commands c, vec3 wind) {
+GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
-  vec3 body_air = rotate_back(b.attitude, wind - b.velocity);
+  vec3 body_air = rotate_back(b.attitude, wind_at(b.position.y) - b.velocity);
   WingPoint right[2];
   right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right[0], right[1]);
   // The aerodynamic forces are summed in the body frame and turned to the world once.
@@ -646,24 +647,23 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     b.mode_time += dt;
     return no_forces();
   }
-  // The wind where the bird is, once a step: the step moves it only at its end (world.cpp: wind_at).
-  vec3 wind = wind_at(b.position.y);
   if (b.mode == mode_standing) {
+    vec3 wind = wind_at(b.position.y);
     if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // step.cpp
     b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
     b.amplitude = s.amp_max;
   }
-  vec3 goal = route_goal(b, s, leg, wind);
-  if (approach_branch(b, s, leg, wind)) return no_forces();
+  vec3 goal = route_goal(b, s, leg);
+  if (approach_branch(b, s, leg)) return no_forces();
   float airspeed_command = b.airspeed;
   if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal (step.cpp)
     goal = b.position + s.lookahead * seen.direction;
     airspeed_command = seen.airspeed;
   }
-  Commands c = control(b, s, goal, way_to_perch(b, s, leg), airspeed_command, wind);
-  GpuForces f = forces(b, s, c, wind);
+  Commands c = control(b, s, goal, way_to_perch(b, s, leg), airspeed_command);
+  GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;
   precise vec3 position = b.position + b.velocity * dt;
