@@ -334,6 +334,11 @@ vec3 wind_at(float y) {
                                : vec3(0.0);
 }
 
+// The wind where the bird is this step (step_bird sets it once: the step moves the bird only at
+// its end); a private global rather than a parameter, which made glslang's precise propagation
+// blow up (docs/ARCHITECTURE.md).
+vec3 step_wind;
+
 // --- Route and landing (route.cpp) ------------------------------------------------------------
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
@@ -436,7 +441,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, wind_at(b.position.y)) : perch_point(b, s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, step_wind) : perch_point(b, s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -473,7 +478,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance ||
-              flare_share(s, length(b.velocity - wind_at(b.position.y)), perch_airspeed(s, to_perch, wind_at(b.position.y)), d) >= kBrakeShare)) {
+              flare_share(s, length(b.velocity - step_wind), perch_airspeed(s, to_perch, step_wind), d) >= kBrakeShare)) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }
@@ -513,7 +518,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   Commands c;
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
-  vec3 wind = wind_at(b.position.y);
+  vec3 wind = step_wind;
   c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
@@ -571,7 +576,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
 // what is read survives compilation: the stepping loop keeps the total and the torque.
 GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
-  vec3 body_air = rotate_back(b.attitude, wind_at(b.position.y) - b.velocity);
+  vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
   WingPoint right[2];
   right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right[0], right[1]);
   // The aerodynamic forces are summed in the body frame and turned to the world once.
@@ -647,8 +652,9 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     b.mode_time += dt;
     return no_forces();
   }
+  step_wind = wind_at(b.position.y);
   if (b.mode == mode_standing) {
-    vec3 wind = wind_at(b.position.y);
+    vec3 wind = step_wind;
     if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // step.cpp
     b.mode = mode_taking_off;
     b.mode_time = 0.0;

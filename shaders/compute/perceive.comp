@@ -30,6 +30,7 @@ void main() {
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
     Leg leg = load_leg(route_bird, 0u);
+    step_wind = wind_at(b.position.y);
     goal = route_goal(route_bird, s, leg);
   }
   perception[i] = social_goal(s, b, goal);
