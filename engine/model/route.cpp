@@ -139,6 +139,13 @@ std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const Wo
   return perch_point(s, *br) - b.position;
 }
 
+namespace {
+// Whether the flare needs starting now to touch down at perch_radius (the wind where the bird is).
+bool braking_due(const Species& s, const BirdState& b, const dvec3& to_perch, const dvec3& wind, double distance) {
+  return flare_share(s, glm::length(b.velocity - wind), perch_airspeed(s, to_perch, wind), distance) >= kBrakeShare;
+}
+}  // namespace
+
 bool approach_branch(BirdState& b, const Species& s, const World& w) {
   const Branch* br = route_branch(b, w);
   if (!br) return false;
@@ -157,8 +164,7 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     b.landing_stage = LandingStage::none;
   } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&
              (distance <= s.brake_distance ||
-              flare_share(s, glm::length(b.velocity - wind_at(w, b.position.y)),
-                          perch_airspeed(s, to_perch, wind_at(w, b.position.y)), distance) >= kBrakeShare)) {
+              braking_due(s, b, to_perch, wind_at(w, b.position.y), distance))) {
     b.mode = FlightMode::landing;
     b.mode_time = 0.0;
   }
