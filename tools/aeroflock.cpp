@@ -205,6 +205,54 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
       what);
 }
 
+// X,Y,Z in metres into `point` (cm).
+void add_point_option(CLI::App* app, const char* name, std::optional<glm::dvec3>& point, const char* what) {
+  app->add_option_function<std::string>(
+      name,
+      [&point, name](const std::string& text) {
+        double x = 0, y = 0, z = 0;
+        char extra = 0;
+        if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3 || !std::isfinite(x) ||
+            !std::isfinite(y) || !std::isfinite(z))
+          throw CLI::ValidationError(name, "expected X,Y,Z in metres, got " + text);
+        point = glm::dvec3(x, y, z) * 100.0;
+      },
+      what);
+}
+
+// The cameras of `run` (pictures) and `view` (the window).
+void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targets) {
+  app->add_option("--camera", camera.mode,
+                  "auto (frames the flock, following it), orbit (circles the flock), follow (behind "
+                  "one bird, --camera-bird) or fixed (--camera-eye, --camera-target)")
+      ->check(CLI::IsMember({"auto", "orbit", "follow", "fixed"}))
+      ->capture_default_str();
+  app->add_option("--camera-bird", camera.bird, "With --camera follow: the bird followed (default 0)");
+  add_point_option(app, "--camera-eye", camera.eye,
+                   "With --camera fixed: where the camera is, X,Y,Z in metres (default: where auto starts)");
+  add_point_option(app, "--camera-target", camera.target,
+                   "With --camera fixed: what it looks at, X,Y,Z in metres (default: the flock)");
+  app->add_option("--fov", camera.fov_degrees, "Vertical field of view in degrees")
+      ->check(CLI::Range(5.0f, 150.0f))
+      ->capture_default_str();
+  app->add_option_function<std::string>(
+         "--targets", [&targets](const std::string& v) { targets = v == "on"; },
+         "on or off: the target spheres and the routes between them (default on)")
+      ->check(CLI::IsMember({"on", "off"}));
+}
+
+// Options that belong to another camera are errors, not silently ignored.
+void check_camera_options(const render::CameraOptions& camera, const CLI::App& app, bool draws) {
+  if (!draws)
+    for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target", "--fov", "--targets"})
+      if (app.count(name) > 0) throw CLI::ValidationError(name, "needs --png, --frames-dir or --video");
+  if (camera.mode != "fixed" && (camera.eye || camera.target))
+    throw CLI::ValidationError(camera.eye ? "--camera-eye" : "--camera-target",
+                               "needs --camera fixed (the camera is " + camera.mode + ")");
+  if (camera.mode != "follow" && app.count("--camera-bird") > 0)
+    throw CLI::ValidationError("--camera-bird", "needs --camera follow (the camera is " + camera.mode + ")");
+}
+
 }  // namespace
 }  // namespace aeroflock
 
@@ -237,7 +285,13 @@ int main(int argc, char** argv) {
                       "Render frames to DIR/frame_NNNNNN.png");
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
       ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
+  CLI::Option* video_opt =
+      run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
+  run_cmd->add_option("--fps", opt.images.fps,
+                      "With --video: frames per simulated second (default: one a frame, real time)")
+      ->check(kPositive)
+      ->needs(video_opt);
+  add_camera_options(run_cmd, opt.images.camera, opt.images.targets);
   add_size_option(run_cmd, opt.images.width, opt.images.height,
                   "Image size WxH (default 1280x720)");
   run_cmd->add_option(
@@ -270,6 +324,7 @@ int main(int argc, char** argv) {
   add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height,
                   "Window size WxH (default 1280x720)");
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
+  add_camera_options(view_cmd, view_opt.viewer.camera, view_opt.viewer.targets);
   view_cmd
       ->add_option("--frames", view_opt.viewer.frames,
                    "Close the window after N frames (for tests)")
@@ -323,6 +378,8 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    if (run_cmd->parsed()) check_camera_options(opt.images.camera, *run_cmd, opt.images.any());
+    if (view_cmd->parsed()) check_camera_options(view_opt.viewer.camera, *view_cmd, true);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }

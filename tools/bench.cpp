@@ -128,12 +128,15 @@ class OffscreenLoad {
     renderer_ = std::make_unique<render::Renderer>(device, sim.scenario(), render::Offscreen::kFormat, size);
     target_ = std::make_unique<render::Offscreen>(device, size);
     submitter_ = std::make_unique<gpu::Submitter>(device, 1);
-    camera_ = AutoCamera().update(sim.birds());
+    const render::CameraControl control({}, render::subject_of(sim.birds(), 0, sim.time()));
+    camera_ = control.camera();
+    scene_distance_ = control.subject_distance();
   }
 
   void frame() {
     render::View view;
     view.camera = camera_;
+    view.scene_distance = scene_distance_;
     view.time = float(sim_->time());
     World world = sim_->scenario().world;
     world.move_targets(sim_->time());
@@ -149,6 +152,7 @@ class OffscreenLoad {
   std::unique_ptr<render::Offscreen> target_;
   std::unique_ptr<gpu::Submitter> submitter_;
   render::Camera camera_;
+  float scene_distance_ = 0.0f;
 };
 
 int frames_per_sample(const std::string& variant) { return variant == "vtk" ? int(kVtkEvery) : 1; }

@@ -5,35 +5,18 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include <glm/geometric.hpp>
-
 #include "gpu/compute.h"
 #include "gpu/gpu_simulation.h"
 #include "gpu/layout.h"
 #include "host.h"
 #include "io/image.h"
 #include "io/paths.h"
-#include "model/flock_geometry.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
 namespace aeroflock {
 
 namespace fs = std::filesystem;
-
-render::Camera AutoCamera::update(const std::vector<BirdState>& birds) {
-  const FlockExtent flock = flock_extent(birds);
-  const double radius = std::clamp(flock.radius, 200.0, 1e5);
-  const float ease = first_ ? 1.0f : 0.1f;
-  first_ = false;
-  centre_ = glm::mix(centre_, flock.centre, double(ease));
-  radius_ = radius_ + ease * (float(radius) - radius_);
-  render::Camera camera;
-  camera.origin = centre_;
-  camera.target = glm::vec3(0.0f);
-  camera.eye = glm::normalize(glm::vec3(-1.0f, 0.45f, -0.8f)) * (2.2f * radius_ + 600.0f);
-  return camera;
-}
 
 struct FrameOutput::Impl {
   ImageOptions options;
@@ -44,8 +27,11 @@ struct FrameOutput::Impl {
   std::unique_ptr<render::Renderer> renderer;
   std::unique_ptr<render::Offscreen> target;
   std::unique_ptr<gpu::Submitter> submitter;
-  AutoCamera camera;
+  std::optional<render::CameraControl> camera;  // from the first picture
+  double camera_time = 0.0;                     // simulated time of its last update
   FILE* video = nullptr;
+  double video_fps = 0.0;
+  uint64_t video_frames = 0;  // written so far: frame k shows simulated time k / video_fps
 
   Impl(const ImageOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png");
@@ -54,8 +40,15 @@ struct FrameOutput::Impl {
       if (!has_program("ffmpeg"))
         throw std::runtime_error(
             "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
+      if (options.width % 2 != 0 || options.height % 2 != 0)
+        throw std::runtime_error("--video needs an even width and height (H.264), got --size " +
+                                 std::to_string(options.width) + "x" + std::to_string(options.height));
       check_output_path(options.video, "--video");
     }
+    if (options.camera.bird >= sim.bird_count())
+      throw std::runtime_error("--camera-bird " + std::to_string(options.camera.bird) + ": the run has " +
+                               std::to_string(sim.bird_count()) + " birds (0 to " +
+                               std::to_string(sim.bird_count() - 1) + ")");
     if (const auto* gpu_sim = dynamic_cast<const gpu::GpuSimulation*>(&sim)) device = &gpu_sim->gpu_device();
     if (!device) {
       gpu::DeviceOptions d = gpu::headless(-1, false);
@@ -72,10 +65,16 @@ struct FrameOutput::Impl {
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
     if (!options.video.empty()) {
+      // Real time unless asked otherwise: one video frame per simulated frame.
+      const double frame_seconds = sim.scenario().dt * sim.scenario().steps_per_frame;
+      video_fps = options.fps.value_or(1.0 / frame_seconds);
+      char rate[64];
+      if (options.fps) std::snprintf(rate, sizeof rate, "%.9g", *options.fps);
+      else std::snprintf(rate, sizeof rate, "1000000/%.0f", frame_seconds * 1e6);
       const std::string command = "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
                                   std::to_string(options.width) + "x" +
-                                  std::to_string(options.height) +
-                                  " -r 40 -i - -pix_fmt yuv420p '" + options.video + "'";
+                                  std::to_string(options.height) + " -r " + rate +
+                                  " -i - -pix_fmt yuv420p '" + options.video + "'";
       video = popen(command.c_str(), "w");
       if (!video) throw std::runtime_error("--video: cannot start ffmpeg");
     }
@@ -99,9 +98,14 @@ struct FrameOutput::Impl {
       bird_buffer = own_birds.get();
       count = uint32_t(packed.size());
     }
+    const render::Subject subject = render::subject_of(birds, options.camera.bird, sim.time());
+    if (!camera) camera.emplace(options.camera, subject);
     render::View view;
-    view.camera = camera.update(birds);
+    view.camera = camera->update(float(sim.time() - camera_time), subject, sim.time());
+    view.scene_distance = camera->subject_distance();
+    view.show_targets = options.targets;
     view.time = float(sim.time());
+    camera_time = sim.time();
     World world = sim.scenario().world;
     world.move_targets(sim.time());
     submitter->run([&](VkCommandBuffer cmd) {
@@ -121,7 +125,11 @@ FrameOutput::~FrameOutput() = default;
 void FrameOutput::frame(Simulation& sim, uint64_t index) {
   Impl& o = *impl_;
   const bool to_dir = !o.options.frames_dir.empty() && index % o.options.every == 0;
-  if (!to_dir && !o.video) return;
+  // The video frames whose time has come (none, or several when --fps is above the frame rate).
+  uint64_t due = 0;
+  if (o.video)
+    while (double(o.video_frames + due + 1) / o.video_fps <= sim.time() + 1e-9) ++due;
+  if (!to_dir && due == 0) return;
   const std::vector<uint8_t> pixels = o.render(sim);
   if (to_dir) {
     char name[32];
@@ -129,8 +137,9 @@ void FrameOutput::frame(Simulation& sim, uint64_t index) {
                   (unsigned long long)(index / o.options.every));
     write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
   }
-  if (o.video && std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())
-    throw std::runtime_error("--video: ffmpeg stopped taking frames");
+  for (; due > 0; --due, ++o.video_frames)
+    if (std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())
+      throw std::runtime_error("--video: ffmpeg stopped taking frames");
 }
 
 void FrameOutput::finish(Simulation& sim) {

@@ -5,10 +5,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "model/simulation.h"
-#include "render/camera.h"
+#include "render/camera_control.h"
 
 namespace aeroflock {
 
@@ -17,20 +18,11 @@ struct ImageOptions {
   std::string frames_dir;  // every `every`-th frame as frame_000000.png, ...
   uint32_t every = 1;
   std::string video;  // FILE.mp4, through ffmpeg
+  std::optional<double> fps;  // video frames per simulated second (default: one a frame, real time)
   uint32_t width = 1280, height = 720;
+  render::CameraOptions camera;
+  bool targets = true;  // the target spheres and routes
   bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
-};
-
-// Looks at the flock from behind and above, far enough to see all of it; eases between updates
-// (the first update frames the flock at once).
-class AutoCamera {
- public:
-  render::Camera update(const std::vector<BirdState>& birds);
-
- private:
-  bool first_ = true;
-  glm::dvec3 centre_{0.0};
-  float radius_ = 0.0f;
 };
 
 class FrameOutput {

@@ -12,8 +12,8 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools spirv-tools vulkan-validationlayers vulkan-tools
   # Windows, VTK export and headless display.
   libglfw3-dev libvtk9-dev python3 python3-vtk9 xvfb xauth
-  # Plots of `aeroflock bench --plot`.
-  gnuplot-nox
+  # Plots of `aeroflock bench --plot`; videos of `run --video` (ffmpeg, ffprobe).
+  gnuplot-nox ffmpeg
 )
 
 installed() {

@@ -89,6 +89,30 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds) {
   return e;
 }
 
+FlockCore flock_core(const std::vector<BirdState>& birds, double fraction) {
+  FlockCore core;
+  std::vector<glm::dvec3> p;
+  p.reserve(birds.size());
+  for (const BirdState& b : birds)
+    if (is_finite(b)) p.push_back(b.position);
+  core.finite = p.size();
+  if (p.empty()) return core;
+  // The k-th smallest of n values (n > 0), reordering `v`.
+  auto kth = [](std::vector<double>& v, size_t k) {
+    std::nth_element(v.begin(), v.begin() + ptrdiff_t(k), v.end());
+    return v[k];
+  };
+  std::vector<double> v(p.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    for (size_t i = 0; i < p.size(); ++i) v[i] = p[i][axis];
+    core.centre[axis] = kth(v, v.size() / 2);
+  }
+  for (size_t i = 0; i < p.size(); ++i) v[i] = glm::distance(p[i], core.centre);
+  const double k = std::ceil(std::clamp(fraction, 0.0, 1.0) * double(v.size())) - 1.0;
+  core.radius = kth(v, size_t(std::max(k, 0.0)));
+  return core;
+}
+
 namespace {
 
 // Each of the `finite` birds' distance to its nearest other, found through `map` (of those birds).

@@ -25,6 +25,15 @@ struct FlockExtent {
 
 FlockExtent flock_extent(const std::vector<BirdState>& birds);
 
+// The main body of a flock, as a camera frames it: stragglers and a few birds of another flock
+// far off do not shrink the picture of the rest.
+struct FlockCore {
+  glm::dvec3 centre{0.0};  // per-axis median of the finite birds' positions, cm
+  double radius = 0.0;     // distance from the centre within which `fraction` of them lie, cm
+  size_t finite = 0;
+};
+FlockCore flock_core(const std::vector<BirdState>& birds, double fraction = 0.9);
+
 // How much a group of birds is a flock (MODEL.md "What a flock must show"), over the finite birds
 // given; every distance is to the nearest of them, whatever its direction.
 struct FlockMetrics {

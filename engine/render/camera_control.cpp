@@ -5,12 +5,19 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/flock_geometry.h"
+
 namespace aeroflock::render {
 namespace {
 
 constexpr float kRadiansPerPixel = 0.005f;
-constexpr float kMaxPitch = 1.5f;   // rad, short of straight up or down
-constexpr float kGlideRate = 3.0f;  // 1/s: how fast the cameras catch up with what they follow
+constexpr float kMaxPitch = 1.5f;    // rad, short of straight up or down
+constexpr float kGlideRate = 3.0f;   // 1/s: how fast follow catches up with its bird
+constexpr float kFrameRate = 1.0f;   // 1/s: how fast auto and orbit follow the flock's changes
+constexpr float kOrbitRate = 0.1f;   // rad/s: a turn round the flock a minute
+constexpr float kAutoSide = 0.6f;    // rad: auto looks from behind and a little to the side
+constexpr float kMinRadius = 150.0f; // cm: one bird is framed as a flock this wide
+constexpr float kFill = 0.6f;        // of the vertical field of view, the flock's core
 constexpr float kZoomPerClick = 0.9f;
 constexpr float kPi = 3.14159265f;
 
@@ -19,18 +26,76 @@ glm::vec3 direction(float yaw, float pitch) {
   return {std::cos(pitch) * std::cos(yaw), std::sin(pitch), std::cos(pitch) * std::sin(yaw)};
 }
 
-// The fraction of the way to go in `seconds` of an exponential glide.
-float glide(float seconds) { return 1.0f - std::exp(-kGlideRate * seconds); }
+// The fraction of the way to go in `seconds` of an exponential glide at `rate`.
+float glide(float seconds, float rate = kGlideRate) { return 1.0f - std::exp(-rate * seconds); }
+
+// `a` moved the fraction `f` of the way to `b` round the circle.
+float glide_angle(float a, float b, float f) {
+  return a + f * std::remainder(b - a, 2.0f * kPi);
+}
 
 }  // namespace
 
-void CameraControl::reset(const glm::dvec3& centre, float radius) {
-  mode_ = Mode::orbit;
-  distance_ = std::max(1500.0f, 3.0f * radius);
-  free_speed_ = std::max(500.0f, 0.5f * distance_);
-  camera_.origin = centre;
-  camera_.target = glm::vec3(0.0f);
-  camera_.eye = distance_ * direction(yaw_, pitch_);
+Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time) {
+  Subject s;
+  s.time = time;
+  const FlockCore core = flock_core(birds);
+  if (core.finite == 0) return s;
+  s.centre = core.centre;
+  s.radius = float(core.radius);
+  s.velocity = flock_extent(birds).mean_velocity;
+  const bool bird_ok = followed < birds.size() && is_finite(birds[followed]);
+  s.bird = bird_ok ? birds[followed].position : s.centre;
+  s.bird_velocity = bird_ok ? birds[followed].velocity : s.velocity;
+  return s;
+}
+
+std::optional<CameraControl::Mode> CameraControl::mode_named(const std::string& name) {
+  if (name == "auto") return Mode::automatic;
+  if (name == "orbit") return Mode::orbit;
+  if (name == "follow") return Mode::follow;
+  if (name == "fixed" || name == "free") return Mode::free;
+  return std::nullopt;
+}
+
+const char* CameraControl::name(Mode mode) {
+  switch (mode) {
+    case Mode::automatic: return "auto";
+    case Mode::orbit: return "orbit";
+    case Mode::follow: return "follow";
+    case Mode::free: return "free";
+  }
+  return "?";
+}
+
+CameraControl::CameraControl(const CameraOptions& options, const Subject& subject) {
+  camera_.fov_y = glm::radians(options.fov_degrees);
+  reset(subject);
+  const Mode mode = mode_named(options.mode).value_or(Mode::automatic);
+  if (mode == Mode::free) {
+    // Placed where asked; what is not given comes from the automatic camera's first framing.
+    const glm::dvec3 eye = options.eye.value_or(camera_.eye_world());
+    const glm::dvec3 target = options.target.value_or(options.eye ? subject.centre : camera_.target_world());
+    camera_.origin = eye;
+    camera_.eye = glm::vec3(0.0f);
+    camera_.target = glm::vec3(target - eye);
+  }
+  set_mode(mode);
+  if (mode == Mode::follow) {  // behind the bird from the first picture
+    const glm::dvec3 v = subject.bird_velocity;
+    if (v.x * v.x + v.z * v.z > 10.0 * 10.0) heading_ = float(std::atan2(v.z, v.x));
+    follow_offset_ = follow_distance_ * direction(heading_ + kPi + follow_yaw_, follow_pitch_);
+  }
+  update(0.0f, subject, subject.time);
+}
+
+void CameraControl::reset(const Subject& subject) {
+  mode_ = Mode::automatic;
+  framed_ = false;
+  zoom_ = 1.0f;
+  drag_yaw_ = 0.0f;
+  pitch_ = 0.35f;
+  update(0.0f, subject, subject.time);
 }
 
 void CameraControl::move_origin(const glm::dvec3& to) { camera_ = camera_.from(to); }
@@ -42,15 +107,15 @@ void CameraControl::set_mode(Mode mode) {
     free_pitch_ = std::asin(std::clamp(look.y, -1.0f, 1.0f));
   }
   if (mode == Mode::follow && mode_ != Mode::follow) follow_offset_ = camera_.eye - camera_.target;
+  if (mode == Mode::orbit && mode_ != Mode::orbit) orbit_yaw_ = view_yaw_ + drag_yaw_, drag_yaw_ = 0.0f;
   mode_ = mode;
 }
 
 void CameraControl::drag(float dx, float dy) {
-  float& yaw = mode_ == Mode::orbit ? yaw_ : mode_ == Mode::follow ? follow_yaw_ : free_yaw_;
-  float& pitch = mode_ == Mode::orbit    ? pitch_
-                 : mode_ == Mode::follow ? follow_pitch_
-                                         : free_pitch_;
-  // Orbit and follow turn the scene with the mouse; the free camera looks where the mouse goes.
+  const bool around_flock = mode_ == Mode::automatic || mode_ == Mode::orbit;
+  float& yaw = around_flock ? drag_yaw_ : mode_ == Mode::follow ? follow_yaw_ : free_yaw_;
+  float& pitch = around_flock ? pitch_ : mode_ == Mode::follow ? follow_pitch_ : free_pitch_;
+  // Auto, orbit and follow turn the scene with the mouse; the free camera looks where it goes.
   const float sign = mode_ == Mode::free ? 1.0f : -1.0f;
   yaw += sign * kRadiansPerPixel * dx;
   pitch = std::clamp(pitch - sign * kRadiansPerPixel * dy, -kMaxPitch, kMaxPitch);
@@ -58,7 +123,7 @@ void CameraControl::drag(float dx, float dy) {
 
 void CameraControl::zoom(float clicks) {
   const float factor = std::pow(kZoomPerClick, clicks);
-  if (mode_ == Mode::orbit) distance_ = std::clamp(distance_ * factor, 100.0f, 1.0e6f);
+  if (mode_ == Mode::automatic || mode_ == Mode::orbit) zoom_ = std::clamp(zoom_ * factor, 0.01f, 100.0f);
   if (mode_ == Mode::follow)
     follow_distance_ = std::clamp(follow_distance_ * factor, 50.0f, 1.0e5f);
   if (mode_ == Mode::free) free_speed_ = std::clamp(free_speed_ / factor, 10.0f, 1.0e6f);
@@ -72,30 +137,51 @@ void CameraControl::move(glm::vec3 d, float seconds, bool fast) {
   camera_.eye += step * (d.x * right + d.y * glm::vec3(0.0f, 1.0f, 0.0f) + d.z * forward);
 }
 
-const Camera& CameraControl::update(float seconds, const glm::dvec3& centre, const glm::dvec3& bird,
-                                    glm::vec3 velocity) {
+// Auto and orbit: the point looked at glides with the flock (carried at its velocity, so a flock
+// flying straight is not trailed), and the distance to fit its core in kFill of the view.
+void CameraControl::frame(float seconds, const Subject& subject, double time, bool snap) {
+  const float f = snap ? 1.0f : glide(seconds, kFrameRate);
+  const glm::dvec3 carried = centre_ + subject.velocity * double(seconds);
+  centre_ = glm::mix(carried, subject.centre_at(time), double(f));
+  const float radius = std::max(subject.radius, kMinRadius);
+  const float fit = radius / std::tan(0.5f * kFill * camera_.fov_y);
+  distance_ += f * (fit - distance_);
+  const glm::dvec3 v = subject.velocity;
+  if (v.x * v.x + v.z * v.z > 100.0 * 100.0) heading_ = float(std::atan2(v.z, v.x));
+  view_yaw_ = snap ? heading_ + kPi + kAutoSide : glide_angle(view_yaw_, heading_ + kPi + kAutoSide, f);
+  orbit_yaw_ += kOrbitRate * seconds;
+  const float yaw = (mode_ == Mode::orbit ? orbit_yaw_ : view_yaw_) + drag_yaw_;
+  move_origin(centre_);
+  camera_.target = glm::vec3(0.0f);
+  camera_.eye = zoom_ * distance_ * direction(yaw, pitch_);
+  subject_distance_ = zoom_ * distance_;
+}
+
+const Camera& CameraControl::update(float seconds, const Subject& subject, double time) {
   switch (mode_) {
+    case Mode::automatic:
     case Mode::orbit:
-      move_origin(centre);
-      camera_.target = glm::vec3(0.0f);
-      camera_.eye = distance_ * direction(yaw_, pitch_);
+      frame(seconds, subject, time, !framed_);
+      framed_ = true;
       break;
     case Mode::follow: {
       // From behind the bird's horizontal heading (the last one while it hovers or stands); the
       // offset from the bird glides, so the camera turns smoothly but never trails behind.
+      const glm::vec3 velocity(subject.bird_velocity);
       const glm::vec3 ahead(velocity.x, 0.0f, velocity.z);
-      if (glm::length(ahead) > 10.0f) follow_heading_ = std::atan2(ahead.z, ahead.x);
-      const glm::vec3 offset =
-          follow_distance_ * direction(follow_heading_ + kPi + follow_yaw_, follow_pitch_);
+      if (glm::length(ahead) > 10.0f) heading_ = std::atan2(ahead.z, ahead.x);
+      const glm::vec3 offset = follow_distance_ * direction(heading_ + kPi + follow_yaw_, follow_pitch_);
       follow_offset_ += (offset - follow_offset_) * glide(seconds);
-      move_origin(bird);
+      move_origin(subject.bird_at(time));
       camera_.eye = follow_offset_;
       camera_.target = glm::vec3(0.0f);
+      subject_distance_ = glm::length(follow_offset_);
       break;
     }
     case Mode::free:
       move_origin(camera_.eye_world());
       camera_.target = camera_.eye + direction(free_yaw_, free_pitch_);
+      subject_distance_ = float(glm::distance(camera_.eye_world(), subject.centre_at(time)));
       break;
   }
   return camera_;

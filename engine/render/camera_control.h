@@ -1,25 +1,62 @@
-// The viewer's three cameras: orbit around the flock, follow one bird from behind and above,
-// and fly freely. Drags, wheel clicks and movement keys go in; a Camera comes out.
+// The cameras of the window and of headless pictures alike: auto (frames the flock from behind
+// its heading), orbit (circles the flock), follow (behind one bird) and free (placed, or flown with
+// the keys). What the flock does goes in as a Subject; drags, wheel clicks and keys go in; a
+// Camera comes out.
 #pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "model/bird.h"
 #include "render/camera.h"
 
 namespace aeroflock::render {
 
+// What the cameras look at, from a reading of the birds now and then.
+struct Subject {
+  glm::dvec3 centre{0.0};    // the flock's main body (model/flock_geometry.h: flock_core), world cm
+  float radius = 0.0f;       // 90 % of its birds lie this near the centre, cm
+  glm::dvec3 velocity{0.0};  // the flock's mean velocity, cm/s
+  glm::dvec3 bird{0.0};      // the followed bird, world cm
+  glm::dvec3 bird_velocity{0.0};
+  double time = 0.0;  // simulated time of the reading, s
+
+  // The centre and the followed bird at simulated time `t`, carried on at their velocities.
+  glm::dvec3 centre_at(double t) const { return centre + velocity * (t - time); }
+  glm::dvec3 bird_at(double t) const { return bird + bird_velocity * (t - time); }
+};
+// Of the finite birds (a bird with NaN is left out); `followed` falls back on the centre.
+Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time);
+
+// How a camera starts: `--camera`, `--camera-bird`, `--camera-eye`, `--camera-target`, `--fov`.
+struct CameraOptions {
+  std::string mode = "auto";  // auto, orbit, follow or fixed (the free camera, held still)
+  uint32_t bird = 0;          // follow: which bird
+  std::optional<glm::dvec3> eye, target;  // fixed: world, cm (default: where auto starts)
+  float fov_degrees = 50.0f;
+};
+
 class CameraControl {
  public:
-  enum class Mode { orbit, follow, free };
+  enum class Mode { automatic, orbit, follow, free };
+  static std::optional<Mode> mode_named(const std::string& name);  // "fixed" is free
+  static const char* name(Mode mode);
 
-  // Orbit around `centre` (world) from far enough to see a flock of that `radius` (cm).
-  void reset(const glm::dvec3& centre, float radius);
+  CameraControl() = default;
+  // Starts as `options` say, framing `subject` at once.
+  CameraControl(const CameraOptions& options, const Subject& subject);
 
   Mode mode() const { return mode_; }
-  // The free camera starts where the camera is now.
+  // The free camera starts where the camera is now; the others glide from it.
   void set_mode(Mode mode);
+  // Back to the automatic camera at its own distance, framing `subject` at once.
+  void reset(const Subject& subject);
 
-  // Left-button drag by (dx, dy) pixels: turns the orbit or the view around the bird, or looks
+  // Left-button drag by (dx, dy) pixels: turns the view around the flock or the bird, or looks
   // around with the free camera.
   void drag(float dx, float dy);
   // Wheel clicks (away from the user > 0): closer.
@@ -27,28 +64,37 @@ class CameraControl {
   // Free camera: moves along (right, up, forward) for `seconds`; `fast` five times quicker.
   void move(glm::vec3 direction, float seconds, bool fast);
 
-  // Advances the camera by `seconds` of wall time: the orbit around `centre`, the follow camera
-  // gliding to behind `bird` flying with `velocity` (centre and bird: world). Returns the camera
-  // to draw with, its origin on what it looks at (on itself, free), so its floats stay small.
-  const Camera& update(float seconds, const glm::dvec3& centre, const glm::dvec3& bird, glm::vec3 velocity);
+  // Advances the camera by `seconds` (of simulated time for pictures, of wall time in a window)
+  // to look at `subject` as it is at simulated time `time`. Returns the camera to draw with, its
+  // origin on what it looks at (on itself, free), so its floats stay small.
+  const Camera& update(float seconds, const Subject& subject, double time);
   const Camera& camera() const { return camera_; }
+  // How far what the camera looks at is (cm): the fog and the shadows scale with it.
+  float subject_distance() const { return subject_distance_; }
 
  private:
+  void frame(float seconds, const Subject& subject, double time, bool snap);
   void move_origin(const glm::dvec3& to);  // the same camera, from `to`
 
-  Mode mode_ = Mode::orbit;
+  Mode mode_ = Mode::automatic;
   Camera camera_;
-  float yaw_ = -1.5708f;  // rad: where the camera is seen from the centre (orbit, follow)
-  float pitch_ = 0.35f;
-  float distance_ = 3000.0f;  // cm
-  float follow_yaw_ = 0.0f;   // rad: around the bird, 0 straight behind it
+  bool framed_ = false;            // auto and orbit have framed the flock once
+  glm::dvec3 centre_{0.0};         // auto and orbit: the gliding point looked at, world
+  float distance_ = 3000.0f;       // cm, gliding towards the framing distance
+  float zoom_ = 1.0f;              // the wheel's factor on it
+  float heading_ = 0.0f;           // rad: the flock's (auto) or the bird's (follow) last heading
+  float view_yaw_ = 0.0f;          // rad: auto, gliding towards behind the heading
+  float orbit_yaw_ = -1.5708f;     // rad: where orbit sees the flock from, turning slowly
+  float drag_yaw_ = 0.0f;          // rad: the user's turn on auto and orbit
+  float pitch_ = 0.35f;            // rad above the horizontal: auto and orbit
+  float follow_yaw_ = 0.0f;        // rad: around the bird, 0 straight behind it
   float follow_pitch_ = 0.3f;
   float follow_distance_ = 800.0f;
-  float follow_heading_ = 0.0f;    // rad: the bird's last horizontal heading
   glm::vec3 follow_offset_{0.0f};  // eye - bird, gliding towards behind and above the bird
   float free_yaw_ = 0.0f;          // rad: the free camera's view direction
   float free_pitch_ = 0.0f;
   float free_speed_ = 1000.0f;  // cm/s
+  float subject_distance_ = 3000.0f;
 };
 
 }  // namespace aeroflock::render

@@ -19,7 +19,8 @@ namespace aeroflock::render {
 struct View {
   Camera camera;
   bool show_targets = true;
-  float time = 0.0f;  // s, for anything animated independently of the birds
+  float time = 0.0f;              // s, for anything animated independently of the birds
+  float scene_distance = 3000.0f; // cm from the eye to what it looks at: the fog scales with it
 };
 
 class Renderer {

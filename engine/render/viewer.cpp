@@ -26,32 +26,6 @@ double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-// What the cameras need of the flock, from a readback now and then.
-struct FlockSnapshot {
-  glm::dvec3 centroid{0.0}, mean_velocity{0.0};  // of the finite birds
-  float radius = 0.0f;                           // rms distance from the centroid, cm
-  glm::dvec3 bird{0.0}, bird_velocity{0.0};      // the followed bird
-  double time = 0.0;                             // simulated time of the readback
-
-  // The centroid and the followed bird at simulated time `t`, carried on at their velocities.
-  glm::dvec3 centroid_at(double t) const { return centroid + mean_velocity * (t - time); }
-  glm::dvec3 bird_at(double t) const { return bird + bird_velocity * (t - time); }
-};
-
-FlockSnapshot snapshot(const std::vector<BirdState>& birds, uint32_t followed, double time) {
-  FlockSnapshot s;
-  s.time = time;
-  const FlockExtent flock = flock_extent(birds);
-  if (flock.finite == 0) return s;
-  s.centroid = flock.centre;
-  s.mean_velocity = flock.mean_velocity;
-  s.radius = float(flock.rms_radius);
-  const BirdState& bird = birds.at(followed);
-  s.bird = is_finite(bird) ? bird.position : flock.centre;
-  s.bird_velocity = is_finite(bird) ? bird.velocity : glm::dvec3(0.0);
-  return s;
-}
-
 // This frame's reads (the bird buffer, the renderer's targets, poses and indirect draws) before
 // the next frame writes them: its compute step and the renderer's updates and pose pass.
 void barrier_reads_to_next_writes(VkCommandBuffer cmd) {
@@ -95,7 +69,7 @@ class Viewer {
   CameraControl camera_;
   View view_;
 
-  FlockSnapshot flock_;
+  Subject flock_;
   uint32_t followed_ = 0;       // the bird the follow camera follows
   uint64_t last_readback_ = 0;  // frame of the last readback
   bool paused_;
@@ -121,9 +95,14 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
       renderer_(std::make_unique<Renderer>(device, sim_.scenario(), swapchain_.format(),
                                            swapchain_.extent())),
       frames_(device),
+      followed_(options.camera.bird),
       paused_(options.paused) {
+  if (followed_ >= sim_.bird_count())
+    throw std::runtime_error("--camera-bird " + std::to_string(followed_) + ": the flock has " +
+                             std::to_string(sim_.bird_count()) + " birds");
   read_flock();
-  camera_.reset(flock_.centroid, flock_.radius);
+  camera_ = CameraControl(options.camera, flock_);
+  view_.show_targets = options.targets;
 }
 
 void Viewer::run() {
@@ -147,8 +126,8 @@ void Viewer::run() {
     const uint64_t every = sim_.bird_count() > 100000 ? 32 : 4;
     if (frames_drawn_ - last_readback_ >= every) read_flock();
     step_simulation();
-    view_.camera = camera_.update(seconds, flock_.centroid_at(sim_.time()),
-                                  flock_.bird_at(sim_.time()), glm::vec3(flock_.bird_velocity));
+    view_.camera = camera_.update(seconds, flock_, sim_.time());
+    view_.scene_distance = camera_.subject_distance();
     view_.time = float(sim_.time());
     draw();
     update_title(Clock::now());
@@ -192,14 +171,14 @@ void Viewer::handle(const Input& input, float seconds) {
         break;
       }
       case GLFW_KEY_C:
-        camera_.set_mode(camera_.mode() == Mode::free ? Mode::orbit : Mode::free);
+        camera_.set_mode(camera_.mode() == Mode::free ? Mode::automatic : Mode::free);
         break;
       case GLFW_KEY_O:
         camera_.set_mode(Mode::orbit);
         break;
       case GLFW_KEY_R:
         read_flock();
-        camera_.reset(flock_.centroid, flock_.radius);
+        camera_.reset(flock_);
         break;
       default:
         break;
@@ -219,7 +198,7 @@ void Viewer::handle(const Input& input, float seconds) {
 }
 
 void Viewer::read_flock() {
-  flock_ = snapshot(sim_.birds(), followed_, sim_.time());
+  flock_ = subject_of(sim_.birds(), followed_, sim_.time());
   last_readback_ = frames_drawn_;
 }
 
@@ -262,16 +241,14 @@ void Viewer::update_title(Clock::time_point now) {
   if (elapsed < 0.5) return;
   if (step_ms_count_ > 0) step_ms_ = step_ms_sum_ / step_ms_count_;
   char text[256];
-  const char* camera = camera_.mode() == CameraControl::Mode::orbit    ? "orbit"
-                       : camera_.mode() == CameraControl::Mode::follow ? "follow bird "
-                                                                       : "free camera";
+  const char* camera = CameraControl::name(camera_.mode());
   const std::string follow =
-      camera_.mode() == CameraControl::Mode::follow ? std::to_string(followed_) : "";
+      camera_.mode() == CameraControl::Mode::follow ? " bird " + std::to_string(followed_) : "";
   char step[32] = "-";
   if (step_ms_ >= 0) std::snprintf(step, sizeof step, "%.2f ms", step_ms_);
   std::snprintf(text, sizeof text,
                 "aeroflock  %s  |  %u bird%s  |  t = %.1f s  |  %.1f fps  |  step %s  |  x%g%s  |  "
-                "%s%s",
+                "%s camera%s",
                 sim_.scenario().name.c_str(), uint32_t(sim_.bird_count()), sim_.bird_count() == 1 ? "" : "s",
                 sim_.time(), title_frames_ / elapsed, step, speed_, paused_ ? " paused" : "",
                 camera, follow.c_str());
@@ -286,7 +263,7 @@ void Viewer::update_title(Clock::time_point now) {
 
 const char* viewer_keys() {
   return "left drag: turn the camera, wheel: zoom, F: follow a bird (again: the next one), "
-         "C: free camera (WASD, Q/E down/up, Shift faster), O: orbit, R: reset the camera,\n"
+         "C: free camera (WASD, Q/E down/up, Shift faster), O: orbit, R: the automatic camera,\n"
          "Space: pause, + / -: faster / slower, T: targets on/off, Esc: quit";
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "model/scenario.h"
+#include "render/camera_control.h"
 
 namespace aeroflock::render {
 
@@ -14,6 +15,8 @@ struct ViewerOptions {
   bool paused = false;  // start with the simulation paused (Space resumes)
   uint32_t width = 1280;
   uint32_t height = 720;
+  CameraOptions camera;
+  bool targets = true;  // the target spheres and routes (T toggles)
 };
 
 // The keys, one line each, for the terminal.
