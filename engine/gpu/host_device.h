@@ -204,7 +204,8 @@ struct PoseConstants {
   float lod_scale;    // a bird farther than its span times this is distant
   int tile_x;
   int tile_z;
-  uint pad0, pad1, pad2;
+  float min_angle;    // rad: a bird is drawn at least this wide (distant birds grown to it)
+  uint pad1, pad2;
 };
 
 // Push constants of every render shader (frame.glsl): the camera and the light. Everything is
@@ -226,7 +227,7 @@ struct FrameConstants {
 // A mesh vertex (engine/render/meshes.h), read by vertex index.
 struct MeshVertex {
   AF_V16 vec4 position;  // xyz, w: the bird part (0 body, 1 arm, 2 hand, 3 tail; +4 left)
-  AF_V16 vec4 normal;    // xyz, w: 1 for detail that distant birds leave out
+  AF_V16 vec4 normal;    // xyz, w: birds: render::Tint
 };
 
 #ifdef __cplusplus

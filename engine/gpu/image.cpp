@@ -5,7 +5,7 @@
 namespace aeroflock::gpu {
 
 Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
-             VkImageAspectFlags aspect)
+             VkImageAspectFlags aspect, VkSampleCountFlagBits samples)
     : device_(device) {
   VkDevice dev = device.handle();
   try {
@@ -15,7 +15,7 @@ Image::Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUs
     image.extent = {extent.width, extent.height, 1};
     image.mipLevels = 1;
     image.arrayLayers = 1;
-    image.samples = VK_SAMPLE_COUNT_1_BIT;
+    image.samples = samples;
     image.tiling = VK_IMAGE_TILING_OPTIMAL;
     image.usage = usage;
     check(vkCreateImage(dev, &image, nullptr, &image_), "vkCreateImage");

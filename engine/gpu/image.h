@@ -8,9 +8,10 @@ namespace aeroflock::gpu {
 
 class Image {
  public:
-  // Device-local where the device has such memory; `aspect`: colour or depth.
+  // Device-local where the device has such memory; `aspect`: colour or depth; `samples` > 1 for
+  // a multisampled attachment.
   Image(const Device& device, VkExtent2D extent, VkFormat format, VkImageUsageFlags usage,
-        VkImageAspectFlags aspect);
+        VkImageAspectFlags aspect, VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT);
   ~Image();
   Image(const Image&) = delete;
   Image& operator=(const Image&) = delete;

@@ -15,7 +15,8 @@ constexpr float kMaxPitch = 1.5f;    // rad, short of straight up or down
 constexpr float kGlideRate = 3.0f;   // 1/s: how fast follow catches up with its bird
 constexpr float kFrameRate = 1.0f;   // 1/s: how fast auto and orbit follow the flock's changes
 constexpr float kOrbitRate = 0.1f;   // rad/s: a turn round the flock a minute
-constexpr float kAutoSide = 0.6f;    // rad: auto looks from behind and a little to the side
+constexpr float kAutoSide = 1.0f;    // rad: auto looks from behind and to the side
+constexpr float kAutoPitch = 0.25f; // rad: auto and orbit look down on the flock this much
 constexpr float kMinRadius = 150.0f; // cm: one bird is framed as a flock this wide
 constexpr float kFill = 0.6f;        // of the vertical field of view, the flock's core
 constexpr float kZoomPerClick = 0.9f;
@@ -94,7 +95,7 @@ void CameraControl::reset(const Subject& subject) {
   framed_ = false;
   zoom_ = 1.0f;
   drag_yaw_ = 0.0f;
-  pitch_ = 0.35f;
+  pitch_ = kAutoPitch;
   update(0.0f, subject, subject.time);
 }
 

@@ -86,7 +86,7 @@ class CameraControl {
   float view_yaw_ = 0.0f;          // rad: auto, gliding towards behind the heading
   float orbit_yaw_ = -1.5708f;     // rad: where orbit sees the flock from, turning slowly
   float drag_yaw_ = 0.0f;          // rad: the user's turn on auto and orbit
-  float pitch_ = 0.35f;            // rad above the horizontal: auto and orbit
+  float pitch_ = 0.25f;            // rad above the horizontal: auto and orbit
   float follow_yaw_ = 0.0f;        // rad: around the bird, 0 straight behind it
   float follow_pitch_ = 0.3f;
   float follow_distance_ = 800.0f;

@@ -4,74 +4,133 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace aeroflock::render {
 namespace {
 
+using glm::vec2;
 using glm::vec3;
 
-// A flat-shaded triangle of part `part`; `detail` triangles are left out of distant birds.
-void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part, bool detail = false) {
-  vec3 n = glm::cross(b - a, c - a);
-  n = glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0, 1, 0);
-  for (const vec3& p : {a, b, c}) out.push_back({glm::vec4(p, part), glm::vec4(n, detail ? 1.0f : 0.0f)});
+constexpr float kPi = 3.14159265f;
+
+void vertex(std::vector<MeshVertex>& out, vec3 p, vec3 n, float part, Tint tint) {
+  out.push_back({glm::vec4(p, part), glm::vec4(n, float(tint))});
 }
 
-// Two triangles; the second is detail (a distant wing is one triangle).
+// A triangle with one normal, its face's.
+void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part, Tint tint = Tint::plumage) {
+  vec3 n = glm::cross(b - a, c - a);
+  n = glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0, 1, 0);
+  for (const vec3& p : {a, b, c}) vertex(out, p, n, part, tint);
+}
+
 void quad(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, vec3 d, float part) {
   triangle(out, a, b, c, part);
-  triangle(out, a, c, d, part, true);
+  triangle(out, a, c, d, part);
+}
+
+// A point of a flat wing or tail mesh: chord x, span z.
+vec3 flat(vec2 xz) { return {xz.x, 0.0f, xz.y}; }
+
+// The body and head as one smooth lathe along x (unit length, -0.5 tail to +0.5 crown, radius in
+// units of the body's width), with a beak; normals from the profile's slope.
+void body(std::vector<MeshVertex>& out) {
+  struct Ring { float x, r, y; };  // y: the axis raised at the head
+  const std::array<Ring, 10> profile = {{{-0.50f, 0.08f, 0.00f}, {-0.38f, 0.26f, 0.00f},
+                                         {-0.18f, 0.44f, 0.00f}, {0.02f, 0.50f, 0.00f},
+                                         {0.18f, 0.43f, 0.02f},  {0.29f, 0.28f, 0.06f},
+                                         {0.35f, 0.27f, 0.09f},  {0.43f, 0.28f, 0.10f},
+                                         {0.50f, 0.18f, 0.09f},  {0.54f, 0.09f, 0.08f}}};
+  constexpr int kSides = 10;
+  auto point = [&](size_t i, int k) {
+    const float a = 2.0f * kPi * float(k) / kSides;
+    const Ring& r = profile[i];
+    return vec3(r.x, r.y + r.r * std::cos(a), r.r * std::sin(a));
+  };
+  auto normal = [&](size_t i, int k) {
+    const size_t lo = i == 0 ? 0 : i - 1, hi = std::min(i + 1, profile.size() - 1);
+    const float slope = (profile[hi].r - profile[lo].r) / (profile[hi].x - profile[lo].x);
+    const float a = 2.0f * kPi * float(k) / kSides;
+    return glm::normalize(vec3(-slope, std::cos(a), std::sin(a)));
+  };
+  for (size_t i = 0; i + 1 < profile.size(); ++i)
+    for (int k = 0; k < kSides; ++k) {
+      const std::array<std::pair<size_t, int>, 6> corners = {
+          {{i, k}, {i + 1, k}, {i + 1, k + 1}, {i, k}, {i + 1, k + 1}, {i, k + 1}}};
+      for (const auto& [ring, side] : corners) vertex(out, point(ring, side), normal(ring, side), 0.0f, Tint::plumage);
+    }
+  // The tail end closed; the beak a cone from the last ring.
+  const vec3 rump(-0.52f, 0.0f, 0.0f), tip(0.72f, 0.06f, 0.0f);
+  for (int k = 0; k < kSides; ++k) {
+    triangle(out, rump, point(0, k + 1), point(0, k), 0.0f);
+    triangle(out, point(profile.size() - 1, k), point(profile.size() - 1, k + 1), tip, 0.0f, Tint::beak);
+  }
+}
+
+// The arm: a leading edge along +x, secondaries overlapping to a scalloped trailing edge.
+void arm(std::vector<MeshVertex>& out, float part) {
+  constexpr int kFeathers = 6;
+  for (int i = 0; i < kFeathers; ++i) {
+    const float z0 = float(i) / kFeathers, z1 = float(i + 1) / kFeathers, zm = 0.5f * (z0 + z1);
+    const float lead0 = 0.5f - 0.04f * z0 * z0, lead1 = 0.5f - 0.04f * z1 * z1;
+    quad(out, flat({lead0, z0}), flat({lead1, z1}), flat({-0.42f, z1}), flat({-0.42f, z0}), part);
+    triangle(out, flat({-0.42f, z0}), flat({-0.42f, z1}), flat({-0.6f, zm}), part, Tint::flight_feathers);
+  }
+}
+
+// The hand: a plate from the wrist, then five primaries fanned out to the tip (slotted).
+void hand(std::vector<MeshVertex>& out, float part) {
+  quad(out, flat({0.5f, 0.0f}), flat({0.36f, 0.55f}), flat({-0.44f, 0.55f}), flat({-0.5f, 0.0f}), part);
+  constexpr int kPrimaries = 5;
+  const std::array<vec2, kPrimaries> tips = {{{0.12f, 1.0f}, {-0.04f, 0.98f}, {-0.2f, 0.93f},
+                                             {-0.36f, 0.85f}, {-0.52f, 0.76f}}};
+  for (int i = 0; i < kPrimaries; ++i) {
+    const float base_x = 0.36f - 0.8f * (float(i) + 0.5f) / kPrimaries, half = 0.085f;
+    const vec2 l(base_x + half, 0.5f), r(base_x - half, 0.5f), tip = tips[size_t(i)];
+    const vec2 l2 = glm::mix(l, tip + vec2(half, 0.0f) * 0.8f, 0.7f), r2 = glm::mix(r, tip - vec2(half, 0.0f) * 0.8f, 0.7f);
+    quad(out, flat(l), flat(l2), flat(r2), flat(r), part);
+    triangle(out, flat(l2), flat(tip), flat(r2), part, Tint::flight_feathers);
+  }
+}
+
+// The tail's fan: x the radius fraction, z the angle fraction of the opening (bird.vert spreads
+// it); rectrices with rounded tips.
+void tail(std::vector<MeshVertex>& out) {
+  constexpr int kFeathers = 6;
+  for (int i = 0; i < kFeathers; ++i) {
+    const float z0 = -0.5f + float(i) / kFeathers, z1 = z0 + 1.0f / kFeathers, zm = 0.5f * (z0 + z1);
+    triangle(out, flat({0.0f, 0.0f}), flat({0.88f, z0}), flat({0.88f, z1}), 3.0f);
+    triangle(out, flat({0.88f, z0}), flat({1.0f, zm}), flat({0.88f, z1}), 3.0f, Tint::flight_feathers);
+  }
 }
 
 }  // namespace
 
 std::vector<MeshVertex> bird_mesh() {
   std::vector<MeshVertex> v;
-  // Body: head at +x, tail end at -x, half-height and half-width 0.5 (scaled by b).
-  const vec3 head(0.5f, 0.05f, 0), tail(-0.5f, 0, 0), top(0.1f, 0.5f, 0), bottom(0.1f, -0.5f, 0),
-      right(0.1f, 0, 0.5f), left(0.1f, 0, -0.5f);
-  for (const auto& [a, b] : std::array<std::pair<vec3, vec3>, 4>{
-           {{top, right}, {right, bottom}, {bottom, left}, {left, top}}}) {
-    triangle(v, head, a, b, 0.0f, true);
-    triangle(v, tail, b, a, 0.0f, true);
+  body(v);
+  for (float side : {0.0f, 4.0f}) {  // right, then left
+    arm(v, 1.0f + side);
+    hand(v, 2.0f + side);
   }
-  for (float side : {0.0f, 4.0f}) {
-    // Arm: a rectangle. Hand: tapering to a point at the tip, swept back.
-    quad(v, {-0.5f, 0, 0}, {0.5f, 0, 0}, {0.5f, 0, 1}, {-0.5f, 0, 1}, 1.0f + side);
-    quad(v, {-0.5f, 0, 0}, {0.5f, 0, 0}, {0.25f, 0, 1}, {-0.6f, 0, 0.9f}, 2.0f + side);
-  }
-  // Tail: a fan of four slices, radius fraction 0..1, angle fraction -0.5..0.5.
-  for (int i = 0; i < 4; ++i)
-    triangle(v, {0, 0, 0}, {1, 0, -0.5f + 0.25f * i}, {1, 0, -0.25f + 0.25f * i}, 3.0f, true);
+  tail(v);
   return v;
 }
 
 std::vector<MeshVertex> distant_bird_mesh() {
-  std::vector<MeshVertex> out;
-  for (const MeshVertex& v : bird_mesh())
-    if (v.normal.w == 0.0f) out.push_back(v);
-  return out;
-}
-
-std::vector<MeshVertex> sphere_mesh() {
-  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  const std::array<vec3, 12> p = {vec3(-1, t, 0), vec3(1, t, 0), vec3(-1, -t, 0), vec3(1, -t, 0),
-                                  vec3(0, -1, t), vec3(0, 1, t), vec3(0, -1, -t), vec3(0, 1, -t),
-                                  vec3(t, 0, -1), vec3(t, 0, 1), vec3(-t, 0, -1), vec3(-t, 0, 1)};
-  const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   std::vector<MeshVertex> v;
-  for (const auto& f : faces) {
-    const vec3 a = glm::normalize(p[f[0]]), b = glm::normalize(p[f[1]]), c = glm::normalize(p[f[2]]);
-    const vec3 ab = glm::normalize(a + b), bc = glm::normalize(b + c), ca = glm::normalize(c + a);
-    triangle(v, a, ab, ca, 0.0f);
-    triangle(v, ab, b, bc, 0.0f);
-    triangle(v, ca, bc, c, 0.0f);
-    triangle(v, ab, bc, ca, 0.0f);
+  // A body seen from any side: two crossed diamonds.
+  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0.45f, 0}, 0.0f);
+  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, -0.45f, 0}, 0.0f);
+  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0, 0.45f}, 0.0f);
+  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0, -0.45f}, 0.0f);
+  for (float side : {0.0f, 4.0f}) {
+    quad(v, flat({0.5f, 0.0f}), flat({0.5f, 1.0f}), flat({-0.5f, 1.0f}), flat({-0.5f, 0.0f}), 1.0f + side);
+    triangle(v, flat({0.5f, 0.0f}), flat({0.1f, 1.0f}), flat({-0.5f, 0.0f}), 2.0f + side);
   }
+  triangle(v, {0, 0, 0}, {1, 0, -0.5f}, {1, 0, 0.5f}, 3.0f);
   return v;
 }
 

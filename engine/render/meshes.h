@@ -1,5 +1,5 @@
 // The low-polygon meshes the renderer draws, read by the vertex shaders from storage buffers
-// (vertex pulling): a bird in parts, a sphere for targets, a box for branches.
+// (vertex pulling): a bird in parts, near and far, and a box for branches and their posts.
 #pragma once
 
 #include <vector>
@@ -10,14 +10,17 @@ namespace aeroflock::render {
 
 using gpu::MeshVertex;
 
-// Body (a unit double pyramid, scaled to a x b x b), arm and hand (span 0..1 along z, chord
-// -0.5..0.5 along x), tail (x: radius fraction, z: angle fraction), each wing segment twice
-// (right, left).
+// What colours a bird's vertex (MeshVertex::normal.w), besides its species' plumage.
+enum class Tint { plumage = 0, beak = 1, flight_feathers = 2 };
+
+// Parts (MeshVertex::position.w): 0 body and head (a smooth lathe along x, -0.5 tail to +0.5
+// crown, scaled to a x b x b, with a beak), 1 and 2 the right arm and hand (span 0..1 along z,
+// chord -0.5..0.5 along x, leading edge +x; secondaries and slotted primaries), 3 the tail's fan
+// (x: radius fraction, z: angle fraction of the opening), 5 and 6 the left arm and hand.
 std::vector<MeshVertex> bird_mesh();
-// The same bird from afar: one triangle a wing segment, no body or tail.
+// The same bird from afar, in a few triangles: crossed diamonds for the body, one quad an arm,
+// one triangle a hand and the tail.
 std::vector<MeshVertex> distant_bird_mesh();
-// A unit sphere (an icosahedron subdivided once), flat shaded.
-std::vector<MeshVertex> sphere_mesh();
 // A box from -0.5 to 0.5 in x, 0 to 1 in y, -0.5 to 0.5 in z.
 std::vector<MeshVertex> box_mesh();
 

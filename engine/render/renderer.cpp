@@ -35,7 +35,20 @@ constexpr std::array<uint32_t, 6> kDrawBindings = {gpu::kBindingTargets,   gpu::
                                                    gpu::kBindingMesh,      gpu::kBindingSegments};
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
-constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with four triangles
+constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with a few triangles
+constexpr float kMinPixels = 2.5f;      // no bird is drawn narrower: a far one is a soft dot
+constexpr int kRingVertices = 128;      // a target's ring: 64 line segments
+// The haze: what the camera looks at (View::scene_distance) is 5 % hazed, ten times as far 40 %.
+constexpr float kHazeAtSubject = 0.05f;
+constexpr float kMinHazeDistance = 2000.0f;  // cm: close-ups are hazed as a scene this large
+const glm::vec3 kSun = glm::normalize(glm::vec3(0.55f, 0.5f, 0.4f));  // 36 deg high
+
+// 4 samples a pixel where the device can (lavapipe can), else none.
+VkSampleCountFlagBits sample_count(const gpu::Device& device) {
+  const VkSampleCountFlags both =
+      device.limits().framebufferColorSampleCounts & device.limits().framebufferDepthSampleCounts;
+  return (both & VK_SAMPLE_COUNT_4_BIT) ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
+}
 
 template <class T>
 Buffer buffer_of(const gpu::Device& device, const std::vector<T>& items) {
@@ -54,10 +67,10 @@ VkShaderModule shader_module(VkDevice device, std::string_view name) {
   return module;
 }
 
-// How one of the four pipelines draws.
+// How one of the pipelines draws.
 struct PipelineSpec {
   std::string_view vertex, fragment;
-  uint32_t kind = 0;  // solid.vert's specialisation: 0 targets, 1 branches
+  uint32_t kind = 0;  // solid.vert's specialisation: 0 target rings, 1 branches, 2 routes, 3 posts
   bool depth_write = true;
   VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
   bool blend = false;
@@ -81,8 +94,8 @@ struct Renderer::Impl {
   VkFormat format;
   VkExtent2D extent;
   // Buffers the renderer owns: species, targets now, branches, meshes, route lines.
-  Buffer species, targets, branches, bird_mesh, sphere, box, segments;
-  uint32_t bird_vertices, distant_vertices, sphere_vertices, box_vertices, target_count, branch_count,
+  Buffer species, targets, branches, bird_mesh, box, segments;
+  uint32_t bird_vertices, distant_vertices, box_vertices, target_count, branch_count,
       segment_count;
   float ground_height;
   // Each bird's pose for drawing, computed once a frame by pose.comp.
@@ -95,9 +108,12 @@ struct Renderer::Impl {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   std::map<VkImageLayout, VkRenderPass> passes;  // by final layout
-  std::map<VkImageLayout, std::array<VkPipeline, 5>> pipelines;  // sky, birds, branches, targets, routes
+  // sky, birds, branches, target rings, routes, posts, shadows
+  std::map<VkImageLayout, std::array<VkPipeline, 7>> pipelines;
+  VkSampleCountFlagBits samples;
+  std::unique_ptr<gpu::Image> color;  // multisampled, resolved into the caller's image
   std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
-  std::optional<std::array<VkDescriptorSet, 4>> sets;  // the draws' (draw_sets)
+  std::optional<std::array<VkDescriptorSet, 3>> sets;  // the draws' (draw_sets)
 
   Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e)
       : device(d),
@@ -115,12 +131,10 @@ struct Renderer::Impl {
           both.insert(both.end(), distant.begin(), distant.end());
           return both;
         }())),
-        sphere(buffer_of(d, sphere_mesh())),
         box(buffer_of(d, box_mesh())),
         segments(buffer_of(d, route_segments(scenario.world))),
         bird_vertices(uint32_t(render::bird_mesh().size())),
         distant_vertices(uint32_t(distant_bird_mesh().size())),
-        sphere_vertices(uint32_t(sphere_mesh().size())),
         box_vertices(uint32_t(box_mesh().size())),
         target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
         branch_count(uint32_t(scenario.world.branches.size())),
@@ -130,7 +144,13 @@ struct Renderer::Impl {
                       {gpu::kBindingBirds, gpu::kBindingSpecies, gpu::kBindingPoses,
                        gpu::kBindingDrawLists, gpu::kBindingDraws},
                       sizeof(PoseConstants), 16),
-        depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT) {
+        depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT,
+              sample_count(d)),
+        samples(sample_count(d)) {
+    if (samples != VK_SAMPLE_COUNT_1_BIT)
+      color = std::make_unique<gpu::Image>(
+          d, e, f, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
+          VK_IMAGE_ASPECT_COLOR_BIT, samples);
     create_layouts();
   }
 
@@ -177,15 +197,24 @@ struct Renderer::Impl {
 
   VkRenderPass pass(VkImageLayout final_layout) {
     if (auto it = passes.find(final_layout); it != passes.end()) return it->second;
-    std::array<VkAttachmentDescription, 2> attachments{};
+    // 0 the colour drawn (multisampled, or the caller's image), 1 depth, 2 the caller's image
+    // the samples are resolved into.
+    const bool resolve = samples != VK_SAMPLE_COUNT_1_BIT;
+    std::array<VkAttachmentDescription, 3> attachments{};
     attachments[0].format = format;
-    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    attachments[0].samples = samples;
     attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // the sky covers every pixel
     attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
     attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
     attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     attachments[0].finalLayout = final_layout;
+    attachments[2] = attachments[0];
+    attachments[2].samples = VK_SAMPLE_COUNT_1_BIT;
+    if (resolve) {
+      attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+      attachments[0].finalLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    }
     attachments[1] = attachments[0];
     attachments[1].format = kDepthFormat;
     attachments[1].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
@@ -193,10 +222,12 @@ struct Renderer::Impl {
     attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
     VkAttachmentReference color{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkAttachmentReference depth{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkAttachmentReference resolved{2, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
     VkSubpassDescription subpass{};
     subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
     subpass.colorAttachmentCount = 1;
     subpass.pColorAttachments = &color;
+    if (resolve) subpass.pResolveAttachments = &resolved;
     subpass.pDepthStencilAttachment = &depth;
     // Earlier work on the attachments (the previous frame, a present) before this frame's writes;
     // this frame's writes before whatever reads the image next (copies, presentation).
@@ -219,7 +250,7 @@ struct Renderer::Impl {
     deps[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
     VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-    info.attachmentCount = 2;
+    info.attachmentCount = resolve ? 3 : 2;
     info.pAttachments = attachments.data();
     info.subpassCount = 1;
     info.pSubpasses = &subpass;
@@ -257,7 +288,7 @@ struct Renderer::Impl {
     raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     raster.lineWidth = 1.0f;
     VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    multisample.rasterizationSamples = samples;
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     depth.depthTestEnable = VK_TRUE;
     depth.depthWriteEnable = spec.depth_write;
@@ -302,16 +333,19 @@ struct Renderer::Impl {
     return pipeline;
   }
 
-  const std::array<VkPipeline, 5>& pipelines_for(VkImageLayout final_layout) {
+  const std::array<VkPipeline, 7>& pipelines_for(VkImageLayout final_layout) {
     if (auto it = pipelines.find(final_layout); it != pipelines.end()) return it->second;
     VkRenderPass rp = pass(final_layout);
-    std::array<VkPipeline, 5> list = {
+    constexpr VkPrimitiveTopology kLines = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    std::array<VkPipeline, 7> list = {
         make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false}),
         make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false}),
         make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true,
-                           VK_PRIMITIVE_TOPOLOGY_LINE_LIST}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true, kLines}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true, kLines}),
+        make_pipeline(rp, {"solid_vert", "solid_frag", 3, true, VK_COMPARE_OP_LESS, false}),
+        // Shadows lie on the ground, under everything but the ground itself.
+        make_pipeline(rp, {"shadow_vert", "shadow_frag", 0, false, VK_COMPARE_OP_ALWAYS, true}),
     };
     return pipelines[final_layout] = list;
   }
@@ -319,10 +353,10 @@ struct Renderer::Impl {
   VkFramebuffer framebuffer(VkImageView view, VkImageLayout final_layout) {
     const auto key = std::make_pair(view, final_layout);
     if (auto it = framebuffers.find(key); it != framebuffers.end()) return it->second;
-    const std::array<VkImageView, 2> views = {view, depth.view()};
+    const std::array<VkImageView, 3> views = {color ? color->view() : view, depth.view(), view};
     VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
     info.renderPass = pass(final_layout);
-    info.attachmentCount = 2;
+    info.attachmentCount = color ? 3 : 2;
     info.pAttachments = views.data();
     info.width = extent.width;
     info.height = extent.height;
@@ -351,12 +385,12 @@ struct Renderer::Impl {
                pose_pipeline.make_set({&birds, &species, poses.get(), lists.get(), draws.get()});
   }
 
-  // One set per mesh drawn (birds, spheres, boxes, and the route lines, which read no mesh).
-  const std::array<VkDescriptorSet, 4>& draw_sets() {
+  // One set per mesh drawn (birds, boxes, and the lines of routes and rings, which read none).
+  const std::array<VkDescriptorSet, 3>& draw_sets() {
     if (sets) return *sets;
-    std::array<VkDescriptorSet, 4> result{};
-    const std::array<const Buffer*, 4> meshes = {&bird_mesh, &sphere, &box, &box};
-    for (size_t m = 0; m < 4; ++m) {
+    std::array<VkDescriptorSet, 3> result{};
+    const std::array<const Buffer*, 3> meshes = {&bird_mesh, &box, &box};
+    for (size_t m = 0; m < meshes.size(); ++m) {
       VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
       alloc.descriptorPool = pool;
       alloc.descriptorSetCount = 1;
@@ -417,8 +451,9 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   const glm::vec4 eye_in_tile(glm::vec3(eye_world - tile.centre), view.time);
   const Camera camera = view.camera.from(eye_world);
   const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * camera.fov_y);
-  const PoseConstants pose{eye_in_tile, bird_count, r.pose_capacity, focal_pixels / kDetailPixels, tile.tile.x,
-                           tile.tile.y};
+  const PoseConstants pose{eye_in_tile,       bird_count,  r.pose_capacity,          focal_pixels / kDetailPixels,
+                           tile.tile.x,       tile.tile.y, kMinPixels / focal_pixels, 0,
+                           0};
   if (bird_count > 0)
     r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose,
                              sizeof pose);
@@ -459,7 +494,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   frame.eye = eye_in_tile;
   frame.tile_x = tile.tile.x;
   frame.tile_z = tile.tile.y;
-  frame.sun = glm::vec4(glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f)), 2.0e-5f);
+  const float haze = -std::log(1.0f - kHazeAtSubject) / std::max(view.scene_distance, kMinHazeDistance);
+  frame.sun = glm::vec4(kSun, haze);
   frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                      sizeof frame, &frame);
@@ -470,6 +506,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     vkCmdDraw(cmd, vertices, instances, 0, 0);
   };
   draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
+  draw(pipelines[6], sets[0], 6, bird_count);                      // the birds' shadows
   // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
   if (bird_count > 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[1]);
@@ -481,10 +518,11 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
       vkCmdDrawIndirect(cmd, r.draws->handle(), list * sizeof(VkDrawIndirectCommand), 1, 0);
     }
   }
-  draw(pipelines[2], sets[2], r.box_vertices, r.branch_count);     // branches
+  draw(pipelines[2], sets[1], r.box_vertices, r.branch_count);     // branches
+  draw(pipelines[5], sets[1], r.box_vertices, r.branch_count);     // the posts they are on
   if (view.show_targets) {
-    draw(pipelines[4], sets[3], 2, r.segment_count);  // routes
-    draw(pipelines[3], sets[1], r.sphere_vertices, r.target_count);
+    draw(pipelines[4], sets[2], 2, r.segment_count);  // routes
+    draw(pipelines[3], sets[2], kRingVertices, r.target_count);  // targets: a ring round each
   }
   vkCmdEndRenderPass(cmd);
 }

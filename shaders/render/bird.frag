@@ -1,6 +1,6 @@
 #version 450
 // The colour bird.vert shaded.
-layout(location = 0) flat in vec3 in_color;
+layout(location = 0) in vec3 in_color;
 layout(location = 0) out vec4 out_color;
 
 void main() { out_color = vec4(in_color, 1.0); }

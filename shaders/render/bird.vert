@@ -9,8 +9,8 @@ layout(std430, set = 0, binding = kBindingMesh) readonly buffer Mesh { MeshVerte
 layout(std430, set = 0, binding = kBindingPoses) readonly buffer Poses { Pose poses[]; };
 layout(std430, set = 0, binding = kBindingDrawLists) readonly buffer Lists { uint lists[]; };
 
-// Shaded per vertex (the faces are flat anyway): the fragment shader only writes the colour.
-layout(location = 0) flat out vec3 out_color;
+// Shaded per vertex, smoothly across the faces: the fragment shader only writes the colour.
+layout(location = 0) out vec3 out_color;
 
 const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),   // eagle: brown
                                 vec3(0.10, 0.10, 0.13),   // starling: glossy black
@@ -33,7 +33,13 @@ void main() {
   vec4 r2 = poses[bird].rows[3u * transform + 2u];
   vec4 h = vec4(p, 1.0);
   vec3 world = vec3(dot(r0, h), dot(r1, h), dot(r2, h));
-  vec3 normal = vec3(dot(r0.xyz, n), dot(r1.xyz, n), dot(r2.xyz, n));
-  out_color = shade(kPlumage[floatBitsToUint(poses[bird].tail.y) % 4u], normal, world);
+  // Normals by the inverse transpose of the part's scaled rotation M: M (n / |columns of M|^2).
+  vec3 column_sq = r0.xyz * r0.xyz + r1.xyz * r1.xyz + r2.xyz * r2.xyz;
+  vec3 m = n / max(column_sq, vec3(1e-12));
+  vec3 normal = vec3(dot(r0.xyz, m), dot(r1.xyz, m), dot(r2.xyz, m));
+  vec3 plumage = kPlumage[floatBitsToUint(poses[bird].tail.y) % 4u];
+  uint tint = uint(v.normal.w);
+  vec3 albedo = tint == 1u ? vec3(0.85, 0.62, 0.12) : tint == 2u ? 0.6 * plumage : plumage;
+  out_color = shade(albedo, normal, world);
   gl_Position = frame.view_projection * vec4(world, 1.0);
 }

@@ -19,8 +19,14 @@ mat3 rot_x(float a) { float c = cos(a), s = sin(a); return mat3(1, 0, 0, 0, c, s
 mat3 rot_y(float a) { float c = cos(a), s = sin(a); return mat3(c, 0, -s, 0, 1, 0, s, 0, c); }
 mat3 rot_z(float a) { float c = cos(a), s = sin(a); return mat3(c, s, 0, -s, c, 0, 0, 0, 1); }
 
-void store(uint i, uint part, mat3 m, vec3 t) {
-  // Rows of the 3x4 matrix [m | t].
+// The pose's transforms, grown about the bird by `grow` (a distant bird kept visible).
+vec3 g_position;
+float g_grow;
+
+// Part `part` at `offset` from the bird (world axes): rows of the 3x4 matrix [m | t].
+void store(uint i, uint part, mat3 m, vec3 offset) {
+  m *= g_grow;
+  vec3 t = g_position + g_grow * offset;
   poses[i].rows[3 * part + 0] = vec4(m[0][0], m[1][0], m[2][0], t.x);
   poses[i].rows[3 * part + 1] = vec4(m[0][1], m[1][1], m[2][1], t.y);
   poses[i].rows[3 * part + 2] = vec4(m[0][2], m[1][2], m[2][2], t.z);
@@ -36,9 +42,13 @@ void main() {
   vec4 q = b.attitude;
   mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
   vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z) - pc.eye.xyz;  // from the eye
+  float span = 2.0 * (s.shoulder_z + s.arm_length + s.hand_length);
+  float distance = length(position);
+  g_position = position;
+  g_grow = max(1.0, distance * pc.min_angle / span);
 
   // Body: the box a x b x b.
-  store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), position);
+  store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), vec3(0.0));
 
   // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
   WingAngles w = wing_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
@@ -53,21 +63,21 @@ void main() {
   mat3 arm = shoulder * rot_z(-w.feather_arm);
   mat3 hand = shoulder * rot_x(-w.flap_hand) * rot_z(-(w.feather_arm + w.feather_hand));
   vec3 wrist = shoulder_at + shoulder * vec3(0.0, 0.0, s.arm_length);
-  store(i, 1u, attitude * arm * arm_scale, position + attitude * shoulder_at);
-  store(i, 2u, attitude * hand * hand_scale, position + attitude * wrist);
+  store(i, 1u, attitude * arm * arm_scale, attitude * shoulder_at);
+  store(i, 2u, attitude * hand * hand_scale, attitude * wrist);
   // The left wing: the right one mirrored through the body's x-y plane.
   mat3 mirror = mat3(1, 0, 0, 0, 1, 0, 0, 0, -1);
-  store(i, 4u, attitude * mirror * arm * arm_scale, position + attitude * (mirror * shoulder_at));
-  store(i, 5u, attitude * mirror * hand * hand_scale, position + attitude * (mirror * wrist));
+  store(i, 4u, attitude * mirror * arm * arm_scale, attitude * (mirror * shoulder_at));
+  store(i, 5u, attitude * mirror * hand * hand_scale, attitude * (mirror * wrist));
 
   // Tail: hinged at x = -a/2, bent up by incidence + bend, twisted about x; scaled by lr.
   mat3 tail = rot_x(b.tail_twist) * rot_z(-(s.tail_incidence + b.tail_bend));
-  store(i, 3u, attitude * tail * s.tail_length, position + attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
-  // Detailed or distant: how wide the bird is on screen (its span about three body lengths).
-  float span = 3.0 * s.box_a;
-  uint list = length(position) > span * pc.lod_scale ? 1u : 0u;
+  store(i, 3u, attitude * tail * s.tail_length, attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
+  // Detailed or distant: how wide the bird is on screen.
+  uint list = distance > span * pc.lod_scale ? 1u : 0u;
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
   // The tail's opening as the model has it now: fully open while braking to land.
-  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), 0.0, 0.0);
+  // The span as drawn: the shadow's size (shadow.vert).
+  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), g_grow * span, 0.0);
 }

@@ -9,10 +9,13 @@ layout(location = 2) flat in uint in_kind;
 layout(location = 0) out vec4 out_color;
 
 void main() {
+  float haze = fog_at(length(in_world));
   if (in_kind == 0u)
-    out_color = vec4(shade(vec3(0.95, 0.75, 0.20), in_normal, in_world), 0.25);  // targets
+    out_color = vec4(1.0, 0.85, 0.35, 0.6 * (1.0 - haze));  // target rings
   else if (in_kind == 2u)
-    out_color = vec4(0.95, 0.80, 0.30, 0.8);  // routes
+    out_color = vec4(1.0, 0.85, 0.35, 0.3 * (1.0 - haze));  // routes
+  else if (in_kind == 3u)
+    out_color = vec4(shade(vec3(0.30, 0.22, 0.15), in_normal, in_world), 1.0);  // posts
   else
-    out_color = vec4(shade(vec3(0.35, 0.24, 0.14), in_normal, in_world), 1.0);   // branches
+    out_color = vec4(shade(vec3(0.35, 0.24, 0.14), in_normal, in_world), 1.0);  // branches
 }
