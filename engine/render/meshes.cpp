@@ -69,11 +69,13 @@ void body(std::vector<MeshVertex>& out) {
   }
 }
 
-// The arm: a leading edge along +x, secondaries overlapping to a scalloped trailing edge.
+// The arm: a leading edge along +x, secondaries overlapping to a scalloped trailing edge. Its root
+// reaches a quarter of its length in from the shoulder, into the body (the shoulder lies off the
+// body's side: the paper's wing starts at box_c / 2 - wing length).
 void arm(std::vector<MeshVertex>& out, float part) {
   constexpr int kFeathers = 6;
   for (int i = 0; i < kFeathers; ++i) {
-    const float z0 = float(i) / kFeathers, z1 = float(i + 1) / kFeathers, zm = 0.5f * (z0 + z1);
+    const float z0 = i == 0 ? -0.25f : float(i) / kFeathers, z1 = float(i + 1) / kFeathers, zm = 0.5f * (z0 + z1);
     const float lead0 = 0.5f - 0.04f * z0 * z0, lead1 = 0.5f - 0.04f * z1 * z1;
     quad(out, flat({lead0, z0}), flat({lead1, z1}), flat({-0.42f, z1}), flat({-0.42f, z0}), part);
     triangle(out, flat({-0.42f, z0}), flat({-0.42f, z1}), flat({-0.6f, zm}), part, Tint::flight_feathers);

@@ -415,6 +415,8 @@ struct Renderer::Impl {
   }
 };
 
+glm::vec3 sun_direction() { return kSun; }
+
 Renderer::Renderer(const gpu::Device& device, const Scenario& scenario, VkFormat color_format,
                    VkExtent2D extent)
     : impl_(std::make_unique<Impl>(device, scenario, color_format, extent)) {}

@@ -23,6 +23,9 @@ struct View {
   float scene_distance = 3000.0f; // cm from the eye to what it looks at: the fog scales with it
 };
 
+// Towards the sun (world, unit): the light and the birds' shadows.
+glm::vec3 sun_direction();
+
 class Renderer {
  public:
   // `color_format`: the images it will draw into (e.g. VK_FORMAT_R8G8B8A8_UNORM offscreen, the

@@ -16,6 +16,6 @@ vec3 shade(vec3 albedo, vec3 normal, vec3 world_position) {
   if (dot(n, to_eye) < 0.0) n = -n;  // wings and tail are seen from both sides
   float diffuse = max(dot(n, frame.sun.xyz), 0.0);
   vec3 ambient = mix(vec3(0.32, 0.32, 0.24), vec3(0.62, 0.70, 0.82), 0.5 + 0.5 * n.y);
-  vec3 lit = albedo * (0.55 * ambient + 0.85 * diffuse * kSunlight);
+  vec3 lit = albedo * (0.75 * ambient + 0.7 * diffuse * kSunlight);
   return mix(lit, frame.fog_color.rgb, fog_at(length(world_position)));
 }
