@@ -244,7 +244,7 @@ void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targ
 // Options that belong to another camera are errors, not silently ignored.
 void check_camera_options(const render::CameraOptions& camera, const CLI::App& app, bool draws) {
   if (!draws)
-    for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target", "--fov", "--targets"})
+    for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target", "--fov", "--targets", "--msaa"})
       if (app.count(name) > 0) throw CLI::ValidationError(name, "needs --png, --frames-dir or --video");
   if (camera.mode != "fixed" && (camera.eye || camera.target))
     throw CLI::ValidationError(camera.eye ? "--camera-eye" : "--camera-target",
@@ -292,6 +292,8 @@ int main(int argc, char** argv) {
       ->check(kPositive)
       ->needs(video_opt);
   add_camera_options(run_cmd, opt.images.camera, opt.images.targets);
+  run_cmd->add_option("--msaa", opt.images.msaa, "Samples a pixel: 1 (none), 2, 4 or 8 (default 4)")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
   add_size_option(run_cmd, opt.images.width, opt.images.height,
                   "Image size WxH (default 1280x720)");
   run_cmd->add_option(
@@ -325,6 +327,10 @@ int main(int argc, char** argv) {
                   "Window size WxH (default 1280x720)");
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
   add_camera_options(view_cmd, view_opt.viewer.camera, view_opt.viewer.targets);
+  view_cmd
+      ->add_option("--msaa", view_opt.viewer.msaa,
+                   "Samples a pixel: 1 (none), 2, 4 or 8 (default 4; 1 on a CPU device such as lavapipe)")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
   view_cmd
       ->add_option("--frames", view_opt.viewer.frames,
                    "Close the window after N frames (for tests)")

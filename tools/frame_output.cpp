@@ -61,7 +61,7 @@ struct FrameOutput::Impl {
     }
     const VkExtent2D size{options.width, options.height};
     renderer = std::make_unique<render::Renderer>(*device, sim.scenario(),
-                                                  render::Offscreen::kFormat, size);
+                                                  render::Offscreen::kFormat, size, options.msaa);
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
     if (!options.video.empty()) {

@@ -22,6 +22,7 @@ struct ImageOptions {
   uint32_t width = 1280, height = 720;
   render::CameraOptions camera;
   bool targets = true;  // the target spheres and routes
+  uint32_t msaa = 4;    // samples a pixel
   bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
 };
 

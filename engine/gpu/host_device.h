@@ -221,7 +221,7 @@ struct FrameConstants {
   uint list_offset;       // where the draw's birds start in the lists (bird.vert)
   int tile_x;
   int tile_z;
-  uint pad;
+  uint shadow_stride;     // every this many-th bird casts a shadow, for that many (shadow.vert)
 };
 
 // A mesh vertex (engine/render/meshes.h), read by vertex index.

@@ -123,16 +123,10 @@ std::vector<MeshVertex> bird_mesh() {
 
 std::vector<MeshVertex> distant_bird_mesh() {
   std::vector<MeshVertex> v;
-  // A body seen from any side: two crossed diamonds.
-  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0.45f, 0}, 0.0f);
-  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, -0.45f, 0}, 0.0f);
-  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0, 0.45f}, 0.0f);
-  triangle(v, {0.5f, 0, 0}, {-0.5f, 0, 0}, {0.0f, 0, -0.45f}, 0.0f);
   for (float side : {0.0f, 4.0f}) {
-    quad(v, flat({0.5f, 0.0f}), flat({0.5f, 1.0f}), flat({-0.5f, 1.0f}), flat({-0.5f, 0.0f}), 1.0f + side);
+    triangle(v, flat({0.5f, 0.0f}), flat({0.5f, 1.0f}), flat({-0.5f, 0.0f}), 1.0f + side);
     triangle(v, flat({0.5f, 0.0f}), flat({0.1f, 1.0f}), flat({-0.5f, 0.0f}), 2.0f + side);
   }
-  triangle(v, {0, 0, 0}, {1, 0, -0.5f}, {1, 0, 0.5f}, 3.0f);
   return v;
 }
 

@@ -18,8 +18,8 @@ enum class Tint { plumage = 0, beak = 1, flight_feathers = 2 };
 // chord -0.5..0.5 along x, leading edge +x; secondaries and slotted primaries), 3 the tail's fan
 // (x: radius fraction, z: angle fraction of the opening), 5 and 6 the left arm and hand.
 std::vector<MeshVertex> bird_mesh();
-// The same bird from afar, in a few triangles: crossed diamonds for the body, one quad an arm,
-// one triangle a hand and the tail.
+// The same bird from afar, in four triangles, one a wing segment: a few pixels wide, its wings
+// are what shows (and every vertex counts when a flock of 100,000 is drawn).
 std::vector<MeshVertex> distant_bird_mesh();
 // A box from -0.5 to 0.5 in x, 0 to 1 in y, -0.5 to 0.5 in z.
 std::vector<MeshVertex> box_mesh();

@@ -38,16 +38,19 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with a few triangles
 constexpr float kMinPixels = 2.5f;      // no bird is drawn narrower: a far one is a soft dot
 constexpr int kRingVertices = 128;      // a target's ring: 64 line segments
+constexpr uint32_t kShadows = 4096;     // shadows drawn at most: their fill costs
 // The haze: what the camera looks at (View::scene_distance) is 5 % hazed, ten times as far 40 %.
 constexpr float kHazeAtSubject = 0.05f;
 constexpr float kMinHazeDistance = 2000.0f;  // cm: close-ups are hazed as a scene this large
 const glm::vec3 kSun = glm::normalize(glm::vec3(0.55f, 0.5f, 0.4f));  // 36 deg high
 
-// 4 samples a pixel where the device can (lavapipe can), else none.
-VkSampleCountFlagBits sample_count(const gpu::Device& device) {
+// The most samples a pixel up to `wanted` that the device draws colour and depth with.
+VkSampleCountFlagBits sample_count(const gpu::Device& device, uint32_t wanted) {
   const VkSampleCountFlags both =
       device.limits().framebufferColorSampleCounts & device.limits().framebufferDepthSampleCounts;
-  return (both & VK_SAMPLE_COUNT_4_BIT) ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
+  uint32_t n = 8;
+  while (n > 1 && (n > wanted || !(both & n))) n /= 2;
+  return VkSampleCountFlagBits(n);
 }
 
 template <class T>
@@ -115,7 +118,7 @@ struct Renderer::Impl {
   std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
   std::optional<std::array<VkDescriptorSet, 3>> sets;  // the draws' (draw_sets)
 
-  Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e)
+  Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e, uint32_t msaa)
       : device(d),
         format(f),
         extent(e),
@@ -145,8 +148,8 @@ struct Renderer::Impl {
                        gpu::kBindingDrawLists, gpu::kBindingDraws},
                       sizeof(PoseConstants), 16),
         depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT,
-              sample_count(d)),
-        samples(sample_count(d)) {
+              sample_count(d, msaa)),
+        samples(sample_count(d, msaa)) {
     if (samples != VK_SAMPLE_COUNT_1_BIT)
       color = std::make_unique<gpu::Image>(
           d, e, f, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT,
@@ -418,8 +421,16 @@ struct Renderer::Impl {
 glm::vec3 sun_direction() { return kSun; }
 
 Renderer::Renderer(const gpu::Device& device, const Scenario& scenario, VkFormat color_format,
-                   VkExtent2D extent)
-    : impl_(std::make_unique<Impl>(device, scenario, color_format, extent)) {}
+                   VkExtent2D extent, uint32_t msaa)
+    : impl_(std::make_unique<Impl>(device, scenario, color_format, extent, msaa)) {}
+
+uint32_t Renderer::samples() const { return uint32_t(impl_->samples); }
+
+uint32_t default_msaa(const gpu::Device& device, bool interactive) {
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(device.physical(), &properties);
+  return interactive && properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1 : 4;
+}
 
 Renderer::~Renderer() = default;
 
@@ -508,7 +519,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     vkCmdDraw(cmd, vertices, instances, 0, 0);
   };
   draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
-  draw(pipelines[6], sets[0], 6, bird_count);                      // the birds' shadows
+  // The birds' shadows: of every bird in a flock of up to kShadows.
+  frame.shadow_stride = std::max(1u, (bird_count + kShadows - 1) / kShadows);
+  vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof frame, &frame);
+  draw(pipelines[6], sets[0], 6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
   // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
   if (bird_count > 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[1]);

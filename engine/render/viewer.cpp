@@ -58,6 +58,7 @@ class Viewer {
   void draw();
   void recreate_swapchain();
   void update_title(Clock::time_point now);
+  uint32_t msaa() const { return options_.msaa > 0 ? options_.msaa : default_msaa(device_, true); }
 
   Window& window_;
   const gpu::Device& device_;
@@ -93,7 +94,7 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
       sim_(device, std::move(scenario), options.birds),
       swapchain_(device, window.framebuffer_size()),
       renderer_(std::make_unique<Renderer>(device, sim_.scenario(), swapchain_.format(),
-                                           swapchain_.extent())),
+                                           swapchain_.extent(), msaa())),
       frames_(device),
       followed_(options.camera.bird),
       paused_(options.paused) {
@@ -134,9 +135,10 @@ void Viewer::run() {
     if (options_.frames > 0 && frames_drawn_ >= options_.frames) window_.close();
   }
   const double wall = seconds_between(start, Clock::now());
-  std::printf("%llu frames in %.2f s (%.1f frames/s), %.2f s simulated\n",
+  std::printf("%llu frames in %.2f s (%.1f frames/s), %.2f s simulated, %ux%u, %u sample%s a pixel\n",
               (unsigned long long)frames_drawn_, wall, wall > 0 ? frames_drawn_ / wall : 0.0,
-              sim_.time());
+              sim_.time(), renderer_->extent().width, renderer_->extent().height, renderer_->samples(),
+              renderer_->samples() == 1 ? "" : "s");
 }
 
 void Viewer::handle(const Input& input, float seconds) {
@@ -231,7 +233,7 @@ void Viewer::recreate_swapchain() {
   swapchain_.recreate(window_.framebuffer_size());  // waits for the device to be idle
   renderer_.reset();
   renderer_ = std::make_unique<Renderer>(device_, sim_.scenario(), swapchain_.format(),
-                                         swapchain_.extent());
+                                         swapchain_.extent(), msaa());
   swapchain_stale_ = false;
 }
 
