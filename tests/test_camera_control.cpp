@@ -68,6 +68,17 @@ TEST(CameraControl, AutoGlidesWithTheFlockWithoutTrailingIt) {
   EXPECT_LT(largest_step, 0.05f * fit);          // a glide, not a jump
 }
 
+TEST(CameraControl, AutoStaysOnAPausedFlock) {
+  // In a window the glide runs on wall time while the simulation may be paused: the camera is
+  // carried with the flock by simulated time only, so it does not drift ahead of a paused flock.
+  const glm::dvec3 v(1500.0, 0.0, 0.0);
+  Subject flock = flock_at({0.0, 3000.0, 0.0}, 1000.0f, v);
+  flock.time = 5.0;
+  CameraControl c(CameraOptions{}, flock);
+  for (int i = 0; i < 200; ++i) c.update(0.02f, flock, 5.0);  // 4 s of wall time, paused
+  EXPECT_LT(glm::distance(c.camera().target_world(), flock.centre), 1.0);
+}
+
 TEST(CameraControl, OrbitCirclesTheFlock) {
   const Subject flock = flock_at({0.0, 3000.0, 0.0}, 1000.0f);
   CameraOptions options;

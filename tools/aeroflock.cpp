@@ -16,6 +16,8 @@
 #include <sstream>
 #include <string>
 
+#include <glm/geometric.hpp>
+
 #include "backend.h"
 #include "bench.h"
 #include "envelope.h"
@@ -249,6 +251,8 @@ void check_camera_options(const render::CameraOptions& camera, const CLI::App& a
   if (camera.mode != "fixed" && (camera.eye || camera.target))
     throw CLI::ValidationError(camera.eye ? "--camera-eye" : "--camera-target",
                                "needs --camera fixed (the camera is " + camera.mode + ")");
+  if (camera.eye && camera.target && glm::distance(*camera.eye, *camera.target) < 1.0)
+    throw CLI::ValidationError("--camera-target", "must differ from --camera-eye (the camera looks at its own eye)");
   if (camera.mode != "follow" && app.count("--camera-bird") > 0)
     throw CLI::ValidationError("--camera-bird", "needs --camera follow (the camera is " + camera.mode + ")");
 }

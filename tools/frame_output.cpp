@@ -31,7 +31,7 @@ struct FrameOutput::Impl {
   double camera_time = 0.0;                     // simulated time of its last update
   FILE* video = nullptr;
   double video_fps = 0.0;
-  uint64_t video_frames = 0;  // written so far: frame k shows simulated time k / video_fps
+  uint64_t video_frames = 0;  // written so far: frame k (from 0) shows simulated time (k + 1) / video_fps
 
   Impl(const ImageOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png");
@@ -99,7 +99,7 @@ struct FrameOutput::Impl {
       count = uint32_t(packed.size());
     }
     const render::Subject subject = render::subject_of(birds, options.camera.bird, sim.time());
-    if (!camera) camera.emplace(options.camera, subject);
+    if (!camera) camera.emplace(options.camera, subject), camera_time = sim.time();
     render::View view;
     view.camera = camera->update(float(sim.time() - camera_time), subject, sim.time());
     view.scene_distance = camera->subject_distance();

@@ -182,8 +182,8 @@ struct StepConstants {
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right
-// hand, tail, left arm, left hand; part-local to world, by rows) and the tail's opening (x) and the
-// bird's species (y, as bits).
+// hand, tail, left arm, left hand; part-local to world, by rows), the tail's opening (x), the
+// bird's species (y, as bits) and its wingspan (z, cm: the size of its shadow, shadow.vert).
 struct Pose {
   AF_V16 vec4 rows[18];
   AF_V16 vec4 tail;

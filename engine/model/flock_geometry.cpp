@@ -91,10 +91,11 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds) {
 
 FlockCore flock_core(const std::vector<BirdState>& birds, double fraction) {
   FlockCore core;
-  std::vector<glm::dvec3> p;
+  std::vector<glm::dvec3> p, v;
   p.reserve(birds.size());
+  v.reserve(birds.size());
   for (const BirdState& b : birds)
-    if (is_finite(b)) p.push_back(b.position);
+    if (is_finite(b)) p.push_back(b.position), v.push_back(b.velocity);
   core.finite = p.size();
   if (p.empty()) return core;
   // The k-th smallest of n values (n > 0), reordering `v`.
@@ -102,14 +103,18 @@ FlockCore flock_core(const std::vector<BirdState>& birds, double fraction) {
     std::nth_element(v.begin(), v.begin() + ptrdiff_t(k), v.end());
     return v[k];
   };
-  std::vector<double> v(p.size());
+  std::vector<double> d(p.size());
   for (int axis = 0; axis < 3; ++axis) {
-    for (size_t i = 0; i < p.size(); ++i) v[i] = p[i][axis];
-    core.centre[axis] = kth(v, v.size() / 2);
+    for (size_t i = 0; i < p.size(); ++i) d[i] = p[i][axis];
+    core.centre[axis] = kth(d, d.size() / 2);
   }
-  for (size_t i = 0; i < p.size(); ++i) v[i] = glm::distance(p[i], core.centre);
-  const double k = std::ceil(std::clamp(fraction, 0.0, 1.0) * double(v.size())) - 1.0;
-  core.radius = kth(v, size_t(std::max(k, 0.0)));
+  for (size_t i = 0; i < p.size(); ++i) d[i] = glm::distance(p[i], core.centre);
+  const double k = std::ceil(std::clamp(fraction, 0.0, 1.0) * double(d.size())) - 1.0;
+  core.radius = kth(d, size_t(std::max(k, 0.0)));
+  size_t within = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (glm::distance(p[i], core.centre) <= core.radius) core.velocity += v[i], ++within;
+  core.velocity /= double(std::max<size_t>(within, 1));
   return core;
 }
 

@@ -30,6 +30,7 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds);
 struct FlockCore {
   glm::dvec3 centre{0.0};  // per-axis median of the finite birds' positions, cm
   double radius = 0.0;     // distance from the centre within which `fraction` of them lie, cm
+  glm::dvec3 velocity{0.0};  // mean velocity of the birds within it, cm/s
   size_t finite = 0;
 };
 FlockCore flock_core(const std::vector<BirdState>& birds, double fraction = 0.9);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include <glm/geometric.hpp>
 
@@ -44,7 +45,7 @@ Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, doubl
   if (core.finite == 0) return s;
   s.centre = core.centre;
   s.radius = float(core.radius);
-  s.velocity = flock_extent(birds).mean_velocity;
+  s.velocity = core.velocity;
   const bool bird_ok = followed < birds.size() && is_finite(birds[followed]);
   s.bird = bird_ok ? birds[followed].position : s.centre;
   s.bird_velocity = bird_ok ? birds[followed].velocity : s.velocity;
@@ -77,6 +78,8 @@ CameraControl::CameraControl(const CameraOptions& options, const Subject& subjec
     // Placed where asked; what is not given comes from the automatic camera's first framing.
     const glm::dvec3 eye = options.eye.value_or(camera_.eye_world());
     const glm::dvec3 target = options.target.value_or(options.eye ? subject.centre : camera_.target_world());
+    if (glm::distance(eye, target) < 1.0)
+      throw std::invalid_argument("the fixed camera's eye and target are the same point");
     camera_.origin = eye;
     camera_.eye = glm::vec3(0.0f);
     camera_.target = glm::vec3(target - eye);
@@ -105,10 +108,22 @@ void CameraControl::set_mode(Mode mode) {
   if (mode == Mode::free) {
     const glm::vec3 look = glm::normalize(camera_.target - camera_.eye);
     free_yaw_ = std::atan2(look.z, look.x);
-    free_pitch_ = std::asin(std::clamp(look.y, -1.0f, 1.0f));
+    free_pitch_ = std::clamp(std::asin(std::clamp(look.y, -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
   }
   if (mode == Mode::follow && mode_ != Mode::follow) follow_offset_ = camera_.eye - camera_.target;
-  if (mode == Mode::orbit && mode_ != Mode::orbit) orbit_yaw_ = view_yaw_ + drag_yaw_, drag_yaw_ = 0.0f;
+  const bool around_flock = mode == Mode::automatic || mode == Mode::orbit;
+  if (around_flock && framed_ && (mode_ == Mode::follow || mode_ == Mode::free)) {
+    // Glide to the flock from where the camera is: it looks at what it looked at, from there.
+    centre_ = camera_.target_world();
+    const glm::vec3 offset = camera_.eye - camera_.target;
+    distance_ = std::max(glm::length(offset), 1.0f) / zoom_;
+    pitch_ = std::clamp(std::asin(std::clamp(offset.y / std::max(glm::length(offset), 1e-6f), -1.0f, 1.0f)),
+                        -kMaxPitch, kMaxPitch);
+    view_yaw_ = orbit_yaw_ = std::atan2(offset.z, offset.x);
+    drag_yaw_ = 0.0f;
+  } else if (mode == Mode::orbit && mode_ == Mode::automatic) {
+    orbit_yaw_ = view_yaw_ + drag_yaw_, drag_yaw_ = 0.0f;
+  }
   mode_ = mode;
 }
 
@@ -142,7 +157,9 @@ void CameraControl::move(glm::vec3 d, float seconds, bool fast) {
 // flying straight is not trailed), and the distance to fit its core in kFill of the view.
 void CameraControl::frame(float seconds, const Subject& subject, double time, bool snap) {
   const float f = snap ? 1.0f : glide(seconds, kFrameRate);
-  const glm::dvec3 carried = centre_ + subject.velocity * double(seconds);
+  // Carried by the simulated time gone by (none while paused, more when sped up).
+  const glm::dvec3 carried = centre_ + subject.velocity * (snap ? 0.0 : time - framed_time_);
+  framed_time_ = time;
   centre_ = glm::mix(carried, subject.centre_at(time), double(f));
   const float radius = std::max(subject.radius, kMinRadius);
   const float fit = radius / std::tan(0.5f * kFill * camera_.fov_y);

@@ -47,11 +47,12 @@ class CameraControl {
   static const char* name(Mode mode);
 
   CameraControl() = default;
-  // Starts as `options` say, framing `subject` at once.
+  // Starts as `options` say, framing `subject` at once. Throws std::invalid_argument for a fixed
+  // camera that looks at its own eye.
   CameraControl(const CameraOptions& options, const Subject& subject);
 
   Mode mode() const { return mode_; }
-  // The free camera starts where the camera is now; the others glide from it.
+  // The free camera starts where the camera is now; follow, auto and orbit glide from it.
   void set_mode(Mode mode);
   // Back to the automatic camera at its own distance, framing `subject` at once.
   void reset(const Subject& subject);
@@ -79,6 +80,7 @@ class CameraControl {
   Mode mode_ = Mode::automatic;
   Camera camera_;
   bool framed_ = false;            // auto and orbit have framed the flock once
+  double framed_time_ = 0.0;       // s: the simulated time they last framed it at
   glm::dvec3 centre_{0.0};         // auto and orbit: the gliding point looked at, world
   float distance_ = 3000.0f;       // cm, gliding towards the framing distance
   float zoom_ = 1.0f;              // the wheel's factor on it

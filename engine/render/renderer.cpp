@@ -38,7 +38,6 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with a few triangles
 constexpr float kMinPixels = 2.5f;      // no bird is drawn narrower: a far one is a soft dot
 constexpr int kRingVertices = 128;      // a target's ring: 64 line segments
-constexpr uint32_t kShadows = 4096;     // shadows drawn at most: their fill costs
 // The haze: what the camera looks at (View::scene_distance) is 5 % hazed, ten times as far 40 %.
 constexpr float kHazeAtSubject = 0.05f;
 constexpr float kMinHazeDistance = 2000.0f;  // cm: close-ups are hazed as a scene this large
@@ -426,10 +425,14 @@ Renderer::Renderer(const gpu::Device& device, const Scenario& scenario, VkFormat
 
 uint32_t Renderer::samples() const { return uint32_t(impl_->samples); }
 
-uint32_t default_msaa(const gpu::Device& device, bool interactive) {
+bool is_cpu_device(const gpu::Device& device) {
   VkPhysicalDeviceProperties properties;
   vkGetPhysicalDeviceProperties(device.physical(), &properties);
-  return interactive && properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1 : 4;
+  return properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
+uint32_t default_msaa(const gpu::Device& device, bool interactive) {
+  return interactive && is_cpu_device(device) ? 1 : 4;
 }
 
 Renderer::~Renderer() = default;
@@ -519,8 +522,9 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     vkCmdDraw(cmd, vertices, instances, 0, 0);
   };
   draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
-  // The birds' shadows: of every bird in a flock of up to kShadows.
-  frame.shadow_stride = std::max(1u, (bird_count + kShadows - 1) / kShadows);
+  // The birds' shadows: of every bird, or of every shadow_stride-th.
+  const uint32_t casters = view.shadow_casters > 0 ? view.shadow_casters : std::max(bird_count, 1u);
+  frame.shadow_stride = std::max(1u, (bird_count + casters - 1) / casters);
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof frame, &frame);
   draw(pipelines[6], sets[0], 6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
   // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.

@@ -21,6 +21,9 @@ struct View {
   bool show_targets = true;
   float time = 0.0f;              // s, for anything animated independently of the birds
   float scene_distance = 3000.0f; // cm from the eye to what it looks at: the fog scales with it
+  // At most this many birds cast shadows, each for the birds after it up to the next (0: all):
+  // the shadows' fill is what costs in a window on the CPU.
+  uint32_t shadow_casters = 0;
 };
 
 // Towards the sun (world, unit): the light and the birds' shadows.
@@ -29,6 +32,8 @@ glm::vec3 sun_direction();
 // Samples a pixel unless asked otherwise: 4 (edges and distant birds soft), but none in a window
 // drawn on the CPU (lavapipe), where 4 samples cost a third of the frame rate.
 uint32_t default_msaa(const gpu::Device& device, bool interactive);
+// Whether the device draws on the CPU (lavapipe): the window spares it costly work.
+bool is_cpu_device(const gpu::Device& device);
 
 class Renderer {
  public:

@@ -18,6 +18,8 @@ const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),   // eagle: brown
                                 vec3(0.60, 0.35, 0.20));
 
 
+const float kClosedTail = 0.25;
+
 void main() {
   uint bird = lists[frame.list_offset + gl_InstanceIndex];
   MeshVertex v = mesh[gl_VertexIndex];
@@ -26,7 +28,8 @@ void main() {
   vec3 p = v.position.xyz, n = v.normal.xyz;
   if (part == 3u) {  // the tail's fan: x radius fraction, z angle fraction of the opening
     float a = p.z * poses[bird].tail.x;
-    p = p.x * vec3(-cos(a), 0.0, sin(a));
+    // Closed, the rectrices still lie side by side: the tip kClosedTail of the length wide.
+    p = p.x * vec3(-cos(a), 0.0, sin(a)) + vec3(0.0, 0.0, kClosedTail * p.z * p.x);
   }
   vec4 r0 = poses[bird].rows[3u * transform];
   vec4 r1 = poses[bird].rows[3u * transform + 1u];

@@ -78,6 +78,6 @@ void main() {
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
   // The tail's opening as the model has it now: fully open while braking to land.
-  // The span as drawn: the shadow's size (shadow.vert).
-  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), g_grow * span, 0.0);
+  // The span: the shadow's size (shadow.vert; a distant bird grown on screen casts its own).
+  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), span, 0.0);
 }

@@ -12,7 +12,7 @@ layout(location = 1) out float out_alpha;
 
 const float kPenumbra = 0.0093;  // 2 tan(0.265 deg): the penumbra's width per cm of height
 const float kDarkness = 0.45;    // of a shadow as wide as the bird
-const float kFaintest = 0.05;    // fainter shadows are left out (a starling above 30 m)
+const float kFaintest = 0.05;    // fainter shadows are left out (the starling's above 150 m)
 
 void main() {
   // Six vertices a bird in one draw; in a large flock every shadow_stride-th bird casts the shadow
@@ -23,7 +23,7 @@ void main() {
   float ground = frame.fog_color.w - frame.eye.y;
   float height = bird.y - ground;
   float span = pose.tail.z;
-  float radius = 0.35 * span + 0.5 * kPenumbra * height;
+  float radius = 0.35 * span + 0.5 * kPenumbra * height;  // the penumbra's half on each side
   vec3 centre = bird - frame.sun.xyz * (height / frame.sun.y);
   centre.y = ground;
   // A square of two triangles round the centre.
