@@ -14,8 +14,11 @@ void main() {
   if (ray.y < 0.0 && height > 0.0) {
     float t = height / -ray.y;
     vec3 hit = t * ray;
-    vec2 cell = floor((hit.xz + frame.eye.xz) / 1024.0);  // from the eye's tile: 16 squares a tile
-    float checker = mod(cell.x + cell.y, 2.0);
+    vec2 at = (hit.xz + frame.eye.xz) / 1024.0;  // in squares, from the eye's tile: 16 a tile
+    vec2 cell = floor(at);
+    // Where a pixel spans most of a square, the squares fade to their mean (no moire far off).
+    float footprint = max(fwidth(at.x), fwidth(at.y));
+    float checker = mix(mod(cell.x + cell.y, 2.0), 0.5, smoothstep(0.25, 0.75, footprint));
     vec3 grass = mix(vec3(0.30, 0.40, 0.21), vec3(0.33, 0.44, 0.23), checker);
     out_color = vec4(shade(grass, vec3(0, 1, 0), hit), 1.0);
     vec4 clip = frame.view_projection * vec4(hit, 1.0);
