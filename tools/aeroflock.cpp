@@ -239,7 +239,7 @@ void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targ
       ->capture_default_str();
   app->add_option_function<std::string>(
          "--targets", [&targets](const std::string& v) { targets = v == "on"; },
-         "on or off: the target spheres and the routes between them (default on)")
+         "on or off: the target rings and the routes between them (default on)")
       ->check(CLI::IsMember({"on", "off"}));
 }
 
