@@ -1,22 +1,27 @@
 #!/usr/bin/python3
-"""Checks an `aeroflock run --vtk DIR` export with Python's VTK (Debian's python3-vtk9).
+"""Checks an `aeroflock run --vtk DIR` export with Python's VTK: Debian's python3-vtk9 under
+/usr/bin/python3, or ParaView's own under pvpython (whichever is present; both have vtkmodules).
 
-usage: /usr/bin/python3 tests/check_vtk.py DIR [--birds N] [--frames N] [--min-frames N]
+usage: python3 tests/check_vtk.py DIR [--birds N] [--frames N] [--min-frames N]
 
-Parses DIR/flock.pvd as XML, checks that every file it lists exists and that the times rise
-strictly, opens each file with vtkXMLPolyDataReader and checks its point count and arrays, and
-opens DIR/trajectories.vtp (one polyline per bird, one point per saved frame). Exits 0 when all
-is well, 1 with the reasons otherwise, and 77 (skipped) when `import vtk` fails.
+Parses DIR/flock.pvd as XML, checks that every file it lists exists, that the first is t = 0 and
+the times rise strictly without float noise, opens each file with vtkXMLPolyDataReader and checks
+its point count, arrays (reals Float32, time Float64) and the field data that describes it
+(species and flight-state names, every array's unit, TimeValue), and opens DIR/trajectories.vtp
+(one polyline per bird, one point per saved frame). Exits 0 when all is well, 1 with the reasons
+otherwise, and 77 (skipped) when VTK's Python modules cannot be imported.
 """
 import argparse
 import os
+import re
 import sys
 import xml.etree.ElementTree as ET
 
 try:
-    import vtk  # noqa: E402
-except ImportError as e:  # python3-vtk9 missing
-    print(f"SKIPPED: cannot import vtk: {e}")
+    from vtkmodules.vtkCommonCore import vtkIdList
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+except ImportError as e:  # neither python3-vtk9 nor ParaView's Python
+    print(f"SKIPPED: cannot import VTK's Python modules (vtkmodules): {e}")
     sys.exit(77)
 
 # Point arrays of a frame file and their numbers of components.
@@ -24,8 +29,12 @@ FRAME_ARRAYS = {
     "bird_id": 1, "species": 1, "time": 1, "velocity": 3, "speed": 1, "attitude": 4,
     "heading_pitch_bank": 3, "wingbeat_phase": 1, "frequency": 1, "amplitude": 1,
     "tail_bend": 1, "tail_twist": 1, "tail_opening": 1, "aero_force": 3, "tail_force": 3,
-    "flight_state": 1, "target": 1,
+    "flight_state": 1, "target": 1, "neighbours": 1, "nearest_neighbour": 1, "social_direction": 3,
 }
+# Arrays that are not Float32 (the reals are, by default).
+NOT_FLOAT = {"bird_id": "unsigned int", "species": "int", "time": "double", "flight_state": "int",
+             "target": "int", "neighbours": "int"}
+FLIGHT_STATES = ["flying", "standing", "taking_off", "landing", "perched"]
 
 errors = []
 
@@ -37,11 +46,33 @@ def check(condition, message):
 
 
 def read(path):
-    reader = vtk.vtkXMLPolyDataReader()
+    reader = vtkXMLPolyDataReader()
     reader.SetFileName(path)
     reader.Update()
     check(reader.GetErrorCode() == 0, f"{path}: VTK read error {reader.GetErrorCode()}")
     return reader.GetOutput()
+
+
+def strings(data, name):
+    a = data.GetFieldData().GetAbstractArray(name)
+    return None if a is None else [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+
+
+def check_field_data(path, data, arrays):
+    """The file names its codes and the unit of its points and of each of `arrays`."""
+    species = strings(data, "species_names")
+    check(species is not None and len(species) >= 1 and all(species), f"{path}: no species_names")
+    check(strings(data, "flight_state_names") == FLIGHT_STATES,
+          f"{path}: flight_state_names {strings(data, 'flight_state_names')}")
+    units = strings(data, "array_units") or []
+    named = [u.split(": ")[0] for u in units]
+    check(named[:1] == ["points"], f"{path}: array_units does not start with the points' unit: {units[:1]}")
+    for name in arrays:
+        check(name in named, f"{path}: array_units has no unit for {name}")
+    for name in ("scenario", "scenario_hash"):
+        check(strings(data, name) not in (None, [], [""]), f"{path}: no field data {name}")
+    check(data.GetFieldData().GetArray("dt") is not None, f"{path}: no field data dt")
+    return species
 
 
 def main():
@@ -62,8 +93,12 @@ def main():
 
     times = []
     birds = args.birds
+    if datasets:
+        check(float(datasets[0].get("timestep")) == 0.0, f"{pvd}: the first frame is at t = {datasets[0].get('timestep')}, not 0")
     for ds in datasets:
-        t = float(ds.get("timestep"))
+        text = ds.get("timestep")
+        check(not re.search(r"(9{6}|0{6})[0-9]$", text), f"{pvd}: timestep {text} carries float noise")
+        t = float(text)
         path = os.path.join(args.dir, ds.get("file"))
         if times:
             check(t > times[-1], f"{pvd}: time {t} after {times[-1]} does not rise")
@@ -84,6 +119,14 @@ def main():
             check(a.GetNumberOfComponents() == components,
                   f"{path}: {name} has {a.GetNumberOfComponents()} components, expected {components}")
             check(a.GetNumberOfTuples() == n, f"{path}: {name} has {a.GetNumberOfTuples()} tuples")
+            want = NOT_FLOAT.get(name, "float")
+            check(a.GetDataTypeAsString() == want, f"{path}: {name} is {a.GetDataTypeAsString()}, expected {want}")
+        species = check_field_data(path, data, FRAME_ARRAYS)
+        if species and pd.GetArray("species") is not None and n > 0:
+            lo, hi = pd.GetArray("species").GetRange()
+            check(0 <= lo <= hi < len(species), f"{path}: species codes {lo}..{hi} but {len(species)} names")
+        tv = data.GetFieldData().GetArray("TimeValue")
+        check(tv is not None and tv.GetValue(0) == t, f"{path}: TimeValue is not the collection's {t}")
         if pd.GetArray("time") is not None and n > 0:
             check(abs(pd.GetArray("time").GetValue(0) - t) <= 1e-12 * max(1.0, abs(t)),
                   f"{path}: time {pd.GetArray('time').GetValue(0)} but the collection says {t}")
@@ -104,7 +147,9 @@ def main():
         for name in ("time", "speed"):
             check(traj.GetPointData().GetArray(name) is not None, f"{traj_path}: no point array {name}")
         check(traj.GetCellData().GetArray("bird_id") is not None, f"{traj_path}: no cell array bird_id")
-        ids = vtk.vtkIdList()
+        check(traj.GetCellData().GetArray("species") is not None, f"{traj_path}: no cell array species")
+        check_field_data(traj_path, traj, ("time", "speed"))
+        ids = vtkIdList()
         for c in range(min(cells, 3)):
             traj.GetCellPoints(c, ids)
             check(ids.GetNumberOfIds() == frames, f"{traj_path}: bird {c} has {ids.GetNumberOfIds()} points")

@@ -2,6 +2,7 @@
 #   -DAEROFLOCK=exe -DARGS="run;x.toml" -DEXPECT_RC=0|nonzero|N
 #   [-DEXPECT_STDERR=regex] [-DEXPECT_STDOUT=regex] [-DCLEAN_DIR=dir: removed before the run] [-DSUMMARY=file.json: must exist with every summary key]
 #   [-DPNG=file.png -DPNG_SIZE=WxH: must exist, a PNG of that size]
+#   [-DEXPECT_ABSENT=path: must not exist after the run] [-DSTDOUT_FILE=file: stdout saved there]
 string(REPLACE "," ";" args "${ARGS}")
 if(SUMMARY)
   file(REMOVE "${SUMMARY}")
@@ -15,6 +16,12 @@ endif()
 execute_process(COMMAND "${AEROFLOCK}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                 ERROR_VARIABLE err)
 message("rc: ${rc}\nstdout:\n${out}\nstderr:\n${err}")
+if(STDOUT_FILE)
+  file(WRITE "${STDOUT_FILE}" "${out}")
+endif()
+if(EXPECT_ABSENT AND EXISTS "${EXPECT_ABSENT}")
+  message(FATAL_ERROR "${EXPECT_ABSENT} exists: the run created it")
+endif()
 if(EXPECT_RC STREQUAL "0" AND NOT rc EQUAL 0)
   message(FATAL_ERROR "expected exit status 0")
 elseif(EXPECT_RC STREQUAL "nonzero" AND (rc EQUAL 0 OR NOT rc MATCHES "^[0-9]+$"))
@@ -30,7 +37,7 @@ if(DEFINED EXPECT_STDERR AND NOT err MATCHES "${EXPECT_STDERR}")
 endif()
 if(SUMMARY)
   file(READ "${SUMMARY}" json)
-  foreach(key backend device scenario birds steps dt steps_per_frame sim_seconds wall_seconds
+  foreach(key units backend device scenario scenario_hash birds steps dt steps_per_frame sim_seconds wall_seconds
               bird_steps_per_second nan_birds centroid mean_speed targets_reached perched flying)
     string(JSON value ERROR_VARIABLE missing GET "${json}" ${key})
     if(missing)

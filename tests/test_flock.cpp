@@ -138,6 +138,41 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
 
 // MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default scenario's
 // 1,000 starlings, 60 s after the first 20, every frame.
+// The half-size of the box holding `flock`'s birds, each axis.
+dvec3 spawn_half_size(const std::vector<BirdState>& birds, uint32_t flock) {
+  dvec3 lo(1e300), hi(-1e300);
+  for (const BirdState& b : birds)
+    if (b.flock == flock) lo = glm::min(lo, b.position), hi = glm::max(hi, b.position);
+  return 0.5 * (hi - lo);
+}
+
+// --birds N keeps the scenario's density: each flock's spawn box grows with the cube root of its
+// share, so 64 times the birds fill a box 4 times as wide, not the same box 64 times as densely.
+TEST(Spawn, MoreBirdsKeepTheScenarioDensity) {
+  const Scenario s = load_scenario("default");
+  ASSERT_EQ(s.flocks[0].name, "starlings");
+  const std::vector<BirdState> own = spawn_birds(s);
+  const std::vector<BirdState> more = spawn_birds(s, 64 * 1020);
+  uint64_t starlings = 0;
+  for (const BirdState& b : more) starlings += b.flock == 0;
+  EXPECT_EQ(starlings, 64u * 1000u);  // shared in proportion: 1,000 of 1,020
+  const dvec3 small = spawn_half_size(own, 0), large = spawn_half_size(more, 0);
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_NEAR(small[axis], s.flocks[0].spawn_extent[axis], 0.02 * s.flocks[0].spawn_extent[axis]);
+    EXPECT_NEAR(large[axis] / small[axis], 4.0, 0.05) << "axis " << axis;
+  }
+  // The same for one flock resized (--flock starlings=8000): twice as wide, eagles untouched.
+  Scenario resized = s;
+  resize_flock(resized, 0, 8000);
+  const std::vector<BirdState> eight = spawn_birds(resized);
+  EXPECT_EQ(eight.size(), 8020u);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(spawn_half_size(eight, 0)[axis] / small[axis], 2.0, 0.05) << "axis " << axis;
+  resize_flock(resized, 1, 0);  // no eagles: the flock is gone
+  ASSERT_EQ(resized.flocks.size(), 1u);
+  EXPECT_EQ(spawn_birds(resized).size(), 8000u);
+}
+
 TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const Scenario scenario = load_scenario("default");
   CpuSimulation sim(scenario);

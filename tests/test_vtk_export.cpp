@@ -13,6 +13,7 @@
 #include <vtkStringArray.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -99,12 +100,18 @@ struct Saved {
   std::vector<BirdState> birds;
 };
 
-// A CPU run of fig21-moving-target with 5 birds for `frames` frames, exported as `options` says.
-std::vector<Saved> run_and_export(const VtkOptions& options, uint32_t frames, Scenario* out) {
+// A CPU run of fig21-moving-target with 5 birds for `frames` frames, exported as `options` says,
+// from t = 0 as `aeroflock run` does (with `start`) or from the first due frame after it.
+std::vector<Saved> run_and_export(const VtkOptions& options, uint32_t frames, Scenario* out,
+                                  bool start = true) {
   Scenario scenario = load_scenario("fig21-moving-target");
   CpuSimulation sim(scenario, 5);
   VtkExporter exporter(options, sim.scenario(), sim.birds().size());
   std::vector<Saved> saved;
+  if (start) {
+    exporter.offer_start(sim);
+    saved.push_back({0.0, sim.birds()});
+  }
   for (uint32_t frame = 0; frame < frames; ++frame) {
     sim.step_frame(exporter.due(sim.frames() + 1));
     exporter.offer_ready(sim);
@@ -115,19 +122,25 @@ std::vector<Saved> run_and_export(const VtkOptions& options, uint32_t frames, Sc
   return saved;
 }
 
+// In double precision every value is the simulation's own, to the last bit.
 TEST(VtkExport, FramesMatchTheSimulation) {
   VtkOptions options;
   options.dir = fresh_dir("frames");
   options.every = 2;
+  options.precision = VtkOptions::Precision::float64;
   Scenario scenario;
   const std::vector<Saved> saved = run_and_export(options, 9, &scenario);
-  ASSERT_EQ(saved.size(), 4u);  // frames 2, 4, 6, 8
+  ASSERT_EQ(saved.size(), 5u);  // the start, frames 2, 4, 6, 8
 
   const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
   ASSERT_EQ(pvd.size(), saved.size());
+  // Times are the step's, as written by a person: 0.06, not 0.059999999999999998.
+  const std::string pvd_text = read_text(options.dir / "flock.pvd");
+  for (const char* t : {"\"0\"", "\"0.06\"", "\"0.12\"", "\"0.18\"", "\"0.24\""})
+    EXPECT_NE(pvd_text.find(std::string("timestep=") + t), std::string::npos) << t << " in\n" << pvd_text;
   for (size_t k = 0; k < pvd.size(); ++k) {
     SCOPED_TRACE("saved frame " + std::to_string(k));
-    EXPECT_EQ(pvd[k].time, saved[k].time);  // %.17g: exact
+    EXPECT_NEAR(pvd[k].time, saved[k].time, 1e-12);
     if (k > 0) {
       EXPECT_GT(pvd[k].time, pvd[k - 1].time);
     }
@@ -176,7 +189,7 @@ TEST(VtkExport, FramesMatchTheSimulation) {
       EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position) << "position of bird " << i;
       EXPECT_EQ(id->GetComponent(i, 0), double(i));
       EXPECT_EQ(species->GetComponent(i, 0), double(b.species));
-      EXPECT_EQ(time->GetComponent(i, 0), saved[k].time);
+      EXPECT_EQ(time->GetComponent(i, 0), pvd[k].time);
       EXPECT_DOUBLE_EQ(speed->GetComponent(i, 0), glm::length(b.velocity));
       EXPECT_EQ(attitude->GetComponent(i, 0), b.attitude.w);
       EXPECT_EQ(attitude->GetComponent(i, 1), b.attitude.x);
@@ -209,7 +222,7 @@ TEST(VtkExport, FramesMatchTheSimulation) {
   // Trajectories: one polyline per bird, one point per saved frame, in time order.
   vtkSmartPointer<vtkPolyData> traj = read_vtp(options.dir / "trajectories.vtp");
   ASSERT_EQ(traj->GetNumberOfLines(), 5);
-  EXPECT_EQ(traj->GetNumberOfPoints(), 5 * 4);
+  EXPECT_EQ(traj->GetNumberOfPoints(), 5 * 5);
   vtkDataArray* traj_id = traj->GetCellData()->GetArray("bird_id");
   ASSERT_NE(traj_id, nullptr);
   vtkDataArray* traj_time = array(traj, "time", 1);
@@ -220,14 +233,14 @@ TEST(VtkExport, FramesMatchTheSimulation) {
     traj->GetLines()->GetCellAtId(c, ids);
     EXPECT_EQ(traj->GetCellType(c), VTK_POLY_LINE);
     EXPECT_EQ(traj_id->GetComponent(c, 0), double(c));
-    ASSERT_EQ(ids->GetNumberOfIds(), 4);
-    for (vtkIdType f = 0; f < 4; ++f) {
+    ASSERT_EQ(ids->GetNumberOfIds(), 5);
+    for (vtkIdType f = 0; f < 5; ++f) {
       const vtkIdType p = ids->GetId(f);
       const BirdState& b = saved[static_cast<size_t>(f)].birds[static_cast<size_t>(c)];
       double x[3];
       traj->GetPoint(p, x);
       EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position);
-      EXPECT_EQ(traj_time->GetComponent(p, 0), saved[static_cast<size_t>(f)].time);
+      EXPECT_EQ(traj_time->GetComponent(p, 0), pvd[static_cast<size_t>(f)].time);
       EXPECT_DOUBLE_EQ(traj_speed->GetComponent(p, 0), glm::length(b.velocity));
     }
   }
@@ -243,9 +256,9 @@ TEST(VtkExport, SelectedBirdsInTheOrderGiven) {
   options.compression = VtkOptions::Compression::zlib;
   Scenario scenario;
   const std::vector<Saved> saved = run_and_export(options, 3, &scenario);
-  ASSERT_EQ(saved.size(), 3u);
+  ASSERT_EQ(saved.size(), 4u);
   const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
-  ASSERT_EQ(pvd.size(), 3u);
+  ASSERT_EQ(pvd.size(), 4u);
   const fs::path last = options.dir / pvd.back().file;
   EXPECT_NE(read_text(last).find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   vtkSmartPointer<vtkPolyData> data = read_vtp(last);
@@ -261,7 +274,7 @@ TEST(VtkExport, SelectedBirdsInTheOrderGiven) {
   }
   vtkSmartPointer<vtkPolyData> traj = read_vtp(options.dir / "trajectories.vtp");
   EXPECT_EQ(traj->GetNumberOfLines(), 2);
-  EXPECT_EQ(traj->GetNumberOfPoints(), 2 * 3);
+  EXPECT_EQ(traj->GetNumberOfPoints(), 2 * 4);
 }
 
 TEST(VtkExport, UncompressedAndASingleFrame) {
@@ -270,7 +283,7 @@ TEST(VtkExport, UncompressedAndASingleFrame) {
   options.every = 4;
   options.compression = VtkOptions::Compression::none;
   Scenario scenario;
-  const std::vector<Saved> saved = run_and_export(options, 5, &scenario);
+  const std::vector<Saved> saved = run_and_export(options, 5, &scenario, /*start=*/false);
   ASSERT_EQ(saved.size(), 1u);
   const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
   ASSERT_EQ(pvd.size(), 1u);
@@ -317,6 +330,83 @@ TEST(VtkExport, AFrameAThousandKilometresOutReadsBackToTheMillimetre) {
     ASSERT_NE(unit, nullptr);
     EXPECT_EQ(unit->GetValue(0), "cm");
   }
+}
+
+// By default the point data's reals are Float32 (the device's own precision), the values the
+// state's rounded to float; positions and times stay Float64.
+TEST(VtkExport, FloatByDefaultPositionsAndTimesDouble) {
+  VtkOptions options;
+  options.dir = fresh_dir("float");
+  Scenario scenario;
+  const std::vector<Saved> saved = run_and_export(options, 2, &scenario);
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 3u);
+  vtkSmartPointer<vtkPolyData> data = read_vtp(options.dir / pvd[2].file);
+  EXPECT_EQ(data->GetPoints()->GetDataType(), VTK_DOUBLE);
+  for (const std::string& name : vtk_point_arrays()) {
+    vtkDataArray* a = data->GetPointData()->GetArray(name.c_str());
+    ASSERT_NE(a, nullptr) << name;
+    const int want = name == "time" ? VTK_DOUBLE
+                     : name == "bird_id" ? VTK_UNSIGNED_INT
+                     : (name == "species" || name == "flight_state" || name == "target" || name == "neighbours")
+                         ? VTK_INT
+                         : VTK_FLOAT;
+    EXPECT_EQ(a->GetDataType(), want) << name << " is " << a->GetDataTypeAsString();
+  }
+  const BirdState& b = saved[2].birds[3];
+  double x[3];
+  data->GetPoint(3, x);
+  EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position);
+  EXPECT_EQ(data->GetPointData()->GetArray("velocity")->GetComponent(3, 0), double(float(b.velocity.x)));
+  EXPECT_EQ(data->GetPointData()->GetArray("frequency")->GetComponent(3, 0), double(float(b.frequency)));
+  EXPECT_EQ(data->GetPointData()->GetArray("time")->GetComponent(3, 0), 0.06);
+}
+
+// Every file says what it holds: the codes' names, every array's unit, the run, its time.
+TEST(VtkExport, FilesDescribeThemselves) {
+  VtkOptions options;
+  options.dir = fresh_dir("described");
+  Scenario scenario;
+  run_and_export(options, 1, &scenario);
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 2u);
+  auto strings = [](vtkPolyData* data, const char* name) {
+    std::vector<std::string> values;
+    auto* a = vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray(name));
+    EXPECT_NE(a, nullptr) << "no field data " << name;
+    if (a)
+      for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i) values.push_back(a->GetValue(i));
+    return values;
+  };
+  vtkSmartPointer<vtkPolyData> frame = read_vtp(options.dir / pvd[1].file);
+  vtkSmartPointer<vtkPolyData> trajectories = read_vtp(options.dir / "trajectories.vtp");
+  for (vtkPolyData* data : {frame.Get(), trajectories.Get()}) {
+    std::vector<std::string> names;
+    for (const Species& sp : scenario.species) names.push_back(sp.name);
+    EXPECT_EQ(strings(data, "species_names"), names);
+    EXPECT_EQ(strings(data, "flight_state_names"),
+              (std::vector<std::string>{"flying", "standing", "taking_off", "landing", "perched"}));
+    EXPECT_EQ(strings(data, "scenario"), std::vector<std::string>{"fig21-moving-target"});
+    EXPECT_EQ(strings(data, "scenario_hash"), std::vector<std::string>{scenario.hash});
+    EXPECT_TRUE(scenario.hash.starts_with("fnv1a64:")) << scenario.hash;
+    vtkDataArray* dt = data->GetFieldData()->GetArray("dt");
+    ASSERT_NE(dt, nullptr);
+    EXPECT_EQ(dt->GetComponent(0, 0), scenario.dt);
+  }
+  EXPECT_EQ(scenario.species[1].name, "starling");  // the code the frames carry
+  EXPECT_EQ(frame->GetPointData()->GetArray("species")->GetComponent(0, 0), 1.0);
+  vtkDataArray* time = frame->GetFieldData()->GetArray("TimeValue");
+  ASSERT_NE(time, nullptr);
+  EXPECT_EQ(time->GetComponent(0, 0), 0.03);
+  // Each point array once with its unit, the points' first.
+  const std::vector<std::string> units = strings(frame, "array_units");
+  ASSERT_EQ(units.size(), vtk_point_arrays().size() + 1);
+  EXPECT_EQ(units[0].substr(0, 10), "points: cm");
+  for (size_t i = 0; i < vtk_point_arrays().size(); ++i)
+    EXPECT_EQ(units[i + 1].substr(0, vtk_point_arrays()[i].size() + 2), vtk_point_arrays()[i] + ": ");
+  for (const char* expected : {"speed: cm/s", "aero_force: dyn", "heading_pitch_bank: deg", "time: s", "frequency: Hz"})
+    EXPECT_NE(std::find(units.begin(), units.end(), expected), units.end()) << expected;
+  EXPECT_NE(trajectories->GetCellData()->GetArray("species"), nullptr);
 }
 
 TEST(VtkExport, NoFramesStillWritesValidFiles) {

@@ -2,7 +2,10 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -15,6 +18,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -39,6 +43,7 @@ struct RunOptions {
   std::string backend = "vulkan";
   int device = -1;
   uint32_t birds = 0;
+  std::vector<std::string> flocks;  // --flock NAME=COUNT
   std::optional<double> seconds;
   std::string summary;
   int threads = 0;
@@ -47,6 +52,7 @@ struct RunOptions {
   uint32_t vtk_every = 1;
   std::string vtk_birds = "all";
   std::string vtk_compression = "lz4";
+  std::string vtk_precision = "float";
 };
 
 // Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130. A second
@@ -57,14 +63,71 @@ constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
 
 struct ViewOptions {
   std::string scenario = "default";
+  std::vector<std::string> flocks;  // --flock NAME=COUNT
   render::ViewerOptions viewer;
 };
 
-int list_scenarios() {
-  for (const BuiltinScenario& s : builtin_scenarios())
-    std::cout << s.name << "\n    " << s.description << "\n";
+int list_scenarios(const std::string& show) {
+  std::string names;
+  for (const BuiltinScenario& s : builtin_scenarios()) {
+    if (show.empty()) std::cout << s.name << "\n    " << s.description << "\n";
+    if (s.name == show) {
+      std::cout << s.text;
+      return 0;
+    }
+    names += (names.empty() ? "" : ", ") + s.name;
+  }
+  if (!show.empty())
+    throw std::runtime_error("--show: no built-in scenario " + show + " (the built-ins: " + names + ")");
   return 0;
 }
+
+// --flock NAME=COUNT, each in turn: that flock gets COUNT birds (0 removes it), its spawn box
+// grown or shrunk to keep its density.
+void resize_flocks(Scenario& scenario, const std::vector<std::string>& sizes) {
+  for (const std::string& item : sizes) {
+    const size_t eq = item.find('=');
+    uint64_t count = 0;
+    const char* first = item.data() + (eq == std::string::npos ? 0 : eq + 1);
+    const char* last = item.data() + item.size();
+    const auto [end, ec] = std::from_chars(first, last, count);
+    if (eq == std::string::npos || eq == 0 || first == last || ec != std::errc() || end != last ||
+        count > std::numeric_limits<uint32_t>::max())
+      throw std::runtime_error("--flock: expected NAME=COUNT (a flock of the scenario and a whole "
+                               "number of birds, 0 to leave it out), got " + item);
+    const std::string name = item.substr(0, eq);
+    std::string names;
+    size_t index = scenario.flocks.size();
+    for (size_t i = 0; i < scenario.flocks.size(); ++i) {
+      if (scenario.flocks[i].name == name) index = i;
+      names += (i ? ", " : "") + scenario.flocks[i].name;
+    }
+    if (index == scenario.flocks.size())
+      throw std::runtime_error("--flock " + item + ": scenario " + scenario.name + " has no flock " + name +
+                               " (its flocks: " + (names.empty() ? "none" : names) + ")");
+    resize_flock(scenario, index, uint32_t(count));
+  }
+}
+
+// Whole numbers from `min` to `max`: "expected an integer from 1 to 1024, got 0" (CLI11's own
+// range checks name the whole double range, some 300 digits, and accept 2.5).
+CLI::Validator integer_in(uint64_t min, uint64_t max) {
+  return CLI::Validator(
+      [min, max](std::string& text) -> std::string {
+        uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+        if (ec == std::errc() && ptr == end && v >= min && v <= max) return "";
+        return max == std::numeric_limits<uint32_t>::max()
+                   ? "expected an integer >= " + std::to_string(min) + ", got " + text
+                   : "expected an integer from " + std::to_string(min) + " to " +
+                         std::to_string(max) + ", got " + text;
+      },
+      std::to_string(min) + ".." + std::to_string(max));
+}
+const CLI::Validator kCount = integer_in(1, std::numeric_limits<uint32_t>::max());
+const CLI::Validator kIndex = integer_in(0, std::numeric_limits<uint32_t>::max());
+constexpr uint64_t kMaxThreads = 1024;
 
 // CLI11's own PositiveNumber names the whole double range in its message.
 const CLI::Validator kPositive(
@@ -77,8 +140,20 @@ const CLI::Validator kPositive(
     },
     "> 0");
 
-void print_summary(const RunSummary& r, const std::string& summary_path, const VtkExporter* vtk,
-                   bool interrupted) {
+// "starlings 1000, eagles 20": each flock's birds, as --birds or --flock shared them.
+std::string flock_counts(const Scenario& scenario, const std::vector<BirdState>& birds) {
+  std::vector<uint64_t> count(scenario.flocks.size(), 0);
+  for (const BirdState& b : birds)
+    if (b.flock < count.size()) ++count[b.flock];
+  std::string text;
+  for (size_t i = 0; i < count.size(); ++i)
+    text += (i ? ", " : "") + scenario.flocks[i].name + " " + std::to_string(count[i]);
+  return text;
+}
+
+void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
+                   const std::string& summary_path, const VtkExporter* vtk,
+                   const std::vector<std::string>& images, bool interrupted) {
   const FlockStatistics& s = r.stats;
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
   std::printf("scenario         %s\n", r.scenario.c_str());
@@ -86,8 +161,12 @@ void print_summary(const RunSummary& r, const std::string& summary_path, const V
   std::printf("birds            %llu (%llu flying, %llu perched, %llu with NaN)\n",
               (unsigned long long)s.birds, (unsigned long long)s.flying,
               (unsigned long long)s.perched, (unsigned long long)s.nan_birds);
-  std::printf("simulated        %.3f s (%llu steps of %g s)\n", r.sim_seconds,
-              (unsigned long long)r.steps, r.dt);
+  std::printf("flocks           %s\n", flocks.c_str());
+  const double frame_seconds = r.dt * r.steps_per_frame;
+  std::printf("simulated        %.3f s (%llu steps of %g s", r.sim_seconds, (unsigned long long)r.steps, r.dt);
+  if (!interrupted && std::abs(r.sim_seconds - asked_seconds) > 1e-9 * asked_seconds)
+    std::printf("; %g s asked, rounded up to whole frames of %g s", asked_seconds, frame_seconds);
+  std::printf(")\n");
   std::printf("wall time        %.3f s (%.3g bird-steps/s)\n", r.wall_seconds, rate);
   std::printf("centroid         (%.2f, %.2f, %.2f) m\n", s.centroid.x / 100, s.centroid.y / 100,
               s.centroid.z / 100);
@@ -99,11 +178,19 @@ void print_summary(const RunSummary& r, const std::string& summary_path, const V
                 f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close, f.metrics.polarisation,
                 100 * f.metrics.largest_cluster);
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
+  for (const std::string& line : images) std::printf("%s\n", line.c_str());
   if (vtk)
     std::printf("vtk              %s (%zu frame%s of %zu bird%s: flock.pvd, trajectories.vtp)\n",
                 vtk->dir().c_str(), vtk->frames_added(), vtk->frames_added() == 1 ? "" : "s",
                 vtk->selected().size(), vtk->selected().size() == 1 ? "" : "s");
   if (interrupted) std::printf("interrupted      at t = %.3f s (Ctrl-C)\n", r.sim_seconds);
+}
+
+// A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
+void require_birds(const Scenario& scenario) {
+  if (scenario.flocks.empty())
+    throw std::runtime_error("scenario " + scenario.name +
+                             " has no birds: it needs a [[flocks]] table (see `aeroflock scenarios --show default`)");
 }
 
 int run(const RunOptions& opt) {
@@ -113,17 +200,21 @@ int run(const RunOptions& opt) {
   action.sa_flags = SA_RESETHAND;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
-  if (!opt.summary.empty()) check_output_path(opt.summary, "--summary");
+  if (!opt.summary.empty()) check_output_path(opt.summary, "--summary", {".json"});
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
   Scenario scenario = load_scenario(opt.scenario);
+  resize_flocks(scenario, opt.flocks);
+  require_birds(scenario);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // The small allowance keeps an exact multiple from gaining a frame to rounding.
   const auto frames = static_cast<uint64_t>(std::ceil(seconds / frame_seconds - 1e-9));
+  const double total_seconds = double(frames) * frame_seconds;  // whole frames
 
   RunSummary summary;
   summary.scenario = scenario.name;
+  summary.scenario_hash = scenario.hash;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
   std::unique_ptr<Simulation> sim =
@@ -144,17 +235,22 @@ int run(const RunOptions& opt) {
     vo.every = opt.vtk_every;
     vo.birds = opt.vtk_birds;
     vo.compression = parse_vtk_compression(opt.vtk_compression);
+    vo.precision = opt.vtk_precision == "double" ? VtkOptions::Precision::float64
+                                                 : VtkOptions::Precision::float32;
     try {
       vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
     }
+    vtk->offer_start(*sim);  // t = 0
   }
   const auto start = std::chrono::steady_clock::now();
   auto wall = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   bool interrupted = false;
+  Pace pace;
+  pace.add(0.0, 0.0);
   for (uint64_t frame = 0; frame < frames; ++frame) {
     if (g_interrupted || (vtk && vtk->failed())) {
       interrupted = g_interrupted;
@@ -165,8 +261,17 @@ int run(const RunOptions& opt) {
     sim->step_frame(vtk && vtk->due(sim->frames() + 1));
     if (images) images->frame(*sim, frame);
     if (vtk) vtk->offer_ready(*sim);
-    if (progress.due() || frame + 1 == frames)
-      progress.show(run_progress(sim->time(), seconds, birds, double(sim->steps()), wall()));
+    if (progress.due()) {
+      // What the device has finished, not merely what was submitted to it.
+      const double done = double(sim->ready_frame()) * frame_seconds;
+      pace.add(wall(), done);
+      progress.show(run_progress(done, total_seconds, birds, sim->scenario().dt, pace.rate()));
+    }
+  }
+  if (progress.due() || frames > 0) {
+    sim->snapshot();  // waits for the last frame
+    pace.add(wall(), sim->time());
+    progress.show(run_progress(sim->time(), total_seconds, birds, sim->scenario().dt, pace.rate()));
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
@@ -180,12 +285,15 @@ int run(const RunOptions& opt) {
   if (images) images->finish(*sim);
   if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
-  print_summary(summary, opt.summary, vtk.get(), interrupted);
+  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), total_seconds, opt.summary,
+                vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
   return interrupted ? kInterruptedStatus : 0;
 }
 
 int view(const ViewOptions& opt) {
   Scenario scenario = load_scenario(opt.scenario);
+  resize_flocks(scenario, opt.flocks);
+  require_birds(scenario);
   std::cout << render::viewer_keys() << std::endl;
   return render::run_viewer(std::move(scenario), opt.viewer);
 }
@@ -257,6 +365,37 @@ void check_camera_options(const render::CameraOptions& camera, const CLI::App& a
     throw CLI::ValidationError("--camera-bird", "needs --camera follow (the camera is " + camera.mode + ")");
 }
 
+// Letters to change, add or remove to turn `a` into `b` (Levenshtein).
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "aeroflock runn": the commands there are, and the likely one (CLI11 says only that a
+// subcommand is required). Empty when `word` is a command.
+std::string unknown_command(const CLI::App& app, const std::string& word) {
+  std::string list, closest;
+  size_t best = 3;  // suggest only within two edits
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == word) return "";
+    list += (list.empty() ? "" : ", ") + sub->get_name();
+    if (const size_t d = edit_distance(word, sub->get_name()); d < best) best = d, closest = sub->get_name();
+  }
+  return "aeroflock: unknown command '" + word + "'" +
+         (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + "; the commands are " + list +
+         " (aeroflock --help)";
+}
+
 }  // namespace
 }  // namespace aeroflock
 
@@ -264,7 +403,11 @@ int main(int argc, char** argv) {
   using namespace aeroflock;
   CLI::App app{"aeroflock: real-time bird flight simulation based on aerodynamics"};
   app.require_subcommand(1);
+  std::string show_scenario;
   CLI::App* scenarios = app.add_subcommand("scenarios", "List the built-in scenarios");
+  scenarios->add_option("--show", show_scenario,
+                        "Print a built-in scenario's TOML (to start one's own from: "
+                        "aeroflock scenarios --show default > mine.toml)");
   CLI::App* devices = app.add_subcommand("devices", "List the Vulkan devices");
 
   RunOptions opt;
@@ -276,19 +419,26 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
   run_cmd->add_option("--device", opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(CLI::NonNegativeNumber);
-  run_cmd->add_option("--birds", opt.birds, "Birds in all, shared over the flocks in proportion")
-      ->check(kPositive);
+      ->check(kIndex);
+  CLI::Option* run_birds = run_cmd
+      ->add_option("--birds", opt.birds,
+                   "Birds in all, shared over the flocks in proportion, each flock as dense as the scenario's")
+      ->check(kCount);
+  run_cmd
+      ->add_option("--flock", opt.flocks,
+                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
+      ->excludes(run_birds);
   run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
       ->check(kPositive);
   run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file");
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
-      ->check(kPositive);
+      ->check(integer_in(1, kMaxThreads));
   run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)");
-  run_cmd->add_option("--frames-dir", opt.images.frames_dir,
-                      "Render frames to DIR/frame_NNNNNN.png");
+  CLI::Option* frames_dir_opt = run_cmd->add_option(
+      "--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png");
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
-      ->check(CLI::PositiveNumber);
+      ->check(kCount)
+      ->needs(frames_dir_opt);
   CLI::Option* video_opt =
       run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
   run_cmd->add_option("--fps", opt.images.fps,
@@ -300,20 +450,30 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 2, 4, 8}));
   add_size_option(run_cmd, opt.images.width, opt.images.height,
                   "Image size WxH (default 1280x720)");
-  run_cmd->add_option(
+  CLI::Option* vtk_opt = run_cmd->add_option(
       "--vtk", opt.vtk_dir,
       "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp");
   run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame (default 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(kCount)
+      ->needs(vtk_opt);
   run_cmd
       ->add_option("--vtk-birds", opt.vtk_birds,
                    "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(vtk_opt);
   run_cmd
       ->add_option("--vtk-compression", opt.vtk_compression,
                    "With --vtk: none, lz4 or zlib (default lz4)")
       ->check(CLI::IsMember({"none", "lz4", "zlib"}))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(vtk_opt);
+  run_cmd
+      ->add_option("--vtk-precision", opt.vtk_precision,
+                   "With --vtk: float or double, the point data's precision (positions and times "
+                   "are double always; default float, the Vulkan backend's own)")
+      ->check(CLI::IsMember({"float", "double"}))
+      ->capture_default_str()
+      ->needs(vtk_opt);
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
@@ -322,11 +482,15 @@ int main(int argc, char** argv) {
   view_cmd
       ->add_option("--device", view_opt.viewer.device,
                    "Vulkan device index (see `aeroflock devices`)")
-      ->check(CLI::NonNegativeNumber);
-  view_cmd
+      ->check(kIndex);
+  CLI::Option* view_birds = view_cmd
       ->add_option("--birds", view_opt.viewer.birds,
-                   "Birds in all, shared over the flocks in proportion")
-      ->check(kPositive);
+                   "Birds in all, shared over the flocks in proportion, each flock as dense as the scenario's")
+      ->check(kCount);
+  view_cmd
+      ->add_option("--flock", view_opt.flocks,
+                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
+      ->excludes(view_birds);
   add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height,
                   "Window size WxH (default 1280x720)");
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
@@ -338,7 +502,7 @@ int main(int argc, char** argv) {
   view_cmd
       ->add_option("--frames", view_opt.viewer.frames,
                    "Close the window after N frames (for tests)")
-      ->check(kPositive);
+      ->check(kCount);
 
   BenchOptions bench_opt;
   std::string bench_backends = "vulkan,cpu";
@@ -363,15 +527,15 @@ int main(int argc, char** argv) {
                         "Scenario measured, a built-in name or FILE.toml (default: default)");
   bench_cmd->add_option("--max-birds", bench_opt.max_birds,
                         "Largest flock of the sweep (1k, 3k, 10k, ... up to it, and it)")
-      ->check(kPositive)
+      ->check(kCount)
       ->capture_default_str();
   bench_cmd
       ->add_option("--repetitions", bench_opt.repetitions,
                    "Timed frames per measurement (default 5 quick, 15 full)")
-      ->check(kPositive);
+      ->check(kCount);
   bench_cmd
       ->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kIndex);
 
   EnvelopeOptions envelope_opt;
   CLI::App* envelope_cmd = app.add_subcommand(
@@ -382,10 +546,15 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
   envelope_cmd->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kIndex);
   envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE");
   envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
 
+  if (argc > 1 && argv[1][0] != '-')
+    if (const std::string message = unknown_command(app, argv[1]); !message.empty()) {
+      std::cerr << message << "\n";
+      return 2;
+    }
   try {
     app.parse(argc, argv);
     if (run_cmd->parsed()) check_camera_options(opt.images.camera, *run_cmd, opt.images.any());
@@ -394,7 +563,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    if (scenarios->parsed()) return list_scenarios();
+    if (scenarios->parsed()) return list_scenarios(show_scenario);
     if (devices->parsed()) {
       for (const std::string& line : vulkan_devices()) std::cout << line << "\n";
       return 0;

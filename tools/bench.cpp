@@ -380,9 +380,9 @@ void check_options(const BenchOptions& options) {
   if (!options.plot.empty()) {
     if (!has_program("gnuplot"))
       throw std::runtime_error("--plot needs gnuplot (Debian: apt-get install gnuplot-nox)");
-    check_output_path(options.plot, "--plot");
+    check_output_path(options.plot, "--plot", {".png"});
   }
-  if (!options.json.empty()) check_output_path(options.json, "--json");
+  if (!options.json.empty()) check_output_path(options.json, "--json", {".json"});
 }
 
 Settings settings(const BenchOptions& options) {

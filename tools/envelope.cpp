@@ -52,7 +52,7 @@ std::string kind_name(EnvelopeCase::Kind k) {
 }  // namespace
 
 int run_envelope(const EnvelopeOptions& options) {
-  if (!options.json.empty()) check_output_path(options.json, "--json");
+  if (!options.json.empty()) check_output_path(options.json, "--json", {".json"});
   if (options.backend != "cpu" && options.backend != "vulkan")
     throw std::runtime_error("--backend: expected cpu or vulkan, got " + options.backend);
   const Species species = species_named(options.species);

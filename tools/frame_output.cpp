@@ -31,10 +31,12 @@ struct FrameOutput::Impl {
   double camera_time = 0.0;                     // simulated time of its last update
   FILE* video = nullptr;
   double video_fps = 0.0;
+  uint64_t dir_frames = 0;    // PNGs written to frames_dir
+  bool png_written = false, video_written = false;
   uint64_t video_frames = 0;  // written so far: frame k (from 0) shows simulated time (k + 1) / video_fps
 
   Impl(const ImageOptions& o, Simulation& sim) : options(o) {
-    if (!options.png.empty()) check_output_path(options.png, "--png");
+    if (!options.png.empty()) check_output_path(options.png, "--png", {".png"});
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       if (!has_program("ffmpeg"))
@@ -43,7 +45,7 @@ struct FrameOutput::Impl {
       if (options.width % 2 != 0 || options.height % 2 != 0)
         throw std::runtime_error("--video needs an even width and height (H.264), got --size " +
                                  std::to_string(options.width) + "x" + std::to_string(options.height));
-      check_output_path(options.video, "--video");
+      check_output_path(options.video, "--video", {".mp4", ".mkv", ".mov", ".webm"});
     }
     if (options.camera.bird >= sim.bird_count())
       throw std::runtime_error("--camera-bird " + std::to_string(options.camera.bird) + ": the run has " +
@@ -136,6 +138,7 @@ void FrameOutput::frame(Simulation& sim, uint64_t index) {
     std::snprintf(name, sizeof name, "frame_%06llu.png",
                   (unsigned long long)(index / o.options.every));
     write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
+    ++o.dir_frames;
   }
   for (; due > 0; --due, ++o.video_frames)
     if (std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())
@@ -144,13 +147,36 @@ void FrameOutput::frame(Simulation& sim, uint64_t index) {
 
 void FrameOutput::finish(Simulation& sim) {
   Impl& o = *impl_;
-  if (!o.options.png.empty())
+  if (!o.options.png.empty()) {
     write_png(o.options.png, o.options.width, o.options.height, o.render(sim));
+    o.png_written = true;
+  }
   if (o.video) {
     const int status = pclose(o.video);
     o.video = nullptr;
     if (status != 0) throw std::runtime_error("--video: ffmpeg failed writing " + o.options.video);
+    o.video_written = true;
   }
+}
+
+std::vector<std::string> FrameOutput::written() const {
+  const Impl& o = *impl_;
+  std::vector<std::string> lines;
+  char line[512];
+  if (o.png_written) lines.push_back("png              " + o.options.png);
+  if (!o.options.frames_dir.empty()) {
+    std::snprintf(line, sizeof line, "frames           %s (%llu PNG%s)",
+                  o.options.frames_dir.c_str(), (unsigned long long)o.dir_frames,
+                  o.dir_frames == 1 ? "" : "s");
+    lines.push_back(line);
+  }
+  if (o.video_written) {
+    std::snprintf(line, sizeof line, "video            %s (%llu frames at %.4g fps, %.2f s)",
+                  o.options.video.c_str(), (unsigned long long)o.video_frames, o.video_fps,
+                  double(o.video_frames) / o.video_fps);
+    lines.push_back(line);
+  }
+  return lines;
 }
 
 }  // namespace aeroflock

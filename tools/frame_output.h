@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "model/simulation.h"
 #include "render/camera_control.h"
@@ -35,6 +36,8 @@ class FrameOutput {
   void frame(Simulation& sim, uint64_t index);
   // After the last frame: writes --png and closes the video.
   void finish(Simulation& sim);
+  // What finish() has left on disk, a line each for the run's summary: "png   FILE", ...
+  std::vector<std::string> written() const;
 
  private:
   struct Impl;

@@ -43,15 +43,26 @@ std::string human_duration(double seconds) {
   return text;
 }
 
-std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double steps, double wall_seconds) {
+void Pace::add(double wall, double simulated) {
+  samples_.emplace_back(wall, simulated);
+  // Keep one sample older than the window, so that the window is always spanned.
+  while (samples_.size() > 2 && samples_[1].first <= wall - kWindow) samples_.erase(samples_.begin());
+}
+
+double Pace::rate() const {
+  if (samples_.size() < 2) return 0.0;
+  const auto& [w0, s0] = samples_.front();
+  const auto& [w1, s1] = samples_.back();
+  return w1 - w0 >= 0.5 && s1 > s0 ? (s1 - s0) / (w1 - w0) : 0.0;
+}
+
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt, double pace) {
   char text[192];
   int n = std::snprintf(text, sizeof text, "t = %.2f / %.2f s (%.0f %%)   %zu birds", sim_seconds, total_seconds,
                         100.0 * sim_seconds / total_seconds, birds);
-  if (wall_seconds > 0.0 && sim_seconds > 0.0) {
-    const double pace = sim_seconds / wall_seconds;  // simulated seconds per wall second
+  if (pace > 0.0)
     std::snprintf(text + n, sizeof text - size_t(n), "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
-                  double(birds) * steps / wall_seconds, human_duration((total_seconds - sim_seconds) / pace).c_str());
-  }
+                  double(birds) * pace / dt, human_duration((total_seconds - sim_seconds) / pace).c_str());
   return text;
 }
 

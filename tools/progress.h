@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace aeroflock {
 
@@ -28,8 +30,23 @@ class Progress {
 // A duration for people: "42 s", "7 min 12 s", "2 h 05 min".
 std::string human_duration(double seconds);
 
-// The run's line: simulated time of all (and the share done), the birds, how fast against the
-// wall clock (times real time, bird-steps per second) and the wall time left at that pace.
-std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double steps, double wall_seconds);
+// How fast a run goes now: simulated seconds done (frames the device has finished, not merely
+// submitted) against the wall clock, over the last few seconds.
+class Pace {
+ public:
+  // At wall time `wall` (s), `simulated` seconds are done.
+  void add(double wall, double simulated);
+  // Simulated seconds per wall second over the window; 0 until half a second has been watched.
+  double rate() const;
+
+ private:
+  static constexpr double kWindow = 3.0;  // s of wall time
+  std::vector<std::pair<double, double>> samples_;  // (wall, simulated), oldest first
+};
+
+// The run's line: simulated time of all (and the share done), the birds, and at `pace` (0: not
+// known yet) how fast against the wall clock (times real time, bird-steps per second) and the wall
+// time left.
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt, double pace);
 
 }  // namespace aeroflock

@@ -1,5 +1,6 @@
 #include "io/paths.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -29,22 +30,50 @@ std::string probe(const fs::path& file) {
   return out ? std::string() : std::strerror(err ? err : EIO);
 }
 
+// The directory a path lies in ("." for a bare name; "out" for "out/vtk/").
+fs::path directory_of(fs::path path) {
+  if (!path.has_filename()) path = path.parent_path();
+  return path.parent_path().empty() ? fs::path(".") : path.parent_path();
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 }  // namespace
 
-void check_output_path(const fs::path& path, const std::string& what) {
+void check_output_path(const fs::path& path, const std::string& what,
+                       std::initializer_list<const char*> extensions) {
   std::error_code ec;
+  if (extensions.size() > 0) {
+    const std::string ext = lower(path.extension().string());
+    bool known = false;
+    std::string list;
+    for (const char* e : extensions) {
+      known = known || ext == e;
+      list += (list.empty() ? "" : extensions.size() > 2 ? ", " : " or ") + std::string(e);
+    }
+    if (extensions.size() > 2) list.replace(list.rfind(", "), 2, " or ");
+    if (!known) fail(what, path, "expected a file name ending in " + list);
+  }
   if (fs::is_directory(path, ec)) fail(what, path, "is a directory");
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  fs::create_directories(dir, ec);
-  if (ec) fail(what, path, "cannot create directory " + dir.string() + ": " + ec.message());
+  const fs::path dir = directory_of(path);
+  if (!fs::is_directory(dir, ec))
+    fail(what, path, "directory " + dir.string() + " does not exist (create it first)");
   if (const std::string why = probe(temporary_path(path)); !why.empty())
     fail(what, path, "cannot write there: " + why);
 }
 
 void check_writable_dir(const fs::path& dir, const std::string& what) {
   std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) fail(what, dir, "cannot create it: " + ec.message());
+  if (!fs::is_directory(dir, ec)) {
+    const fs::path parent = directory_of(dir);
+    if (!fs::is_directory(parent, ec))
+      fail(what, dir, "directory " + parent.string() + " does not exist (create it first)");
+    fs::create_directory(dir, ec);
+    if (ec) fail(what, dir, "cannot create it: " + ec.message());
+  }
   if (const std::string why = probe(dir / ".aeroflock-probe"); !why.empty())
     fail(what, dir, "cannot write there: " + why);
 }

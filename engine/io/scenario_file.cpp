@@ -3,6 +3,8 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -69,6 +71,16 @@ Lengths read_units(const TableReader& top) {
   for (const auto& [name, cm] : kKnown)
     if (length->value == name) return {cm};
   io::fail(length->where, "expected \"mm\", \"cm\", \"m\" or \"km\", got \"" + length->value + "\"");
+}
+
+// 64-bit FNV-1a of the scenario's text, as "fnv1a64:" and 16 hex digits: enough to tell which
+// scenario a file came from, not a cryptographic seal.
+std::string text_hash(std::string_view text) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (const char c : text) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
+  char hex[32];
+  std::snprintf(hex, sizeof hex, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
+  return hex;
 }
 
 std::string stem(std::string_view source_name) {
@@ -278,6 +290,7 @@ Scenario parse_scenario(std::string_view text, std::string_view source_name) {
   }
   const TableReader top(source_name, doc, "", kTopKeys);
   Scenario s;
+  s.hash = text_hash(text);
   const Lengths lengths = read_units(top);
   read_simulation(top, source_name, lengths, s);
   read_wind(top, lengths, s.world);

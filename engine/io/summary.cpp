@@ -57,10 +57,25 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                         {"too_close", f.metrics.too_close},
                         {"polarisation", f.metrics.polarisation},
                         {"largest_cluster", f.metrics.largest_cluster}});
+  // The file's units (the printed summary's are m and m/s): every quantity named with its unit.
+  const nlohmann::ordered_json units = {
+      {"dt", "s"},
+      {"sim_seconds", "s"},
+      {"wall_seconds", "s"},
+      {"bird_steps_per_second", "1/s"},
+      {"centroid", "cm (world frame, y up)"},
+      {"mean_speed", "cm/s"},
+      {"flocking.median_nearest", "cm"},
+      {"flocking.too_close", "fraction of the flock's birds"},
+      {"flocking.polarisation", "0 to 1"},
+      {"flocking.largest_cluster", "fraction of the flock's birds"},
+  };
   return {
+      {"units", units},
       {"backend", r.backend},
       {"device", r.device},
       {"scenario", r.scenario},
+      {"scenario_hash", r.scenario_hash},
       {"birds", s.birds},
       {"steps", r.steps},
       {"dt", r.dt},

@@ -69,6 +69,21 @@ uint64_t parse_count(std::string_view text, std::string_view selection, const ch
   return value;
 }
 
+// The shortest text that reads back as `value` ("0.03", not "0.029999999999999999").
+std::string shortest(double value) {
+  char text[32];
+  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, ec == std::errc() ? end : text);
+}
+
+// The time after `steps` steps of `dt`, as the decimal a person would write: steps x dt rounded
+// to 12 significant digits, so that 0.03 s is 0.03, not 0.029999999999999999 or 0.030000000000000002.
+double step_time(uint64_t steps, double dt) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.12g", double(steps) * dt);
+  return std::strtod(text, nullptr);
+}
+
 std::string frame_name(size_t index) {
   char name[32];
   std::snprintf(name, sizeof name, "flock_%06zu.vtp", index);
@@ -140,60 +155,107 @@ struct ExportedBird {
   const Perception& seen;  // its last perception (none when its flock does not flock)
 };
 
-// The point arrays of a frame file: name, VTK type, components and the bird's value. One line
-// an array; the README's "VTK export" lists them for users.
+// What a point array holds: a real number (float or double as --vtk-precision says), a time
+// (double always: it must name the step exactly), or an integer code or count.
+enum class Value { real, time, integer, unsigned_integer };
+
+// The point arrays of a frame file: name, kind, components, unit (in the file's array_units and
+// the README's "VTK export") and the bird's value. One line an array.
 struct PointArray {
   const char* name;
-  int type;
+  Value kind;
   int components;
+  const char* unit;
   void (*value)(const ExportedBird& e, double* out);
 };
 
 void put(double* out, const glm::dvec3& v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
 const PointArray kPointArrays[] = {
-    {"bird_id", VTK_UNSIGNED_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.id; }},
-    {"species", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.species; }},
-    {"time", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.time; }},
-    {"velocity", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
-    {"speed", VTK_DOUBLE, 1,
+    {"bird_id", Value::unsigned_integer, 1, "-", [](const ExportedBird& e, double* v) { v[0] = e.id; }},
+    {"species", Value::integer, 1, "- (code: species_names)",
+     [](const ExportedBird& e, double* v) { v[0] = e.state.species; }},
+    {"time", Value::time, 1, "s", [](const ExportedBird& e, double* v) { v[0] = e.time; }},
+    {"velocity", Value::real, 3, "cm/s", [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
+    {"speed", Value::real, 1, "cm/s",
      [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
-    {"attitude", VTK_DOUBLE, 4,
+    {"attitude", Value::real, 4, "- (unit quaternion w, x, y, z: body to world)",
      [](const ExportedBird& e, double* v) {
        const glm::dquat& q = e.state.attitude;
        v[0] = q.w, v[1] = q.x, v[2] = q.y, v[3] = q.z;
      }},
-    {"heading_pitch_bank", VTK_DOUBLE, 3,
+    {"heading_pitch_bank", Value::real, 3, "deg",
      [](const ExportedBird& e, double* v) {
        const glm::dvec3 head = e.state.attitude * glm::dvec3{1.0, 0.0, 0.0};
        put(v, {degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(e.state.attitude)),
                degrees(bank_angle(e.state.attitude))});
      }},
-    {"wingbeat_phase", VTK_DOUBLE, 1,
-     [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
-    {"frequency", VTK_DOUBLE, 1,
-     [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
-    {"amplitude", VTK_DOUBLE, 1,
+    {"wingbeat_phase", Value::real, 1, "rad", [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
+    {"frequency", Value::real, 1, "Hz", [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
+    {"amplitude", Value::real, 1, "- (factor of the wingbeat's joint angles)",
      [](const ExportedBird& e, double* v) { v[0] = e.state.amplitude; }},
-    {"tail_bend", VTK_DOUBLE, 1,
-     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
-    {"tail_twist", VTK_DOUBLE, 1,
-     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
-    {"tail_opening", VTK_DOUBLE, 1,
+    {"tail_bend", Value::real, 1, "deg", [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
+    {"tail_twist", Value::real, 1, "deg", [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
+    {"tail_opening", Value::real, 1, "deg",
      [](const ExportedBird& e, double* v) { v[0] = degrees(tail_opening(e.species, e.state)); }},
-    {"aero_force", VTK_DOUBLE, 3,
+    {"aero_force", Value::real, 3, "dyn",
      [](const ExportedBird& e, double* v) {
        const StepForces& f = e.forces;
        put(v, f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail);
      }},
-    {"tail_force", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
-    {"flight_state", VTK_INT, 1,
+    {"tail_force", Value::real, 3, "dyn", [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
+    {"flight_state", Value::integer, 1, "- (code: flight_state_names)",
      [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
-    {"target", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
-    {"neighbours", VTK_INT, 1, [](const ExportedBird& e, double* v) { v[0] = e.seen.neighbours; }},
-    {"nearest_neighbour", VTK_DOUBLE, 1, [](const ExportedBird& e, double* v) { v[0] = e.seen.nearest; }},
-    {"social_direction", VTK_DOUBLE, 3, [](const ExportedBird& e, double* v) { put(v, e.seen.direction); }},
+    {"target", Value::integer, 1, "- (index into the bird's route)",
+     [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
+    {"neighbours", Value::integer, 1, "-", [](const ExportedBird& e, double* v) { v[0] = e.seen.neighbours; }},
+    {"nearest_neighbour", Value::real, 1, "cm", [](const ExportedBird& e, double* v) { v[0] = e.seen.nearest; }},
+    {"social_direction", Value::real, 3, "- (unit vector, world)",
+     [](const ExportedBird& e, double* v) { put(v, e.seen.direction); }},
 };
+
+int vtk_type(Value kind, VtkOptions::Precision precision) {
+  switch (kind) {
+    case Value::real:
+      return precision == VtkOptions::Precision::float32 ? VTK_FLOAT : VTK_DOUBLE;
+    case Value::time:
+      return VTK_DOUBLE;
+    case Value::integer:
+      return VTK_INT;
+    case Value::unsigned_integer:
+      return VTK_UNSIGNED_INT;
+  }
+  return VTK_DOUBLE;
+}
+
+// The flight states' names, by code (flight_mode.def).
+std::vector<std::string> flight_state_names() {
+  std::vector<std::string> names;
+  auto put_name = [&names](const char* name, uint32_t code) {
+    if (names.size() <= code) names.resize(code + 1);
+    names[code] = name;
+  };
+#define AF_FLIGHT_MODE(name, value) put_name(#name, value);
+#define AF_LANDING_STAGE(name, value)
+#include "model/flight_mode.def"
+#undef AF_FLIGHT_MODE
+#undef AF_LANDING_STAGE
+  return names;
+}
+
+vtkSmartPointer<vtkStringArray> string_array(const char* name, const std::vector<std::string>& values) {
+  auto a = vtkSmartPointer<vtkStringArray>::New();
+  a->SetName(name);
+  for (const std::string& v : values) a->InsertNextValue(v);
+  return a;
+}
+
+template <typename Array, typename T>
+vtkSmartPointer<Array> value_array(const char* name, T value) {
+  auto a = make_array<Array>(name, 1, 1);
+  a->SetValue(0, value);
+  return a;
+}
 
 }  // namespace
 
@@ -270,8 +332,13 @@ struct VtkExporter::Writer {
   // Fixed at construction.
   fs::path dir;
   VtkOptions::Compression compression;
+  VtkOptions::Precision precision;
   std::vector<uint32_t> ids;
+  std::vector<uint32_t> id_species;  // the species of each exported bird, by position in ids
   std::vector<Species> species;
+  std::string scenario_name, scenario_hash;
+  double dt = 0.0;
+  uint32_t steps_per_frame = 0;
 
   // Shared with the simulation's thread.
   std::mutex mutex;
@@ -335,12 +402,22 @@ struct VtkExporter::Writer {
     failed = true;
   }
 
-  // Field data "length_unit": what the points' coordinates (world, Float64) are in.
-  static void add_length_unit(vtkPolyData* data) {
-    vtkNew<vtkStringArray> unit;
-    unit->SetName("length_unit");
-    unit->InsertNextValue("cm");
-    data->GetFieldData()->AddArray(unit);
+  // Field data that makes a file describe itself: the run (scenario, its hash, dt), the names
+  // of the codes, and the unit of the points and of every array ("name: unit").
+  void add_field_data(vtkPolyData* data, const std::vector<std::string>& units) const {
+    vtkFieldData* fd = data->GetFieldData();
+    std::vector<std::string> species_names;
+    for (const Species& sp : species) species_names.push_back(sp.name);
+    std::vector<std::string> all_units{"points: cm (world frame, y up)"};
+    all_units.insert(all_units.end(), units.begin(), units.end());
+    fd->AddArray(string_array("array_units", all_units));
+    fd->AddArray(string_array("length_unit", {"cm"}));
+    fd->AddArray(string_array("species_names", species_names));
+    fd->AddArray(string_array("flight_state_names", flight_state_names()));
+    fd->AddArray(string_array("scenario", {scenario_name}));
+    fd->AddArray(string_array("scenario_hash", {scenario_hash}));
+    fd->AddArray(value_array<vtkDoubleArray>("dt", dt));
+    fd->AddArray(value_array<vtkIntArray>("steps_per_frame", int(steps_per_frame)));
   }
 
   void write_frame(const Frame& frame) {
@@ -349,9 +426,11 @@ struct VtkExporter::Writer {
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
     std::vector<vtkSmartPointer<vtkDataArray>> arrays;
+    std::vector<std::string> units;
     for (const PointArray& a : kPointArrays) {
-      arrays.emplace_back(
-          vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(a.type)));
+      units.push_back(std::string(a.name) + ": " + a.unit);
+      arrays.emplace_back(vtkSmartPointer<vtkDataArray>::Take(
+          vtkDataArray::CreateDataArray(vtk_type(a.kind, precision))));
       arrays.back()->SetName(a.name);
       arrays.back()->SetNumberOfComponents(a.components);
       arrays.back()->SetNumberOfTuples(n);
@@ -363,6 +442,8 @@ struct VtkExporter::Writer {
     std::vector<double> speeds(static_cast<size_t>(n));
 
     double value[4];
+    if (id_species.empty())
+      for (const BirdState& b : frame.birds) id_species.push_back(b.species);
     for (vtkIdType i = 0; i < n; ++i) {
       const size_t k = static_cast<size_t>(i);
       const BirdState& b = frame.birds[k];
@@ -387,7 +468,9 @@ struct VtkExporter::Writer {
     vtkPointData* pd = data->GetPointData();
     for (const auto& a : arrays) pd->AddArray(a);
     pd->SetActiveVectors("velocity");
-    add_length_unit(data);
+    add_field_data(data, units);
+    // ParaView reads a frame's time from TimeValue, also when the file is opened alone.
+    data->GetFieldData()->AddArray(value_array<vtkDoubleArray>("TimeValue", frame.time));
 
     const std::string name = "frames/" + frame_name(collection.size());
     write_polydata(data, dir / name, compression);
@@ -406,13 +489,9 @@ struct VtkExporter::Writer {
         "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         "  <Collection>\n";
-    char line[512];
-    for (const auto& [t, file] : collection) {
-      std::snprintf(line, sizeof line,
-                    "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n", t,
-                    file.c_str());
-      text += line;
-    }
+    for (const auto& [t, file] : collection)
+      text += "    <DataSet timestep=\"" + shortest(t) + "\" group=\"\" part=\"0\" file=\"" + file +
+              "\"/>\n";
     text += "  </Collection>\n</VTKFile>\n";
     write_text_atomically(dir / "flock.pvd", text);
   }
@@ -427,24 +506,29 @@ struct VtkExporter::Writer {
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
     auto time = make_array<vtkDoubleArray>("time", 1, n);
-    auto speed = make_array<vtkDoubleArray>("speed", 1, n);
+    vtkSmartPointer<vtkDataArray> speed = vtkSmartPointer<vtkDataArray>::Take(
+        vtkDataArray::CreateDataArray(vtk_type(Value::real, precision)));
+    speed->SetName("speed");
+    speed->SetNumberOfTuples(n);
     vtkNew<vtkIdTypeArray> offsets, connectivity;
     const vtkIdType cells = frames > 0 ? static_cast<vtkIdType>(birds) : 0;
     offsets->SetNumberOfTuples(cells + 1);
     offsets->SetValue(0, 0);
     connectivity->SetNumberOfTuples(n);
     auto bird_id = make_array<vtkUnsignedIntArray>("bird_id", 1, cells);
+    auto bird_species = make_array<vtkIntArray>("species", 1, cells);
     for (size_t b = 0; b < birds && frames > 0; ++b) {
       for (size_t f = 0; f < frames; ++f) {
         const vtkIdType p = static_cast<vtkIdType>(b * frames + f);
         const glm::dvec3& x = saved_positions[f * birds + b];
         points->SetPoint(p, x.x, x.y, x.z);
         time->SetValue(p, saved_times[f]);
-        speed->SetValue(p, saved_speeds[f * birds + b]);
+        speed->SetTuple1(p, saved_speeds[f * birds + b]);
         connectivity->SetValue(p, p);
       }
       offsets->SetValue(static_cast<vtkIdType>(b + 1), static_cast<vtkIdType>((b + 1) * frames));
       bird_id->SetValue(static_cast<vtkIdType>(b), ids[b]);
+      bird_species->SetValue(static_cast<vtkIdType>(b), int(id_species[b]));
     }
     vtkNew<vtkCellArray> cell_array;
     cell_array->SetData(offsets, connectivity);
@@ -457,7 +541,9 @@ struct VtkExporter::Writer {
     data->GetPointData()->AddArray(time);
     data->GetPointData()->AddArray(speed);
     data->GetCellData()->AddArray(bird_id);
-    add_length_unit(data);
+    data->GetCellData()->AddArray(bird_species);
+    add_field_data(data, {"time: s", "speed: cm/s", "bird_id: - (cell data)",
+                          "species: - (cell data; code: species_names)"});
     write_polydata(data, dir / "trajectories.vtp", compression);
     trajectories_stale = false;
     trajectories_written = Clock::now();
@@ -478,8 +564,13 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   Writer& w = *writer_;
   w.dir = dir_;
   w.compression = options.compression;
+  w.precision = options.precision;
   w.ids = selected_;
   w.species = scenario.species;
+  w.scenario_name = scenario.name;
+  w.scenario_hash = scenario.hash;
+  w.dt = scenario.dt;
+  w.steps_per_frame = scenario.steps_per_frame;
   w.thread = std::thread([&w] { w.run(); });
 }
 
@@ -502,9 +593,10 @@ void VtkExporter::offer(const Snapshot& snapshot) {
     throw std::logic_error("VtkExporter::offer: frame " + std::to_string(snapshot.frame) +
                            " is due but was not stepped with record_forces");
   last_frame_ = snapshot.frame;
+  any_offered_ = true;
   if (writer_->failed) return;
   Writer::Frame frame;
-  frame.time = snapshot.time;
+  frame.time = step_time(snapshot.steps, writer_->dt);
   frame.birds.reserve(selected_.size());
   frame.forces.reserve(selected_.size());
   frame.perception.reserve(selected_.size());

@@ -2,13 +2,15 @@
 // vertex per bird, its state and forces as point data), a ParaView collection (.pvd) listing them
 // with their simulated times, and one polyline per bird through its saved positions.
 //
-// DIR/frames/flock_000000.vtp, ...  one file per saved frame. Points: the birds' positions, cm.
-//   Point data, one tuple per bird: the arrays of kPointArrays in vtk_export.cpp (the README's
-//   "VTK export" lists them with their units). Forces are the backend's own: the step it takes
-//   next from the saved state.
+// DIR/frames/flock_000000.vtp, ...  one file per saved frame, the first at t = 0. Points: the
+//   birds' positions, cm, double. Point data, one tuple per bird: the arrays of kPointArrays in
+//   vtk_export.cpp (the README's "VTK export" lists them), float or double. Forces are the
+//   backend's own: the step it takes next from the saved state (at t = 0 the CPU reference's).
+//   Field data: TimeValue, array_units ("name: unit"), species_names and flight_state_names
+//   (the codes' names), scenario, scenario_hash, dt, steps_per_frame.
 // DIR/flock.pvd        the collection of the frame files with timestep = simulated time.
 // DIR/trajectories.vtp one polyline per exported bird through its saved positions; point data
-//                      time and speed, cell data bird_id.
+//                      time and speed, cell data bird_id and species; the same field data.
 //
 // Files are written by a thread of the exporter, so the simulation never waits for the disk. The
 // .pvd and the trajectories are written to a temporary name and renamed: at every moment they are
@@ -34,6 +36,8 @@ struct VtkOptions {
   uint32_t every = 1;         // export after every `every`-th frame (see VtkExporter::due)
   std::string birds = "all";  // see select_birds
   enum class Compression { none, lz4, zlib } compression = Compression::lz4;
+  // The point data's reals (positions and times are double always).
+  enum class Precision { float32, float64 } precision = Precision::float32;
 };
 
 // The names of the point arrays of a frame file, in the order they are written.
@@ -57,9 +61,9 @@ class VtkExporter {
   VtkExporter(const VtkExporter&) = delete;
   VtkExporter& operator=(const VtkExporter&) = delete;
 
-  // Whether frame number `frame` (Snapshot::frame: 1 after the first step) is one to export:
-  // every `options.every`-th. Step those frames with record_forces.
-  bool due(uint64_t frame) const { return frame > 0 && frame % every_ == 0; }
+  // Whether frame number `frame` (Snapshot::frame: 0 the start, 1 after the first step) is one
+  // to export: the start and every `options.every`-th. Step those frames with record_forces.
+  bool due(uint64_t frame) const { return frame % every_ == 0; }
 
   // Queues the snapshot's selected birds for the writer when its frame is due and newer than the
   // last one queued (so that the newest ready snapshot can be offered after every frame, and the
@@ -68,13 +72,17 @@ class VtkExporter {
   void offer(const Snapshot& snapshot);
   // After each frame of `sim`: offers the newest frame ready without waiting for the device,
   // reading it only when it is wanted. After the run, offer_last: the last frame (waited for).
+  // Before the run: the start (t = 0, forces from the CPU reference: Simulation::start_snapshot).
+  void offer_start(Simulation& sim) {
+    if (wants(0)) offer(sim.start_snapshot());
+  }
   void offer_ready(Simulation& sim) {
     if (wants(sim.ready_frame())) offer(sim.ready_snapshot());
   }
   void offer_last(Simulation& sim) {
     if (wants(sim.frames())) offer(sim.snapshot());
   }
-  bool wants(uint64_t frame) const { return due(frame) && frame > last_frame_; }
+  bool wants(uint64_t frame) const { return due(frame) && (!any_offered_ || frame > last_frame_); }
 
   // Waits for every queued frame, writes the final .pvd and trajectories and stops the writer.
   // Rethrows the writer's error, if any (std::runtime_error). Calling it again does nothing.
@@ -95,6 +103,7 @@ class VtkExporter {
   size_t bird_count_ = 0;
   size_t frames_added_ = 0;
   uint64_t last_frame_ = 0;  // the last frame queued
+  bool any_offered_ = false;
   bool finished_ = false;
   std::unique_ptr<Writer> writer_;
 };

@@ -1,6 +1,7 @@
 #include "scenario.h"
 
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +58,16 @@ Scenario moved_by(Scenario s, const glm::dvec3& offset) {
   for (Flock& f : s.flocks) f.spawn_centre += offset;
   s.world.ground_height += offset.y;
   return s;
+}
+
+void resize_flock(Scenario& s, size_t index, uint32_t count) {
+  Flock& f = s.flocks.at(index);
+  if (count == 0) {
+    s.flocks.erase(s.flocks.begin() + static_cast<std::ptrdiff_t>(index));
+    return;
+  }
+  f.spawn_extent *= std::cbrt(static_cast<double>(count) / static_cast<double>(f.count));
+  f.count = count;
 }
 
 bool any_flocking(const Scenario& s) {

@@ -36,6 +36,7 @@ struct Flock {
 struct Scenario {
   std::string name;
   std::string description;
+  std::string hash;              // of the text it was read from (engine/io): which run this was
   double dt = 0.0003;            // s
   uint32_t steps_per_frame = 100;
   double duration = 10.0;        // s
@@ -54,6 +55,10 @@ inline constexpr double kWorldRadius = 2.0e9;
 
 // The same scenario moved by `offset` (cm): targets, branches, spawn boxes and the ground.
 Scenario moved_by(Scenario s, const glm::dvec3& offset);
+
+// Gives flock `index` `count` birds, its spawn box scaled (cube root) to keep its density; a
+// count of 0 removes the flock. Throws std::out_of_range for a bad index.
+void resize_flock(Scenario& s, size_t index, uint32_t count);
 
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 #include <omp.h>
@@ -30,6 +31,23 @@ std::vector<uint32_t> flock_sizes(const Scenario& s, uint32_t total) {
     for (size_t i = 0; given < total; i = (i + 1) % sizes.size(), ++given) ++sizes[i];
   }
   return sizes;
+}
+
+// The forces of each bird's next step from `birds` at time `t`, with the targets where the birds
+// see them then and their perception (null: a scenario without flocking); the birds stay as
+// they are.
+void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, const World& world,
+                      double t, const std::vector<Perception>* perception,
+                      std::vector<StepForces>& forces) {
+  forces.resize(birds.size());
+  const int64_t n = static_cast<int64_t>(birds.size());
+#pragma omp parallel for schedule(static)
+  for (int64_t i = 0; i < n; ++i) {
+    const size_t k = static_cast<size_t>(i);
+    BirdState b = birds[k];
+    step_bird(b, s.species[b.species], world, t, s.dt, &forces[k],
+              perception ? &(*perception)[k] : nullptr);
+  }
 }
 
 }  // namespace
@@ -86,6 +104,21 @@ Simulation::Simulation(Scenario scenario) : scenario_(std::move(scenario)) {
   scenario_.world.move_targets(0.0);
 }
 
+Snapshot Simulation::start_snapshot() {
+  if (frames_ > 0) throw std::logic_error("Simulation::start_snapshot after the first step");
+  Snapshot s = snapshot();
+  const bool flocking = any_flocking(scenario_);
+  // What frame 0 perceives: the first frame's perception, from the same state.
+  if (flocking)
+    perceive(*s.birds, scenario_.species, scenario_.world, 0, scenario_.frame_seconds(),
+             start_perception_);
+  next_step_forces(*s.birds, scenario_, scenario_.world, 0.0,
+                   flocking ? &start_perception_ : nullptr, start_forces_);
+  s.forces = &start_forces_;
+  s.perception = flocking ? &start_perception_ : nullptr;
+  return s;
+}
+
 double Simulation::frame_start(uint64_t steps) const {
   const uint64_t per_frame = scenario_.steps_per_frame;
   return static_cast<double>(steps / per_frame * per_frame) * scenario_.dt;
@@ -133,13 +166,7 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   // The forces of the step each bird takes next, with the targets where it will see them.
   World next = world;
   next.move_targets(frame_start(this->steps()));
-  forces_.resize(birds_.size());
-#pragma omp parallel for schedule(static)
-  for (int64_t i = 0; i < n; ++i) {
-    BirdState b = birds_[static_cast<size_t>(i)];  // stepped again next frame: only forces kept
-    step_bird(b, species[b.species], next, time(), dt, &forces_[static_cast<size_t>(i)],
-              flocking ? &perception_[static_cast<size_t>(i)] : nullptr);
-  }
+  next_step_forces(birds_, scenario(), next, time(), flocking ? &perception_ : nullptr, forces_);
 }
 
 Snapshot CpuSimulation::snapshot() {

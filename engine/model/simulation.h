@@ -66,6 +66,10 @@ class Simulation {
   // the device cannot hold them), so that a run that will export fails before it starts.
   virtual void prepare_forces() {}
   const std::vector<BirdState>& birds() { return *snapshot().birds; }
+  // The state before the first step (frame 0, t = 0) with each bird's forces of its first step
+  // and what it perceives first, evaluated by the CPU reference from the backend's own state:
+  // an export's t = 0 frame. Only before the first step (std::logic_error after it).
+  Snapshot start_snapshot();
 
   const Scenario& scenario() const { return scenario_; }
   // The world, its targets where the birds see them now.
@@ -87,6 +91,8 @@ class Simulation {
   Scenario scenario_;
   uint64_t steps_ = 0;
   uint64_t frames_ = 0;
+  std::vector<StepForces> start_forces_;      // start_snapshot()'s
+  std::vector<Perception> start_perception_;
 };
 
 // The CPU reference: every bird stepped in double precision, in parallel with OpenMP.
