@@ -7,6 +7,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 tools/install-deps.sh
 cmake --preset release
 cmake --build --preset release
+mkdir -p out/default  # aeroflock writes into directories that exist, it does not make them
 build/release/aeroflock run default --summary out/default/summary.json \
   --png out/default/last_frame.png "$@"
 

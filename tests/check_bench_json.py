@@ -29,6 +29,11 @@ def main(path):
         assert key in d["birds_per_frame"], f"birds_per_frame lacks {key}"
         assert isinstance(d["birds_per_frame"][key], int)
         assert key in d["scaling_exponent"], f"scaling_exponent lacks {key}"
+        # The exponent is fitted over the sizes it names, each of them measured.
+        measured = {b["birds"] for b in bench if b["backend"] == backend and b["variant"] == "headless"}
+        fitted = d["scaling_exponent_sizes"][key]
+        assert (d["scaling_exponent"][key] is None) == (len(fitted) < 2), (key, fitted)
+        assert set(fitted) <= measured, f"{key}: fitted over {fitted}, measured {sorted(measured)}"
     assert isinstance(d["ratios"], list)
     print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}")
 

@@ -47,6 +47,13 @@
 namespace aeroflock {
 namespace {
 
+// 12345 as "12,345".
+std::string thousands(uint64_t n) {
+  std::string digits = std::to_string(n);
+  for (int at = int(digits.size()) - 3; at > 0; at -= 3) digits.insert(size_t(at), ",");
+  return digits;
+}
+
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
@@ -251,8 +258,14 @@ void print_row(const Measurement& m, double budget_ms) {
   std::fflush(stdout);
 }
 
-// b of ms = a N^b, least squares on log-log, over sizes >= 3000 (all when fewer than 2 of them).
-std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
+// b of ms = a N^b, least squares on log-log, and the sizes it was fitted over.
+struct Fit {
+  double b = 0.0;
+  std::vector<uint32_t> sizes;
+};
+
+// Over sizes >= 3000 (all when fewer than 2 of them).
+std::optional<Fit> scaling_exponent(const std::vector<Measurement>& points) {
   std::vector<const Measurement*> use;
   for (const Measurement& m : points)
     if (m.birds >= 3000 && m.median > 0) use.push_back(&m);
@@ -270,7 +283,9 @@ std::optional<double> scaling_exponent(const std::vector<Measurement>& points) {
   }
   const double d = n * sxx - sx * sx;
   if (std::abs(d) < 1e-12) return std::nullopt;
-  return (n * sxy - sx * sy) / d;
+  Fit fit{(n * sxy - sx * sy) / d, {}};
+  for (const Measurement* m : use) fit.sizes.push_back(m->birds);
+  return fit;
 }
 
 // Quoted for gnuplot ('' is a quote inside '...') and for the shell ('\'' likewise).
@@ -534,7 +549,7 @@ struct Ratios {
 
 // The scaling exponent of each series measured (backend/variant), in the order measured (none:
 // fewer than 2 sizes).
-using Exponents = std::vector<std::pair<std::string, std::optional<double>>>;
+using Exponents = std::vector<std::pair<std::string, std::optional<Fit>>>;
 
 const Series* headless(const std::vector<Series>& all, const std::string& backend) {
   for (const Series& series : all)
@@ -577,10 +592,17 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
       std::printf("  %-16s failed\n", series.key().c_str());
       continue;
     }
-    std::printf("  %-16s %u%s", series.key().c_str(), series.birds_per_frame,
-                !series.lower_bound ? ""
-                : s.quick           ? " (or more: --quick does not search)"
-                                    : " (or more: every size measured fitted)");
+    if (series.birds_per_frame == 0)  // not even the smallest flock measured fitted
+      std::printf("  %-16s < %s: the smallest size measured did not fit", series.key().c_str(),
+                  thousands(std::min_element(series.points.begin(), series.points.end(),
+                                             [](const Measurement& a, const Measurement& b) {
+                                               return a.birds < b.birds;
+                                             })->birds).c_str());
+    else
+      std::printf("  %-16s %s%s", series.key().c_str(), thousands(series.birds_per_frame).c_str(),
+                  !series.lower_bound ? ""
+                  : s.quick           ? " or more: the largest size measured fitted (--quick does not search)"
+                                      : " or more: every size measured fitted");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
@@ -603,13 +625,17 @@ void print_ratios(const std::vector<Ratios>& ratios) {
 }
 
 void print_exponents(const Exponents& exponents) {
-  std::printf(
-      "\nscaling exponent b of ms per frame = a N^b (sizes >= 3000 where two were measured):\n");
-  for (const auto& [series, b] : exponents)
-    if (b)
-      std::printf("  %-16s %.3f\n", series.c_str(), *b);
-    else
+  std::printf("\nscaling exponent b of ms per frame = a N^b (least squares over the sizes named: those\n"
+              ">= 3,000 birds where two were measured, else all):\n");
+  for (const auto& [series, fit] : exponents) {
+    if (!fit) {
       std::printf("  %-16s n/a (fewer than 2 sizes)\n", series.c_str());
+      continue;
+    }
+    std::string sizes;
+    for (uint32_t n : fit->sizes) sizes += (sizes.empty() ? "" : ", ") + thousands(n);
+    std::printf("  %-16s %.3f  (from %s birds)\n", series.c_str(), fit->b, sizes.c_str());
+  }
 }
 
 void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {
@@ -683,8 +709,11 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
     for (const auto& [birds, ratio] : r.by_birds)
       ratios_json.push_back({{"backend", r.backend}, {"birds", birds}, {"vulkan_over_cpu", ratio}});
   nlohmann::json exponents_json = nlohmann::json::object();
-  for (const auto& [series, b] : exponents)
-    exponents_json[series] = b ? nlohmann::json(*b) : nlohmann::json(nullptr);
+  nlohmann::json fitted_json = nlohmann::json::object();
+  for (const auto& [series, fit] : exponents) {
+    exponents_json[series] = fit ? nlohmann::json(fit->b) : nlohmann::json(nullptr);
+    fitted_json[series] = fit ? nlohmann::json(fit->sizes) : nlohmann::json::array();
+  }
   return {
       {"context", context_json(run.s, run.devices)},
       {"benchmarks", benchmarks},
@@ -692,6 +721,7 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
       {"birds_per_frame_is_lower_bound", lower_bounds},
       {"sweep_notes", sweep_notes},
       {"scaling_exponent", exponents_json},
+      {"scaling_exponent_sizes", fitted_json},
       {"ratios", ratios_json},
   };
 }
