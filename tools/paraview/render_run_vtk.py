@@ -1,0 +1,557 @@
+#!/usr/bin/python3
+"""Renders an `aeroflock run --vtk DIR` export to PNG with plain VTK (no ParaView needed).
+
+The same picture as render_run.py (the pvpython/pvbatch script), for machines with Debian's
+python3-vtk9 but without ParaView's Python: the birds as points (or cones along their velocity)
+coloured by speed in m/s, by species or by flight state, the trajectories behind them, a camera
+that frames the flock, a legend and the time.
+
+usage: /usr/bin/python3 tools/paraview/render_run_vtk.py RUN_DIR (--png FILE | --frames-dir DIR)
+           [--time T] [--every K] [--color speed|species|flight_state] [--speed-range MIN,MAX]
+           [--birds points|cones] [--point-size PX] [--bird-size CM]
+           [--trajectories past|full|none] [--max-trajectories N] [--camera auto|all|flock]
+           [--azimuth DEG] [--elevation DEG] [--size WxH] [--title TEXT]
+
+  RUN_DIR              the export: RUN_DIR/flock.pvd, RUN_DIR/frames/*.vtp, RUN_DIR/trajectories.vtp
+  --png FILE           render one time step (the last, or the one nearest --time T) to FILE
+  --frames-dir DIR     render every saved time step (every K-th with --every K) to
+                       DIR/frame_NNNNNN.png (turn them into a video with e.g.
+                       ffmpeg -framerate 30 -i DIR/frame_%06d.png -pix_fmt yuv420p flock.mp4)
+  --color              speed (m/s, default), species or flight_state; species and flight-state
+                       names come from the frames' field data (species_names, flight_state_names)
+                       when present, else "species N" and the documented state names
+  --speed-range        colour-scale range in m/s (default: the run's range, from trajectories.vtp)
+  --birds              points (spheres of --point-size pixels, default) or cones (3D glyphs
+                       --bird-size cm long, pointing along the velocity)
+  --trajectories       past (each bird's path up to the shown time, default), full or none
+  --max-trajectories N draw the paths of at most N birds (every k-th; default 100, 0: all)
+  --camera             all (the whole run: trajectories and birds), flock (the birds at the shown
+                       time) or auto (default: flock when the run is over ten times as big as
+                       the flock, taken as at least 30 m across, e.g. a long migration)
+  --azimuth/--elevation  view direction in degrees (defaults 35 and 25; azimuth 0 looks north,
+                       from +z towards -z; world y is up)
+
+Rendering is offscreen. Debian's VTK draws through X (GLX): with no DISPLAY the script re-runs
+itself under `xvfb-run -a` (package xvfb) when that exists, and stops with a message otherwise.
+Examples:
+  build/release/aeroflock run default --seconds 10 --vtk out/vtk --vtk-every 5
+  /usr/bin/python3 tools/paraview/render_run_vtk.py out/vtk --png out/flock.png
+  /usr/bin/python3 tools/paraview/render_run_vtk.py out/vtk --color species --birds cones --png out/species.png
+  /usr/bin/python3 tools/paraview/render_run_vtk.py out/vtk --frames-dir out/frames --camera flock
+Exit status: 0 done, 1 bad input, 2 bad options or no way to render (no vtk module; no display
+and no xvfb-run).
+"""
+import argparse
+import math
+import os
+import random
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+try:
+    import vtkmodules.vtkInteractionStyle  # noqa: F401  (registers the default interactor style)
+    import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the OpenGL render window)
+    from vtkmodules.vtkCommonCore import vtkIdList, vtkLookupTable
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkDataObject, vtkPolyData
+    from vtkmodules.vtkFiltersCore import vtkArrayCalculator, vtkClipPolyData, vtkGlyph3D
+    from vtkmodules.vtkFiltersSources import vtkConeSource
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+    from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkPolyDataMapper,
+                                             vtkRenderer, vtkRenderWindow, vtkTextActor,
+                                             vtkWindowToImageFilter)
+except ImportError as e:
+    print(f"render_run_vtk.py: cannot import VTK ({e}); install python3-vtk9 and run with "
+          f"/usr/bin/python3", file=sys.stderr)
+    sys.exit(2)
+
+BACKGROUND = (0.10, 0.11, 0.14)
+TRAJECTORY_COLOR = (0.62, 0.64, 0.70)
+TEXT_COLOR = (0.92, 0.92, 0.92)
+# ParaView's default "Cool to Warm" map (diverging colour space), so both scripts look alike.
+COOL_TO_WARM = [(0.0, 0.231373, 0.298039, 0.752941), (0.5, 0.865003, 0.865003, 0.865003),
+                (1.0, 0.705882, 0.0156863, 0.14902)]
+# Category colours that read well on the dark background (species, flight states).
+PALETTE = [(1.00, 0.60, 0.10), (0.35, 0.75, 1.00), (0.45, 0.85, 0.35), (0.95, 0.35, 0.40),
+           (0.75, 0.55, 0.95), (0.95, 0.90, 0.40), (0.95, 0.55, 0.80), (0.60, 0.95, 0.90)]
+# flight_state codes as the README documents them, for files without flight_state_names.
+FLIGHT_STATES = ["flying", "standing", "taking off", "landing", "perched"]
+XVFB_GUARD = "AEROFLOCK_RENDER_UNDER_XVFB"
+
+
+# ----------------------------------------------------------------------------- input
+def parse_args(argv):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("run_dir")
+    p.add_argument("--png")
+    p.add_argument("--frames-dir")
+    p.add_argument("--time", type=float)
+    p.add_argument("--every", type=int, default=1)
+    p.add_argument("--color", choices=["speed", "species", "flight_state"], default="speed")
+    p.add_argument("--speed-range")
+    p.add_argument("--birds", choices=["points", "cones"], default="points")
+    p.add_argument("--point-size", type=float)
+    p.add_argument("--bird-size", type=float)
+    p.add_argument("--trajectories", choices=["past", "full", "none"], default="past")
+    p.add_argument("--max-trajectories", type=int, default=100)
+    p.add_argument("--camera", choices=["auto", "all", "flock"], default="auto")
+    p.add_argument("--azimuth", type=float, default=35.0)
+    p.add_argument("--elevation", type=float, default=25.0)
+    p.add_argument("--size", default="1280x720")
+    p.add_argument("--title")
+    a = p.parse_args(argv)
+    if not a.png and not a.frames_dir:
+        p.error("give --png FILE and/or --frames-dir DIR")
+    try:
+        a.width, a.height = (int(v) for v in a.size.lower().split("x"))
+    except ValueError:
+        p.error(f"--size {a.size}: expected WxH, e.g. 1280x720")
+    if a.speed_range:
+        try:
+            a.speed_range = tuple(float(v) for v in a.speed_range.split(","))
+            assert len(a.speed_range) == 2 and a.speed_range[0] < a.speed_range[1]
+        except (ValueError, AssertionError):
+            p.error(f"--speed-range {a.speed_range}: expected MIN,MAX in m/s, MIN < MAX")
+    if a.every < 1:
+        p.error("--every must be at least 1")
+    return a
+
+
+def fail(message):
+    print(f"render_run_vtk.py: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+def read_collection(run_dir):
+    """[(time, path)] from RUN_DIR/flock.pvd, sorted by time."""
+    pvd = os.path.join(run_dir, "flock.pvd")
+    if not os.path.isfile(pvd):
+        fail(f"{pvd}: no such file (is {run_dir} an `aeroflock run --vtk` directory?)")
+    try:
+        root = ET.parse(pvd).getroot()
+    except ET.ParseError as e:
+        fail(f"{pvd}: {e}")
+    steps = [(float(ds.get("timestep")), os.path.join(run_dir, ds.get("file")))
+             for ds in root.iter("DataSet")]
+    if not steps:
+        fail(f"{pvd}: no frames")
+    return sorted(steps)
+
+
+def read_polydata(path):
+    reader = vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    if reader.GetErrorCode() != 0 or reader.GetOutput().GetNumberOfPoints() == 0 and \
+            not os.path.isfile(path):
+        fail(f"{path}: cannot read it")
+    data = vtkPolyData()
+    data.ShallowCopy(reader.GetOutput())
+    return data
+
+
+def string_field(data, name):
+    """The entries of the string field array `name`, or None when the file has none."""
+    array = data.GetFieldData().GetAbstractArray(name)
+    if array is None or not array.IsA("vtkStringArray"):
+        return None
+    return [array.GetValue(i) for i in range(array.GetNumberOfValues())]
+
+
+def category_names(frames, array_name, field_name, fallback):
+    """Names for the integer codes of `array_name`: from field data when present, else fallback."""
+    names = string_field(frames[-1], field_name) or string_field(frames[0], field_name)
+    top = max(int(f.GetPointData().GetArray(array_name).GetRange()[1])
+              if f.GetPointData().GetArray(array_name) and f.GetNumberOfPoints() else 0
+              for f in frames)
+    if names:
+        return names + [f"{array_name} {i}" for i in range(len(names), top + 1)]
+    return [fallback(i) for i in range(top + 1)]
+
+
+# ----------------------------------------------------------------------------- camera
+def sample_points(datasets, cap=20000):
+    """Up to about `cap` points (cm) spread over the datasets, for fitting the camera."""
+    points = []
+    for data in datasets:
+        n = data.GetNumberOfPoints()
+        for i in range(0, n, max(1, n // cap)):
+            points.append(data.GetPoint(i))
+    return points
+
+
+def extent(points):
+    """Diagonal of the points' bounding box, cm."""
+    lo = [min(p[i] for p in points) for i in range(3)]
+    hi = [max(p[i] for p in points) for i in range(3)]
+    return math.dist(lo, hi)
+
+
+def frame_camera(points, azimuth, elevation, aspect, view_angle=30.0, minimum=500.0,
+                 region=(-0.97, 0.60, -0.95, 0.80)):
+    """Focal point, position, up vector and view angle that fit `points` (cm) in the picture.
+
+    Looks from the azimuth/elevation direction (degrees; azimuth 0 from +z, 90 from +x; world y
+    up) and backs off until every point is inside `region` of the picture (x0, x1, y0, y1 in
+    -1..1 screen units: the legend is on the right, the title at the top). Groups smaller than
+    `minimum` cm (one bird) are shown as if that big."""
+    az, el = math.radians(azimuth), math.radians(elevation)
+    back = (math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az))  # to camera
+    right = (math.cos(az), 0.0, -math.sin(az))
+    up = (back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
+          back[0] * right[1] - back[1] * right[0])
+    projected = [(p[0] * right[0] + p[1] * right[1] + p[2] * right[2],
+                  p[0] * up[0] + p[1] * up[1] + p[2] * up[2],
+                  p[0] * back[0] + p[1] * back[1] + p[2] * back[2]) for p in points]
+    lo = [min(q[i] for q in projected) for i in range(3)]
+    hi = [max(q[i] for q in projected) for i in range(3)]
+    mid = [(lo[i] + hi[i]) / 2 for i in range(3)]
+    tan_v = math.tan(math.radians(view_angle) / 2)
+    tan_h = tan_v * aspect
+    fit_h = tan_h * (region[1] - region[0]) / 2
+    fit_v = tan_v * (region[3] - region[2]) / 2
+    distance = max(minimum / 2 / fit_v, minimum / 2 / fit_h)
+    for x, y, z in projected:
+        distance = max(distance, z - mid[2] + max(abs(x - mid[0]) / fit_h, abs(y - mid[1]) / fit_v))
+    # Then, as near points come out bigger than far ones, move the camera sideways and back or
+    # forth until the points' picture just fills the region.
+    dx, dy = mid[0], mid[1]
+    for _ in range(30):
+        camera_z = mid[2] + distance
+        sx = [(x - dx) / (max(camera_z - z, 1e-6) * tan_h) for x, _, z in projected]
+        sy = [(y - dy) / (max(camera_z - z, 1e-6) * tan_v) for _, y, z in projected]
+        scale = max((max(sx) - min(sx)) / (region[1] - region[0]),
+                    (max(sy) - min(sy)) / (region[3] - region[2]), 1e-3)
+        shift_x = (max(sx) + min(sx)) / 2 - (region[0] + region[1]) / 2
+        shift_y = (max(sy) + min(sy)) / 2 - (region[2] + region[3]) / 2
+        dx += shift_x * distance * tan_h
+        dy += shift_y * distance * tan_v
+        distance = max(distance * scale, minimum / 2 / fit_v, minimum / 2 / fit_h)
+        if abs(scale - 1) < 1e-3 and abs(shift_x) < 1e-3 and abs(shift_y) < 1e-3:
+            break
+    distance *= 1.03  # a margin
+    focal = [dx * right[i] + dy * up[i] + mid[2] * back[i] for i in range(3)]
+    position = [focal[i] + distance * back[i] for i in range(3)]
+    return focal, position, (0.0, 1.0, 0.0), view_angle
+
+
+def choose_camera_mode(mode, flock_points, run_points):
+    """auto: frame the flock when the whole run is over ten times as big as the flock (taken as
+    at least 30 m across), as on a long migration; else the whole run."""
+    if mode != "auto":
+        return mode
+    flock = max(max(extent(points) for points in flock_points), 3000.0)
+    return "flock" if extent(run_points) > 10.0 * flock else "all"
+
+
+def some_trajectories(trajectories, most):
+    """At most `most` of the polylines (every k-th bird), so that the paths stay readable."""
+    lines = trajectories.GetNumberOfCells()
+    if most <= 0 or lines <= most:
+        return trajectories
+    stride = -(-lines // most)
+    cells = vtkCellArray()
+    ids = vtkIdList()
+    for cell in range(0, lines, stride):
+        trajectories.GetCellPoints(cell, ids)
+        cells.InsertNextCell(ids)
+    subset = vtkPolyData()
+    subset.SetPoints(trajectories.GetPoints())
+    subset.GetPointData().ShallowCopy(trajectories.GetPointData())
+    subset.SetLines(cells)
+    return subset
+
+
+# ----------------------------------------------------------------------------- display
+def xvfb_command(xvfb):
+    """xvfb-run searching a free display number from a random start (fewer clashes when several
+    renders start at once)."""
+    return [xvfb, "-n", str(random.randrange(100, 2000)), "-a", "-s", "-screen 0 1280x1024x24"]
+
+
+def run_under_xvfb(xvfb, command, name):
+    """Runs command under xvfb-run, passing its output on, and exits with its status. Tries up to
+    three times when the X connection fails: Xvfb 21.1 (Debian 12) now and then hangs up on a
+    client that connects just after another one closed ("bad X server connection", SIGABRT)."""
+    env = dict(os.environ, **{XVFB_GUARD: "1"})
+    sys.stdout.flush()
+    sys.stderr.flush()
+    for attempt in range(3):
+        proc = subprocess.Popen(xvfb_command(xvfb) + command, env=env, stderr=subprocess.PIPE)
+        refused = False
+        for line in proc.stderr:
+            os.write(2, line)
+            refused = refused or b"bad X server connection" in line
+        status = proc.wait()
+        if status == 0 or not refused or attempt == 2:
+            break
+        os.write(2, f"{name}: the X connection failed under xvfb-run; trying again\n".encode())
+    os._exit(status if status >= 0 else 128 - status)
+
+
+def ensure_display():
+    """Re-runs this script under xvfb-run when VTK needs X and there is no DISPLAY."""
+    if os.environ.get("DISPLAY"):
+        return
+    window = vtkRenderWindow()
+    if "XOpenGL" not in window.GetClassName():  # EGL or OSMesa builds render headless
+        return
+    if os.environ.get(XVFB_GUARD):
+        print("render_run_vtk.py: no X display even under xvfb-run", file=sys.stderr)
+        sys.exit(2)
+    xvfb = shutil.which("xvfb-run")
+    if not xvfb:
+        print("render_run_vtk.py: VTK renders through X here (vtkXOpenGLRenderWindow) and there "
+              "is no DISPLAY nor xvfb-run; install xvfb (apt-get install xvfb) or run on a "
+              "desktop", file=sys.stderr)
+        sys.exit(2)
+    run_under_xvfb(xvfb, [sys.executable, os.path.abspath(sys.argv[0])] + sys.argv[1:],
+                   "render_run_vtk.py")
+
+
+# ----------------------------------------------------------------------------- scene
+class Scene:
+    def __init__(self, args, trajectories, categories, speed_range):
+        self.args = args
+        self.renderer = vtkRenderer()
+        self.renderer.SetBackground(*BACKGROUND)
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(args.width, args.height)
+        self.window.SetMultiSamples(0)
+        self.window.AddRenderer(self.renderer)
+        self.renderer.SetUseFXAA(True)
+
+        # Trajectories, clipped to the shown time with "past".
+        self.clip = None
+        if trajectories is not None and args.trajectories != "none":
+            mapper = vtkPolyDataMapper()
+            if args.trajectories == "past":
+                self.clip = vtkClipPolyData()
+                trajectories.GetPointData().SetActiveScalars("time")  # what vtkClipPolyData clips
+                self.clip.SetInputData(trajectories)
+                self.clip.InsideOutOn()  # keep time <= value
+                mapper.SetInputConnection(self.clip.GetOutputPort())
+            else:
+                mapper.SetInputData(trajectories)
+            mapper.ScalarVisibilityOff()
+            actor = vtkActor()
+            actor.SetMapper(mapper)
+            actor.GetProperty().SetColor(*TRAJECTORY_COLOR)
+            actor.GetProperty().SetOpacity(0.45)
+            actor.GetProperty().SetLineWidth(1.0)
+            self.renderer.AddActor(actor)
+
+        # Birds: speed in m/s (the files hold cm/s) computed on the fly.
+        self.calculator = vtkArrayCalculator()
+        self.calculator.SetAttributeTypeToPointData()
+        self.calculator.AddScalarArrayName("speed")
+        self.calculator.SetFunction("speed/100")
+        self.calculator.SetResultArrayName("speed_m_s")
+        self.cone = None
+        if args.birds == "cones":
+            self.cone = vtkConeSource()
+            self.cone.SetResolution(12)
+            self.cone.SetRadius(0.22)
+            self.cone.SetHeight(1.0)
+            self.glyph = vtkGlyph3D()
+            self.glyph.SetInputConnection(self.calculator.GetOutputPort())
+            self.glyph.SetSourceConnection(self.cone.GetOutputPort())
+            self.glyph.SetInputArrayToProcess(1, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, "velocity")
+            self.glyph.SetVectorModeToUseVector()
+            self.glyph.SetScaleModeToDataScalingOff()
+            self.glyph.OrientOn()
+            self.glyph.SetColorModeToColorByScalar()
+            self.glyph.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS,
+                                              "speed_m_s" if args.color == "speed" else args.color)
+            source = self.glyph
+        else:
+            source = self.calculator
+        self.bird_mapper = vtkPolyDataMapper()
+        self.bird_mapper.SetInputConnection(source.GetOutputPort())
+        self.bird_mapper.SetScalarModeToUsePointFieldData()
+        self.bird_mapper.ScalarVisibilityOn()
+        bird_actor = vtkActor()
+        bird_actor.SetMapper(self.bird_mapper)
+        prop = bird_actor.GetProperty()
+        if args.birds == "points":
+            prop.SetPointSize(args.point_size or max(3.0, round(args.height / 140.0 * args.enlarge)))
+            prop.SetRenderPointsAsSpheres(True)
+        else:
+            prop.SetAmbient(0.35)
+            prop.SetDiffuse(0.75)
+
+        bar = vtkScalarBarActor()
+        if args.color == "speed":
+            ctf = vtkColorTransferFunction()
+            ctf.SetColorSpaceToDiverging()
+            lo, hi = speed_range
+            for x, r, g, b in COOL_TO_WARM:
+                ctf.AddRGBPoint(lo + x * (hi - lo), r, g, b)
+            lut = vtkLookupTable()
+            lut.SetNumberOfTableValues(256)
+            lut.SetRange(lo, hi)
+            for i in range(256):
+                rgb = ctf.GetColor(lo + (hi - lo) * i / 255.0)
+                lut.SetTableValue(i, rgb[0], rgb[1], rgb[2], 1.0)
+            self.bird_mapper.SelectColorArray("speed_m_s")
+            self.bird_mapper.SetScalarRange(lo, hi)
+            bar.SetTitle("speed (m/s)")
+            bar.SetNumberOfLabels(5)
+            bar.SetLabelFormat("%.1f")
+        else:
+            lut = vtkLookupTable()
+            lut.SetNumberOfTableValues(len(categories))
+            lut.IndexedLookupOn()
+            for i, name in enumerate(categories):
+                r, g, b = PALETTE[i % len(PALETTE)]
+                lut.SetTableValue(i, r, g, b, 1.0)
+                lut.SetAnnotation(i, name)
+            self.bird_mapper.SelectColorArray(args.color)
+            self.bird_mapper.SetScalarRange(0, max(1, len(categories) - 1))
+            bar.SetTitle("species" if args.color == "species" else "flight state")
+            bar.SetDrawAnnotations(True)
+        self.bird_mapper.SetLookupTable(lut)
+        self.bird_mapper.UseLookupTableScalarRangeOn()
+        self.renderer.AddActor(bird_actor)
+
+        bar.SetLookupTable(lut)
+        bar.SetOrientationToVertical()
+        bar.SetPosition(0.89, 0.10)
+        bar.SetWidth(0.09)
+        bar.SetHeight(0.55 if args.color == "speed" else min(0.55, 0.1 * len(categories) + 0.06))
+        bar.SetMaximumWidthInPixels(110)
+        for text in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty(),
+                     bar.GetAnnotationTextProperty()):
+            text.SetColor(*TEXT_COLOR)
+            text.SetFontSize(max(12, args.height // 45))
+            text.ShadowOff()
+            text.ItalicOff()
+        bar.GetTitleTextProperty().BoldOn()
+        bar.UnconstrainedFontSizeOn()
+        self.renderer.AddViewProp(bar)
+
+        self.text = vtkTextActor()
+        self.text.GetTextProperty().SetColor(*TEXT_COLOR)
+        self.text.GetTextProperty().SetFontSize(max(14, args.height // 36))
+        self.text.SetPosition(14, args.height - 14 - 2 * max(14, args.height // 36))
+        self.renderer.AddViewProp(self.text)
+
+    def show(self, frame, time, camera, bird_size, caption):
+        self.calculator.SetInputData(frame)
+        if self.cone is not None:
+            self.glyph.SetScaleFactor(bird_size)
+        if self.clip is not None:
+            self.clip.SetValue(time + 1e-6)
+        self.text.SetInput(caption)
+        cam = self.renderer.GetActiveCamera()
+        focal, position, up, angle = camera
+        cam.SetFocalPoint(*focal)
+        cam.SetPosition(*position)
+        cam.SetViewUp(*up)
+        cam.SetViewAngle(angle)
+        self.renderer.ResetCameraClippingRange()
+        self.window.Render()
+
+    def save(self, path):
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(self.window)
+        grab.SetInputBufferTypeToRGB()
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        writer = vtkPNGWriter()
+        writer.SetFileName(path)
+        writer.SetInputConnection(grab.GetOutputPort())
+        writer.Write()
+
+
+# ----------------------------------------------------------------------------- main
+def main(args):
+    steps = read_collection(args.run_dir)
+    missing = [p for _, p in steps if not os.path.isfile(p)]
+    if missing:
+        fail(f"{missing[0]}: no such file ({len(missing)} frames of flock.pvd missing)")
+    traj_path = os.path.join(args.run_dir, "trajectories.vtp")
+    trajectories = read_polydata(traj_path) if os.path.isfile(traj_path) else None
+    if trajectories is None:
+        print(f"render_run_vtk.py: {traj_path} missing, drawing the birds only", file=sys.stderr)
+
+    if args.png:
+        if args.time is None:
+            png_index = len(steps) - 1
+        else:
+            png_index = min(range(len(steps)), key=lambda i: abs(steps[i][0] - args.time))
+    animation = range(0, len(steps), args.every) if args.frames_dir else range(0)
+    shown = list(animation)
+    if args.png and png_index not in shown:
+        shown.append(png_index)
+
+    ends = [read_polydata(steps[0][1]), read_polydata(steps[-1][1])]
+    if args.color == "species":
+        categories = category_names(ends, "species", "species_names", lambda i: f"species {i}")
+    elif args.color == "flight_state":
+        categories = category_names(ends, "flight_state", "flight_state_names",
+                                    lambda i: FLIGHT_STATES[i] if i < len(FLIGHT_STATES) else f"state {i}")
+    else:
+        categories = []
+    if args.speed_range:
+        speed_range = args.speed_range
+    else:
+        source = trajectories if trajectories is not None and \
+            trajectories.GetPointData().GetArray("speed") else ends[-1]
+        lo, hi = source.GetPointData().GetArray("speed").GetRange()
+        speed_range = (lo / 100.0, hi / 100.0) if hi > lo else (lo / 100.0 - 1, hi / 100.0 + 1)
+
+    # The whole run for the camera: the paths drawn (all of them when none are), the last frame.
+    ends_points = [sample_points([f]) for f in ends]
+    if trajectories is not None and args.trajectories != "none":
+        trajectories = some_trajectories(trajectories, args.max_trajectories)
+    if trajectories is not None and trajectories.GetNumberOfPoints():
+        run_points = ends_points[1] + sample_points([trajectories])
+    else:
+        run_points = ends_points[0] + ends_points[1]
+    camera_mode = choose_camera_mode(args.camera, ends_points, run_points)
+    aspect = args.width / args.height
+    fixed_camera = frame_camera(run_points, args.azimuth, args.elevation, aspect)
+
+    # A few birds are drawn bigger, up to 3 times for one, so that they can be seen.
+    args.enlarge = min(3.0, max(1.0, (100.0 / max(ends[1].GetNumberOfPoints(), 1)) ** (1.0 / 3.0)))
+    scenario = string_field(ends[-1], "scenario")
+    title = args.title or (scenario[0] if scenario else os.path.basename(os.path.normpath(args.run_dir)))
+    scene = Scene(args, trajectories, categories, speed_range)
+    if args.frames_dir:
+        os.makedirs(args.frames_dir, exist_ok=True)
+    for index in shown:
+        time, path = steps[index]
+        frame = ends[0] if index == 0 else ends[1] if index == len(steps) - 1 else read_polydata(path)
+        if camera_mode == "flock":
+            camera = frame_camera(sample_points([frame]), args.azimuth, args.elevation, aspect)
+        else:
+            camera = fixed_camera
+        # Cones: about 2 % of the picture's height at the focal point (more for a few birds),
+        # at least 30 cm.
+        bird_size = args.bird_size or max(30.0, 0.011 * args.enlarge * math.dist(camera[0], camera[1]))
+        count = frame.GetNumberOfPoints()
+        caption = f"{title}   t = {time:.2f} s   {count} bird{'' if count == 1 else 's'}"
+        scene.show(frame, time, camera, bird_size, caption)
+        if args.frames_dir and index in animation:
+            scene.save(os.path.join(args.frames_dir, f"frame_{index // args.every:06d}.png"))
+        if args.png and index == png_index:
+            scene.save(args.png)
+    if args.png:
+        print(f"wrote {args.png} (t = {steps[png_index][0]:.2f} s, colour {args.color}, camera {camera_mode})")
+    if args.frames_dir:
+        print(f"wrote {len(animation)} frames to {args.frames_dir}/frame_NNNNNN.png (camera {camera_mode})")
+    return 0
+
+
+if __name__ == "__main__":
+    arguments = parse_args(sys.argv[1:])  # --help and bad options without starting X
+    read_collection(arguments.run_dir)
+    ensure_display()
+    sys.exit(main(arguments))
