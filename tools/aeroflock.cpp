@@ -123,7 +123,8 @@ CLI::Validator integer_in(uint64_t min, uint64_t max) {
                    : "expected an integer from " + std::to_string(min) + " to " +
                          std::to_string(max) + ", got " + text;
       },
-      std::to_string(min) + ".." + std::to_string(max));
+      max == std::numeric_limits<uint32_t>::max() ? ">= " + std::to_string(min)
+                                                  : std::to_string(min) + ".." + std::to_string(max));
 }
 const CLI::Validator kCount = integer_in(1, std::numeric_limits<uint32_t>::max());
 const CLI::Validator kIndex = integer_in(0, std::numeric_limits<uint32_t>::max());
