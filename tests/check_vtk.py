@@ -81,6 +81,7 @@ def main():
     parser.add_argument("--birds", type=int, help="birds expected in every frame")
     parser.add_argument("--frames", type=int, help="frames expected in the collection")
     parser.add_argument("--min-frames", type=int, default=1, help="at least this many frames")
+    parser.add_argument("--last-time", type=float, help="the last frame's time, s")
     args = parser.parse_args()
 
     pvd = os.path.join(args.dir, "flock.pvd")
@@ -133,6 +134,9 @@ def main():
         if pd.GetArray("speed") is not None:
             lo, hi = pd.GetArray("speed").GetRange()
             check(0 <= lo <= hi < 1e5, f"{path}: speeds {lo}..{hi} cm/s out of range")
+
+    if args.last_time is not None:
+        check(times and times[-1] == args.last_time, f"{pvd}: the last frame is at {times[-1] if times else '-'} s, expected {args.last_time}")
 
     traj_path = os.path.join(args.dir, "trajectories.vtp")
     if check(os.path.isfile(traj_path), f"{traj_path}: missing"):

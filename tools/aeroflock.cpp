@@ -118,7 +118,8 @@ CLI::Validator integer_in(uint64_t min, uint64_t max) {
         const char* end = text.data() + text.size();
         const auto [ptr, ec] = std::from_chars(text.data(), end, v);
         if (ec == std::errc() && ptr == end && v >= min && v <= max) return "";
-        return max == std::numeric_limits<uint32_t>::max()
+        const bool too_large = (ec == std::errc::result_out_of_range || (ec == std::errc() && v > max)) && ptr == end;
+        return max == std::numeric_limits<uint32_t>::max() && !too_large
                    ? "expected an integer >= " + std::to_string(min) + ", got " + text
                    : "expected an integer from " + std::to_string(min) + " to " +
                          std::to_string(max) + ", got " + text;
@@ -129,6 +130,10 @@ CLI::Validator integer_in(uint64_t min, uint64_t max) {
 const CLI::Validator kCount = integer_in(1, std::numeric_limits<uint32_t>::max());
 const CLI::Validator kIndex = integer_in(0, std::numeric_limits<uint32_t>::max());
 constexpr uint64_t kMaxThreads = 1024;
+// A path: an empty one (an unset "$OUT") would lose the output without a word.
+const CLI::Validator kPath(
+    [](std::string& text) -> std::string { return text.empty() ? "expected a path, got an empty one" : ""; },
+    "PATH");
 
 // CLI11's own PositiveNumber names the whole double range in its message.
 const CLI::Validator kPositive(
@@ -188,7 +193,10 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
 }
 
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
-void require_birds(const Scenario& scenario) {
+void require_birds(const Scenario& scenario, const std::vector<std::string>& flock_sizes) {
+  if (scenario.flocks.empty() && !flock_sizes.empty())
+    throw std::runtime_error("--flock: no birds are left in scenario " + scenario.name +
+                             " (every flock was given 0)");
   if (scenario.flocks.empty())
     throw std::runtime_error("scenario " + scenario.name +
                              " has no birds: it needs a [[flocks]] table (see `aeroflock scenarios --show default`)");
@@ -206,7 +214,7 @@ int run(const RunOptions& opt) {
 
   Scenario scenario = load_scenario(opt.scenario);
   resize_flocks(scenario, opt.flocks);
-  require_birds(scenario);
+  require_birds(scenario, opt.flocks);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // The small allowance keeps an exact multiple from gaining a frame to rounding.
@@ -259,7 +267,8 @@ int run(const RunOptions& opt) {
     }
     // Frames due for export record their forces; the exporter takes the newest state that is
     // ready without waiting (on Vulkan the frame before the last) and writes on its own thread.
-    sim->step_frame(vtk && vtk->due(sim->frames() + 1));
+    // The last frame is exported whatever --vtk-every says: the files end where the run does.
+    sim->step_frame(vtk && (vtk->due(sim->frames() + 1) || frame + 1 == frames));
     if (images) images->frame(*sim, frame);
     if (vtk) vtk->offer_ready(*sim);
     if (progress.due()) {
@@ -276,17 +285,18 @@ int run(const RunOptions& opt) {
   }
   progress.finish();
   interrupted = interrupted || g_interrupted;
-  if (vtk) vtk->offer_last(*sim);  // the last frame, if due and still owed
+  if (vtk) vtk->offer_last(*sim);  // the last frame, if still owed
 
   summary.wall_seconds = wall();
   summary.steps = sim->steps();
   summary.sim_seconds = sim->time();
+  summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
   if (images) images->finish(*sim);
   if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
-  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), total_seconds, opt.summary,
+  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, opt.summary,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
   return interrupted ? kInterruptedStatus : 0;
 }
@@ -294,7 +304,7 @@ int run(const RunOptions& opt) {
 int view(const ViewOptions& opt) {
   Scenario scenario = load_scenario(opt.scenario);
   resize_flocks(scenario, opt.flocks);
-  require_birds(scenario);
+  require_birds(scenario, opt.flocks);
   std::cout << render::viewer_keys() << std::endl;
   return render::run_viewer(std::move(scenario), opt.viewer);
 }
@@ -304,14 +314,19 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
   app->add_option_function<std::string>(
       "--size",
       [&width, &height](const std::string& text) {
-        unsigned w = 0, h = 0;
-        char x = 0;
-        if (std::sscanf(text.c_str(), "%u%c%u", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 ||
-            w > 8192 || h > 8192)
+        // Strictly WxH: digits, an x, digits, nothing else (sscanf would wrap 4294967312 to 16
+        // and ignore "junk" after the height).
+        uint64_t w = 0, h = 0;
+        const char* end = text.data() + text.size();
+        const auto [x, ec1] = std::from_chars(text.data(), end, w);
+        const bool has_x = ec1 == std::errc() && x != end && *x == 'x';
+        const auto [rest, ec2] =
+            has_x ? std::from_chars(x + 1, end, h) : std::from_chars_result{x, std::errc::invalid_argument};
+        if (!has_x || ec2 != std::errc() || rest != end || w < 16 || h < 16 || w > 8192 || h > 8192)
           throw CLI::ValidationError("--size",
                                      "expected WxH between 16x16 and 8192x8192, got " + text);
-        width = w;
-        height = h;
+        width = uint32_t(w);
+        height = uint32_t(h);
       },
       what);
 }
@@ -431,17 +446,17 @@ int main(int argc, char** argv) {
       ->excludes(run_birds);
   run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
       ->check(kPositive);
-  run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file");
+  run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")->check(kPath);
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(integer_in(1, kMaxThreads));
-  run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)");
+  run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)")->check(kPath);
   CLI::Option* frames_dir_opt = run_cmd->add_option(
-      "--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png");
+      "--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png")->check(kPath);
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
       ->check(kCount)
       ->needs(frames_dir_opt);
   CLI::Option* video_opt =
-      run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)");
+      run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)")->check(kPath);
   run_cmd->add_option("--fps", opt.images.fps,
                       "With --video: frames per simulated second (default: one a frame, real time)")
       ->check(kPositive)
@@ -453,8 +468,8 @@ int main(int argc, char** argv) {
                   "Image size WxH (default 1280x720)");
   CLI::Option* vtk_opt = run_cmd->add_option(
       "--vtk", opt.vtk_dir,
-      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp");
-  run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame (default 1)")
+      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp")->check(kPath);
+  run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame besides the first and the last (default 1)")
       ->check(kCount)
       ->needs(vtk_opt);
   run_cmd
@@ -514,9 +529,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--quick", bench_opt.quick,
                       "A short smoke run: 1000 and 3000 birds, headless only");
   bench_cmd->add_option("--json", bench_opt.json,
-                        "Write the results as JSON (Google Benchmark-like) to FILE");
+                        "Write the results as JSON (Google Benchmark-like) to FILE")->check(kPath);
   bench_cmd->add_option("--plot", bench_opt.plot,
-                        "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)");
+                        "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)")->check(kPath);
   bench_cmd
       ->add_option("--backends", bench_backends,
                    "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
@@ -548,7 +563,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   envelope_cmd->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
-  envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE");
+  envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE")->check(kPath);
   envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
 
   if (argc > 1 && argv[1][0] != '-')

@@ -581,6 +581,12 @@ Exponents scaling_exponents(const std::vector<Series>& all) {
   return exponents;
 }
 
+uint32_t largest_measured(const Series& series) {
+  uint32_t n = 0;
+  for (const Measurement& m : series.points) n = std::max(n, m.birds);
+  return n;
+}
+
 void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
   std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
   for (const Series& series : all) {
@@ -598,10 +604,13 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
                                              [](const Measurement& a, const Measurement& b) {
                                                return a.birds < b.birds;
                                              })->birds).c_str());
+    else if (s.quick && series.birds_per_frame < largest_measured(series))
+      std::printf("  %-16s %s: the largest size measured that fitted (--quick does not search between sizes)",
+                  series.key().c_str(), thousands(series.birds_per_frame).c_str());
     else
       std::printf("  %-16s %s%s", series.key().c_str(), thousands(series.birds_per_frame).c_str(),
                   !series.lower_bound ? ""
-                  : s.quick           ? " or more: the largest size measured fitted (--quick does not search)"
+                  : s.quick           ? " or more: the largest size measured fitted (--quick does not search beyond)"
                                       : " or more: every size measured fitted");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     std::printf("\n");

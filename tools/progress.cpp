@@ -62,7 +62,9 @@ std::string run_progress(double sim_seconds, double total_seconds, size_t birds,
                         100.0 * sim_seconds / total_seconds, birds);
   if (pace > 0.0)
     std::snprintf(text + n, sizeof text - size_t(n), "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
-                  double(birds) * pace / dt, human_duration((total_seconds - sim_seconds) / pace).c_str());
+                  double(birds) * pace / dt,
+                  (total_seconds - sim_seconds) / pace < 1.0 ? "< 1 s"
+                                                             : human_duration((total_seconds - sim_seconds) / pace).c_str());
   return text;
 }
 

@@ -81,6 +81,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"dt", r.dt},
       {"steps_per_frame", r.steps_per_frame},
       {"sim_seconds", r.sim_seconds},
+      {"interrupted", r.interrupted},
       {"wall_seconds", r.wall_seconds},
       {"bird_steps_per_second", r.wall_seconds > 0 ? bird_steps / r.wall_seconds : 0.0},
       {"nan_birds", s.nan_birds},

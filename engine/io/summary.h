@@ -40,6 +40,7 @@ struct RunSummary {
   std::string device;   // e.g. "cpu reference (8 threads, AMD EPYC ...)"
   std::string scenario;
   std::string scenario_hash;  // Scenario::hash
+  bool interrupted = false;   // stopped early (Ctrl-C): sim_seconds is where
   uint64_t steps = 0;  // steps per bird
   double dt = 0.0;
   uint32_t steps_per_frame = 0;

@@ -582,9 +582,9 @@ VtkExporter::~VtkExporter() {
   }
 }
 
-void VtkExporter::offer(const Snapshot& snapshot) {
+void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
   if (finished_) throw std::logic_error("VtkExporter::offer after finish()");
-  if (!wants(snapshot.frame)) return;
+  if (!(due_or_not ? !any_offered_ || snapshot.frame > last_frame_ : wants(snapshot.frame))) return;
   const std::vector<BirdState>& birds = *snapshot.birds;
   if (birds.size() != bird_count_)
     throw std::invalid_argument("VtkExporter::offer: expected " + std::to_string(bird_count_) +

@@ -69,7 +69,7 @@ class VtkExporter {
   // last one queued (so that the newest ready snapshot can be offered after every frame, and the
   // last one at the end); returns at once. A due snapshot without forces is a logic_error. Does
   // nothing after the writer has failed (see failed()).
-  void offer(const Snapshot& snapshot);
+  void offer(const Snapshot& snapshot) { offer(snapshot, false); }
   // After each frame of `sim`: offers the newest frame ready without waiting for the device,
   // reading it only when it is wanted. After the run, offer_last: the last frame (waited for).
   // Before the run: the start (t = 0, forces from the CPU reference: Simulation::start_snapshot).
@@ -79,8 +79,14 @@ class VtkExporter {
   void offer_ready(Simulation& sim) {
     if (wants(sim.ready_frame())) offer(sim.ready_snapshot());
   }
+  // After the run: the last frame, due or not when it was stepped with record_forces (the files
+  // end where the run ends), else only when due.
   void offer_last(Simulation& sim) {
-    if (wants(sim.frames())) offer(sim.snapshot());
+    const Snapshot last = sim.snapshot();
+    if (last.forces && (!any_offered_ || last.frame > last_frame_))
+      offer(last, true);
+    else if (wants(last.frame))
+      offer(last);
   }
   bool wants(uint64_t frame) const { return due(frame) && (!any_offered_ || frame > last_frame_); }
 
@@ -97,6 +103,7 @@ class VtkExporter {
 
  private:
   struct Writer;
+  void offer(const Snapshot& snapshot, bool due_or_not);
   std::filesystem::path dir_;
   uint32_t every_ = 1;
   std::vector<uint32_t> selected_;

@@ -455,10 +455,34 @@ class Scene:
 
     def save(self, path):
         pv.SaveScreenshot(path, self.view, ImageResolution=[self.args.width, self.args.height])
+        check_written(path)
 
 
 # ----------------------------------------------------------------------------- main
+def check_outputs(args):
+    """Fail before rendering, as aeroflock does: a PNG's name ends in .png and its directory
+    exists; a frames directory is made only inside one that exists."""
+    if args.png:
+        if not args.png.lower().endswith(".png"):
+            sys.exit(f"--png {args.png}: expected a file name ending in .png")
+        folder = os.path.dirname(args.png) or "."
+        if not os.path.isdir(folder):
+            sys.exit(f"--png {args.png}: directory {folder} does not exist (create it first)")
+    if args.frames_dir and not os.path.isdir(args.frames_dir):
+        parent = os.path.dirname(os.path.normpath(args.frames_dir)) or "."
+        if not os.path.isdir(parent):
+            sys.exit(f"--frames-dir {args.frames_dir}: directory {parent} does not exist (create it first)")
+        os.mkdir(args.frames_dir)
+
+
+def check_written(path):
+    """VTK and ParaView report a failed write only in their log: look at the file."""
+    if not os.path.isfile(path) or os.path.getsize(path) == 0:
+        sys.exit(f"{path}: the picture was not written")
+
+
 def main(args):
+    check_outputs(args)
     pvd = os.path.join(args.run_dir, "flock.pvd")
     steps = read_collection(args.run_dir)
     missing = [p for _, p in steps if not os.path.isfile(p)]
@@ -513,8 +537,6 @@ def main(args):
     scenario = string_field(ends[-1], "scenario")
     title = args.title or (scenario[0] if scenario else os.path.basename(os.path.normpath(args.run_dir)))
     scene = Scene(args, pvd, traj_path, trajectories, categories, speed_range)
-    if args.frames_dir:
-        os.makedirs(args.frames_dir, exist_ok=True)
     for index in shown:
         time, path = steps[index]
         frame = ends[0] if index == 0 else ends[1] if index == len(steps) - 1 else None
