@@ -74,7 +74,7 @@ def paraview_interpreter():
     run (render_run.py exits 2 with "cannot import ParaView's Python")."""
     program = os.environ.get("PVBATCH") or shutil.which("pvbatch") or shutil.which("pvpython")
     if not program:
-        skip("no pvbatch or pvpython on PATH (install ParaView; see docs/analysis-draft.md)")
+        skip("no pvbatch or pvpython on PATH (install ParaView; see the README, Analysis)")
     if os.path.basename(program).startswith("pvpython"):
         return [program, "--force-offscreen-rendering"]
     return [program]
@@ -256,7 +256,7 @@ def main():
         print(f"$ {shlex.join(command)}\n  exit {status} in {time.monotonic() - began:.1f} s")
         if status == 2 and "cannot import ParaView's Python" in output:
             skip(f"{interpreter[0]} has no ParaView Python modules (Debian: paraview without "
-                 f"python3-paraview; see docs/analysis-draft.md): {tail(output, 1)}")
+                 f"python3-paraview; see the README, Analysis): {tail(output, 1)}")
         if status != 0:
             errors.append(f"{os.path.basename(SCRIPTS[args.mode])} exited {status}:\n{tail(output)}")
             continue
