@@ -47,9 +47,9 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_files import (XVFB_GUARD, category_names, check_outputs, check_written,  # noqa: E402
-                       choose_camera_mode, fail, frame_camera, parse_args, read_collection,
-                       run_under_xvfb, sample_points, string_field)
+from run_files import (XVFB_GUARD, check_outputs, check_written,  # noqa: E402
+                       choose_camera_mode, fail, frame_camera, parse_args, plan_run,
+                       read_collection, run_under_xvfb, sample_points, string_field)
 
 try:
     import vtkmodules.vtkInteractionStyle  # noqa: F401  (registers the default interactor style)
@@ -80,7 +80,6 @@ COOL_TO_WARM = [(0.0, 0.231373, 0.298039, 0.752941), (0.5, 0.865003, 0.865003, 0
 PALETTE = [(1.00, 0.60, 0.10), (0.35, 0.75, 1.00), (0.45, 0.85, 0.35), (0.95, 0.35, 0.40),
            (0.75, 0.55, 0.95), (0.95, 0.90, 0.40), (0.95, 0.55, 0.80), (0.60, 0.95, 0.90)]
 # flight_state codes as the README documents them, for files without flight_state_names.
-FLIGHT_STATES = ["flying", "standing", "taking off", "landing", "perched"]
 
 
 # ----------------------------------------------------------------------------- input
@@ -303,40 +302,10 @@ class Scene:
 
 def main(args):
     check_outputs(args)
-    steps = read_collection(args.run_dir)
-    missing = [p for _, p in steps if not os.path.isfile(p)]
-    if missing:
-        fail(f"{missing[0]}: no such file ({len(missing)} frames of flock.pvd missing)")
-    traj_path = os.path.join(args.run_dir, "trajectories.vtp")
-    trajectories = read_polydata(traj_path) if os.path.isfile(traj_path) else None
-    if trajectories is None:
-        print(f"render_run_vtk.py: {traj_path} missing, drawing the birds only", file=sys.stderr)
-
-    if args.png:
-        if args.time is None:
-            png_index = len(steps) - 1
-        else:
-            png_index = min(range(len(steps)), key=lambda i: abs(steps[i][0] - args.time))
-    animation = range(0, len(steps), args.every) if args.frames_dir else range(0)
-    shown = list(animation)
-    if args.png and png_index not in shown:
-        shown.append(png_index)
-
-    ends = [read_polydata(steps[0][1]), read_polydata(steps[-1][1])]
-    if args.color == "species":
-        categories = category_names(ends, "species", "species_names", lambda i: f"species {i}")
-    elif args.color == "flight_state":
-        categories = category_names(ends, "flight_state", "flight_state_names",
-                                    lambda i: FLIGHT_STATES[i] if i < len(FLIGHT_STATES) else f"state {i}")
-    else:
-        categories = []
-    if args.speed_range:
-        speed_range = args.speed_range
-    else:
-        source = trajectories if trajectories is not None and \
-            trajectories.GetPointData().GetArray("speed") else ends[-1]
-        lo, hi = source.GetPointData().GetArray("speed").GetRange()
-        speed_range = (lo / 100.0, hi / 100.0) if hi > lo else (lo / 100.0 - 1, hi / 100.0 + 1)
+    plan = plan_run(args, read_polydata)
+    steps, trajectories = plan.steps, plan.trajectories
+    png_index, animation, shown, ends = plan.png_index, plan.animation, plan.shown, plan.ends
+    categories, speed_range = plan.categories, plan.speed_range
 
     # The whole run for the camera: the paths drawn (all of them when none are), the last frame.
     ends_points = [sample_points([f]) for f in ends]

@@ -9,6 +9,7 @@ import os
 import random
 import subprocess
 import sys
+import types
 import xml.etree.ElementTree as ET
 
 
@@ -135,8 +136,12 @@ def frame_camera(points, azimuth, elevation, aspect, view_angle=30.0, minimum=50
     for x, y, z in projected:
         distance = max(distance, z - mid[2] + max(abs(x - mid[0]) / fit_h, abs(y - mid[1]) / fit_v))
     # Then, as near points come out bigger than far ones, move the camera sideways and back or
-    # forth until the points' picture just fills the region.
+    # forth until the points' picture just fills the region, never closer than a bird's length in
+    # front of the nearest point; if that does not settle, keep the safe distance found above.
+    safe = (mid[0], mid[1], distance)
+    nearest = max(z for _, _, z in projected) - mid[2]
     dx, dy = mid[0], mid[1]
+    settled = False
     for _ in range(30):
         camera_z = mid[2] + distance
         sx = [(x - dx) / (max(camera_z - z, 1e-6) * tan_h) for x, _, z in projected]
@@ -147,9 +152,12 @@ def frame_camera(points, azimuth, elevation, aspect, view_angle=30.0, minimum=50
         shift_y = (max(sy) + min(sy)) / 2 - (region[2] + region[3]) / 2
         dx += shift_x * distance * tan_h
         dy += shift_y * distance * tan_v
-        distance = max(distance * scale, minimum / 2 / fit_v, minimum / 2 / fit_h)
+        distance = max(distance * scale, nearest + minimum, minimum / 2 / fit_v, minimum / 2 / fit_h)
         if abs(scale - 1) < 1e-3 and abs(shift_x) < 1e-3 and abs(shift_y) < 1e-3:
+            settled = True
             break
+    if not settled:
+        dx, dy, distance = safe
     distance *= 1.03  # a margin
     focal = [dx * right[i] + dy * up[i] + mid[2] * back[i] for i in range(3)]
     position = [focal[i] + distance * back[i] for i in range(3)]
@@ -217,3 +225,51 @@ def parse_args(argv, prog, doc):
     if a.every < 1:
         p.error("--every must be at least 1")
     return a
+
+
+# What both scripts' main() works out before drawing.
+FLIGHT_STATES = ["flying", "standing", "taking off", "landing", "perched"]
+
+
+def plan_run(args, read_polydata):
+    """The run's frames and what to draw of them: steps [(time, path)], the trajectories (None
+    when the file is missing), the frame for --png, the animation's frames, the first and last
+    frames, the colour categories and the speed range (m/s)."""
+    plan = types.SimpleNamespace()
+    plan.steps = steps = read_collection(args.run_dir)
+    missing = [p for _, p in steps if not os.path.isfile(p)]
+    if missing:
+        fail(f"{missing[0]}: no such file ({len(missing)} frames of flock.pvd missing)")
+    plan.traj_path = os.path.join(args.run_dir, "trajectories.vtp")
+    plan.trajectories = read_polydata(plan.traj_path) if os.path.isfile(plan.traj_path) else None
+    if plan.trajectories is None:
+        print(f"{os.path.basename(sys.argv[0])}: {plan.traj_path} missing, drawing the birds only",
+              file=sys.stderr)
+    plan.png_index = None
+    if args.png:
+        if args.time is None:
+            plan.png_index = len(steps) - 1
+        else:
+            plan.png_index = min(range(len(steps)), key=lambda i: abs(steps[i][0] - args.time))
+    plan.animation = range(0, len(steps), args.every) if args.frames_dir else range(0)
+    plan.shown = list(plan.animation)
+    if args.png and plan.png_index not in plan.shown:
+        plan.shown.append(plan.png_index)
+    plan.ends = ends = [read_polydata(steps[0][1]), read_polydata(steps[-1][1])]
+    if args.color == "species":
+        plan.categories = category_names(ends, "species", "species_names", lambda i: f"species {i}")
+    elif args.color == "flight_state":
+        plan.categories = category_names(
+            ends, "flight_state", "flight_state_names",
+            lambda i: FLIGHT_STATES[i] if i < len(FLIGHT_STATES) else f"state {i}")
+    else:
+        plan.categories = []
+    if args.speed_range:
+        plan.speed_range = args.speed_range
+    else:
+        trajectories = plan.trajectories
+        source = trajectories if trajectories is not None and \
+            trajectories.GetPointData().GetArray("speed") else ends[-1]
+        lo, hi = source.GetPointData().GetArray("speed").GetRange()
+        plan.speed_range = (lo / 100.0, hi / 100.0) if hi > lo else (lo / 100.0 - 1, hi / 100.0 + 1)
+    return plan
