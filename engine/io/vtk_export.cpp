@@ -250,6 +250,15 @@ vtkSmartPointer<vtkStringArray> string_array(const char* name, const std::vector
   return a;
 }
 
+// A numeric array of VTK type `type` (VTK_FLOAT, ...), sized.
+vtkSmartPointer<vtkDataArray> data_array(const char* name, int type, int components, vtkIdType tuples) {
+  auto a = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(type));
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
 template <typename Array, typename T>
 vtkSmartPointer<Array> value_array(const char* name, T value) {
   auto a = make_array<Array>(name, 1, 1);
@@ -337,6 +346,8 @@ struct VtkExporter::Writer {
   std::vector<uint32_t> id_species;  // the species of each exported bird, by position in ids
   std::vector<Species> species;
   std::string scenario_name, scenario_hash;
+  std::vector<std::string> species_names, state_names;  // by code
+  std::vector<std::string> frame_units;                 // "name: unit" of each point array
   double dt = 0.0;
   uint32_t steps_per_frame = 0;
 
@@ -406,14 +417,12 @@ struct VtkExporter::Writer {
   // of the codes, and the unit of the points and of every array ("name: unit").
   void add_field_data(vtkPolyData* data, const std::vector<std::string>& units) const {
     vtkFieldData* fd = data->GetFieldData();
-    std::vector<std::string> species_names;
-    for (const Species& sp : species) species_names.push_back(sp.name);
     std::vector<std::string> all_units{"points: cm (world frame, y up)"};
     all_units.insert(all_units.end(), units.begin(), units.end());
     fd->AddArray(string_array("array_units", all_units));
     fd->AddArray(string_array("length_unit", {"cm"}));
     fd->AddArray(string_array("species_names", species_names));
-    fd->AddArray(string_array("flight_state_names", flight_state_names()));
+    fd->AddArray(string_array("flight_state_names", state_names));
     fd->AddArray(string_array("scenario", {scenario_name}));
     fd->AddArray(string_array("scenario_hash", {scenario_hash}));
     fd->AddArray(value_array<vtkDoubleArray>("dt", dt));
@@ -426,15 +435,8 @@ struct VtkExporter::Writer {
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
     std::vector<vtkSmartPointer<vtkDataArray>> arrays;
-    std::vector<std::string> units;
-    for (const PointArray& a : kPointArrays) {
-      units.push_back(std::string(a.name) + ": " + a.unit);
-      arrays.emplace_back(vtkSmartPointer<vtkDataArray>::Take(
-          vtkDataArray::CreateDataArray(vtk_type(a.kind, precision))));
-      arrays.back()->SetName(a.name);
-      arrays.back()->SetNumberOfComponents(a.components);
-      arrays.back()->SetNumberOfTuples(n);
-    }
+    for (const PointArray& a : kPointArrays)
+      arrays.push_back(data_array(a.name, vtk_type(a.kind, precision), a.components, n));
     vtkNew<vtkIdTypeArray> offsets, connectivity;
     offsets->SetNumberOfTuples(n + 1);
     connectivity->SetNumberOfTuples(n);
@@ -468,7 +470,7 @@ struct VtkExporter::Writer {
     vtkPointData* pd = data->GetPointData();
     for (const auto& a : arrays) pd->AddArray(a);
     pd->SetActiveVectors("velocity");
-    add_field_data(data, units);
+    add_field_data(data, frame_units);
     // ParaView reads a frame's time from TimeValue, also when the file is opened alone.
     data->GetFieldData()->AddArray(value_array<vtkDoubleArray>("TimeValue", frame.time));
 
@@ -506,10 +508,7 @@ struct VtkExporter::Writer {
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
     auto time = make_array<vtkDoubleArray>("time", 1, n);
-    vtkSmartPointer<vtkDataArray> speed = vtkSmartPointer<vtkDataArray>::Take(
-        vtkDataArray::CreateDataArray(vtk_type(Value::real, precision)));
-    speed->SetName("speed");
-    speed->SetNumberOfTuples(n);
+    auto speed = data_array("speed", vtk_type(Value::real, precision), 1, n);
     vtkNew<vtkIdTypeArray> offsets, connectivity;
     const vtkIdType cells = frames > 0 ? static_cast<vtkIdType>(birds) : 0;
     offsets->SetNumberOfTuples(cells + 1);
@@ -569,6 +568,9 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   w.species = scenario.species;
   w.scenario_name = scenario.name;
   w.scenario_hash = scenario.hash;
+  for (const Species& sp : scenario.species) w.species_names.push_back(sp.name);
+  w.state_names = flight_state_names();
+  for (const PointArray& a : kPointArrays) w.frame_units.push_back(std::string(a.name) + ": " + a.unit);
   w.dt = scenario.dt;
   w.steps_per_frame = scenario.steps_per_frame;
   w.thread = std::thread([&w] { w.run(); });
