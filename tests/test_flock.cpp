@@ -26,7 +26,7 @@ using testing::flocking_bird;
 // Every bird's neighbours from the grid equal brute force's, in order.
 void expect_grid_matches_brute_force(const std::vector<BirdState>& birds, const std::vector<Species>& species,
                                      const char* what) {
-  const NeighbourGrid grid(birds, grid_shape(species, birds.size()));
+  const NeighbourGrid grid(birds, grid_shape(species, birds));
   size_t seen = 0;
   for (uint32_t i = 0; i < birds.size(); ++i) {
     const std::vector<uint32_t> fast = grid.seen_by(i, species);
@@ -58,7 +58,7 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
 
 TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   const std::vector<Species> species = {starling()};
-  const double cell = grid_shape(species, 1).cell;
+  const double cell = grid_shape(species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // All in one cell, more than neighbours can hold, with equal distances (ties by index).
@@ -79,11 +79,11 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   // Farther apart than the perception radius: nobody sees anybody.
   std::vector<BirdState> apart;
   for (int i = 0; i < 20; ++i) apart.push_back(flocking_bird(dvec3{3000.0 * i, 0.0, 0.0}, dvec3{0.0, 0.0, 1000.0}));
-  const NeighbourGrid grid(apart, grid_shape(species, apart.size()));
+  const NeighbourGrid grid(apart, grid_shape(species, apart));
   for (uint32_t i = 0; i < apart.size(); ++i) EXPECT_TRUE(grid.seen_by(i, species).empty());
   // One bird, and none.
   const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
-  EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, 1)).seen_by(0, species).empty());
+  EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, one)).seen_by(0, species).empty());
   std::vector<Perception> perception;
   perceive({}, species, World{}, 0, 0.03, perception);
   EXPECT_TRUE(perception.empty());

@@ -101,7 +101,7 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalAThousandKilometresOut) {
 TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = flocking_scenario();
-  const double cell = grid_shape(scenario.species, 1).cell;
+  const double cell = grid_shape(scenario.species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // All in one cell (with exact ties), on cell borders, one bird, none.

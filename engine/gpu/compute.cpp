@@ -5,11 +5,30 @@
 
 namespace aeroflock::gpu {
 
+namespace {
+
+VkDescriptorType descriptor_type(const Binding& b) {
+  return b.texel_buffer() ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+uint32_t format_bytes(VkFormat format) {
+  switch (format) {
+    case VK_FORMAT_R32_UINT: return 4;
+    case VK_FORMAT_R32G32_UINT: return 8;
+    case VK_FORMAT_R32G32B32A32_SFLOAT:
+    case VK_FORMAT_R32G32B32A32_SINT:
+    case VK_FORMAT_R32G32B32A32_UINT: return 16;
+    default: throw Error("compute pipeline: texel format " + std::to_string(format) + " not supported");
+  }
+}
+
+}  // namespace
+
 // --- ComputePipeline ------------------------------------------------------------------------
 
 ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
-                                 std::vector<uint32_t> bindings, uint32_t push_size,
-                                 uint32_t max_sets)
+                                 std::vector<Binding> bindings, uint32_t push_size,
+                                 uint32_t max_sets, std::vector<uint32_t> constants)
     : device_(device), bindings_(std::move(bindings)), push_size_(push_size) {
   const uint32_t count = static_cast<uint32_t>(bindings_.size());
   if (spirv.empty()) throw Error("compute pipeline: empty SPIR-V");
@@ -25,8 +44,11 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     check(vkCreateShaderModule(dev, &module, nullptr, &module_), "vkCreateShaderModule");
 
     std::vector<VkDescriptorSetLayoutBinding> slots(count);
-    for (uint32_t i = 0; i < count; ++i)
-      slots[i] = {bindings_[i], VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    uint32_t texel_buffers = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+      slots[i] = {bindings_[i].number, descriptor_type(bindings_[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+      texel_buffers += bindings_[i].texel_buffer() ? 1 : 0;
+    }
     VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set_layout.bindingCount = count;
     set_layout.pBindings = slots.data();
@@ -46,15 +68,22 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     pipeline.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     pipeline.stage.module = module_;
     pipeline.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries(constants.size());
+    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
+    const VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
+                                              constants.size() * sizeof(uint32_t), constants.data()};
+    if (!constants.empty()) pipeline.stage.pSpecializationInfo = &specialization;
     pipeline.layout = layout_;
     check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
           "vkCreateComputePipelines");
 
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, count * max_sets)};
+    const VkDescriptorPoolSize sizes[] = {
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, (count - texel_buffers) * max_sets)},
+        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, std::max(1u, texel_buffers * max_sets)}};
     VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool.maxSets = max_sets;
-    pool.poolSizeCount = 1;
-    pool.pPoolSizes = &size;
+    pool.poolSizeCount = 2;
+    pool.pPoolSizes = sizes;
     check(vkCreateDescriptorPool(dev, &pool, nullptr, &pool_), "vkCreateDescriptorPool");
   } catch (...) {
     destroy();
@@ -66,6 +95,8 @@ ComputePipeline::~ComputePipeline() { destroy(); }
 
 void ComputePipeline::destroy() {
   VkDevice dev = device_.handle();
+  for (VkBufferView view : views_) vkDestroyBufferView(dev, view, nullptr);
+  views_.clear();
   if (pool_) vkDestroyDescriptorPool(dev, pool_, nullptr);  // frees its sets
   if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
   if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
@@ -84,10 +115,17 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
     throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
                 std::to_string(count) + " bindings");
   const VkDeviceSize range = device_.limits().maxStorageBufferRange;
-  for (const Buffer* b : buffers)
-    if (b->size() > range)
-      throw Error("a storage buffer of " + std::to_string(b->size()) + " bytes; " + device_.name() +
+  for (uint32_t i = 0; i < count; ++i) {
+    const VkDeviceSize bytes = buffers[i]->size();
+    if (!bindings_[i].texel_buffer() && bytes > range)
+      throw Error("a storage buffer of " + std::to_string(bytes) + " bytes; " + device_.name() +
                   " allows " + std::to_string(range) + " (maxStorageBufferRange)");
+    if (bindings_[i].texel_buffer() &&
+        bytes / format_bytes(bindings_[i].texels) > device_.limits().maxTexelBufferElements)
+      throw Error("a texel buffer of " + std::to_string(bytes / format_bytes(bindings_[i].texels)) +
+                  " texels; " + device_.name() + " allows " +
+                  std::to_string(device_.limits().maxTexelBufferElements) + " (maxTexelBufferElements)");
+  }
 
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = pool_;
@@ -98,15 +136,26 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
         "vkAllocateDescriptorSets (more sets than the pipeline's max_sets?)");
 
   std::vector<VkDescriptorBufferInfo> infos(count);
+  std::vector<VkBufferView> views(count, VK_NULL_HANDLE);
   std::vector<VkWriteDescriptorSet> writes(count);
   for (uint32_t i = 0; i < count; ++i) {
-    infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
-    writes[i].dstBinding = bindings_[i];
+    writes[i].dstBinding = bindings_[i].number;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[i].pBufferInfo = &infos[i];
+    writes[i].descriptorType = descriptor_type(bindings_[i]);
+    if (bindings_[i].texel_buffer()) {
+      VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+      view.buffer = buffers[i]->handle();
+      view.format = bindings_[i].texels;
+      view.range = buffers[i]->size() / format_bytes(bindings_[i].texels) * format_bytes(bindings_[i].texels);
+      check(vkCreateBufferView(device_.handle(), &view, nullptr, &views[i]), "vkCreateBufferView");
+      views_.push_back(views[i]);
+      writes[i].pTexelBufferView = &views[i];
+    } else {
+      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+      writes[i].pBufferInfo = &infos[i];
+    }
   }
   vkUpdateDescriptorSets(device_.handle(), count, writes.data(), 0, nullptr);
   return set;

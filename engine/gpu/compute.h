@@ -13,19 +13,33 @@
 
 namespace aeroflock::gpu {
 
-// A compute shader with storage buffers at the binding numbers `bindings` (set 0; host_device.h
-// names them) and a push-constant block of `push_size` bytes (0: none). Its pool holds `max_sets`
-// descriptor sets.
+// One binding of a compute pipeline (set 0; host_device.h names the numbers): a storage buffer,
+// or a buffer read as a uniform texel buffer of format `texels` (a GLSL samplerBuffer). A CPU
+// device (lavapipe) loads a storage buffer lane by lane, a branch each, wherever the invocations
+// may diverge, but fetches texels for all its lanes at once: the neighbour search reads the grid
+// that way (perceive.comp).
+struct Binding {
+  Binding(uint32_t number) : number(number) {}  // a storage buffer
+  Binding(uint32_t number, VkFormat texels) : number(number), texels(texels) {}
+  uint32_t number;
+  VkFormat texels = VK_FORMAT_UNDEFINED;  // VK_FORMAT_UNDEFINED: a storage buffer
+  bool texel_buffer() const { return texels != VK_FORMAT_UNDEFINED; }
+};
+
+// A compute shader with the buffers at `bindings` and a push-constant block of `push_size` bytes
+// (0: none). Its pool holds `max_sets` descriptor sets. `constants[i]` specialises the shader's
+// 32-bit constant of constant_id i.
 class ComputePipeline {
  public:
   ComputePipeline(const Device& device, std::span<const uint32_t> spirv,
-                  std::vector<uint32_t> bindings, uint32_t push_size, uint32_t max_sets = 4);
+                  std::vector<Binding> bindings, uint32_t push_size, uint32_t max_sets = 4,
+                  std::vector<uint32_t> constants = {});
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
 
   // A descriptor set with the i-th of the pipeline's bindings = the whole of buffers[i] (e.g. one
-  // set per frame slot). Lives as long as the pipeline.
+  // set per frame slot). Lives as long as the pipeline, and so do its texel buffers' views.
   VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
   VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
   // make_set, and the set that dispatch() uses without one.
@@ -51,8 +65,9 @@ class ComputePipeline {
   void destroy();
 
   const Device& device_;
-  std::vector<uint32_t> bindings_;
+  std::vector<Binding> bindings_;
   uint32_t push_size_;
+  std::vector<VkBufferView> views_;  // of the texel buffers in the sets made
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

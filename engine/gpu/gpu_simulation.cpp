@@ -56,40 +56,75 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
   return Buffer(device, std::max<size_t>(words, 1) * sizeof(uint32_t), Memory::device_local);
 }
 
-const std::vector<uint32_t> kPerceiveBindings = {
-    kBindingBirds,    kBindingSpecies,    kBindingTargets,     kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
-    kBindingPerception, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
-    kBindingGridPoints, kBindingGridCells};
+// The search reads the grid as texels (compute.h: Binding).
+const std::vector<Binding> kPerceiveBindings = {
+    kBindingBirds,      kBindingSpecies,      kBindingTargets,
+    kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
+    kBindingPerception, {kBindingGridSorted, VK_FORMAT_R32_UINT},
+    {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
+    {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
+    {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
+    {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}};
+
+// The species that flock: the most neighbours one sees (perceive.comp's kSeen, at least 1) and
+// the farthest one sees.
+uint32_t most_seen(const Scenario& scenario, const std::vector<BirdState>& birds) {
+  std::vector<bool> flocks(scenario.species.size(), false);
+  for (const BirdState& b : birds)
+    if (b.flocking != 0) flocks[b.species] = true;
+  uint32_t most = 1;
+  for (size_t k = 0; k < flocks.size(); ++k)
+    if (flocks[k]) most = std::max(most, static_cast<uint32_t>(scenario.species[k].neighbours));
+  return most;
+}
+
+double farthest_seen(const Scenario& scenario) {
+  double radius = 0.0;
+  for (const Species& s : scenario.species) radius = std::max(radius, s.perception_radius);
+  return radius;
+}
+
+Buffer search_buffer(const Device& device, const GridShape& shape, double radius) {
+  const std::vector<glm::ivec4> order = grid_search_order(shape, radius);
+  return buffer_with(device, order, Memory::device_local);
+}
 
 }  // namespace
 
-GpuSimulation::Flocking::Flocking(const Device& device, GridShape grid, uint32_t birds)
-    : shape(grid),
-      place(grid_buffer(device, 2 * size_t{birds}, "birds' grid places")),
-      counts(grid_buffer(device, grid.buckets, "grid buckets")),
-      starts(grid_buffer(device, grid.buckets, "grid buckets")),
-      blocks(grid_buffer(device, grid.buckets / kScanBlock, "grid blocks")),
-      sorted(grid_buffer(device, birds, "birds in the grid")),
-      points(grid_buffer(device, 4 * size_t{birds}, "birds in the grid")),
-      cells(grid_buffer(device, 4 * size_t{birds}, "birds in the grid")),
+GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds)
+    : shape(grid_shape(scenario.species, birds)),
+      place(grid_buffer(device, 2 * birds.size(), "birds' grid places")),
+      counts(grid_buffer(device, shape.buckets, "grid slots")),
+      starts(grid_buffer(device, shape.buckets, "grid slots")),
+      blocks(grid_buffer(device, shape.buckets / kScanBlock, "grid blocks")),
+      sorted(grid_buffer(device, birds.size(), "birds in the grid")),
+      points(grid_buffer(device, 4 * birds.size(), "birds in the grid")),
+      keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
+      owners(grid_buffer(device, shape.buckets, "grid slots")),
+      ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
+      search(search_buffer(device, shape, farthest_seen(scenario))),
       count(device, shader_spirv("grid_count"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
-             kBindingGridPlace, kBindingGridCounts, kBindingPerception},
+             kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners, kBindingPerception},
             sizeof(StepConstants), 2),
       scan_blocks(device, shader_spirv("grid_scan_blocks"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
       scan_totals(device, shader_spirv("grid_scan_totals"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
+      ranges_pass(device, shader_spirv("grid_ranges"),
+                  {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridRanges},
+                  sizeof(StepConstants), 1),
       scatter(device, shader_spirv("grid_scatter"),
-              {kBindingBirds, kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks, kBindingGridSorted,
-               kBindingGridPoints, kBindingGridCells},
+              {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridSorted, kBindingGridPoints},
               sizeof(StepConstants), 1),
-      perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2) {
+      perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
+               {most_seen(scenario, birds)}) {
   scan_blocks.set_buffers({&counts, &starts, &blocks});
   scan_totals.set_buffers({&counts, &starts, &blocks});
+  ranges_pass.set_buffers({&counts, &starts, &blocks, &ranges});
 
-  perceive.check_groups(group_count(birds, kWorkgroupSize));
-  scan_blocks.check_groups(grid.buckets / kScanBlock);
+  perceive.check_groups(group_count(birds.size(), kWorkgroupSize));
+  scan_blocks.check_groups(shape.buckets / kScanBlock);
 }
 
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override)
@@ -121,7 +156,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       submitter_(device, 2) {
   step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
   if (any_flocking(this->scenario()))
-    flocking_ = std::make_unique<Flocking>(device, grid_shape(this->scenario().species, count_), count_);
+    flocking_ = std::make_unique<Flocking>(device, this->scenario(), initial_);
   for (Slot& slot : slots_) {
     slot.set = step_.make_set(
         {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_});
@@ -129,21 +164,24 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
     slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
-                                             &perception_, &f.counts, &f.starts, &f.blocks, &f.sorted, &f.points, &f.cells});
+                                             &perception_, &f.sorted, &f.points, &f.keys, &f.ranges, &f.search});
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
     f.count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_, &f.place,
-                         &f.counts, &perception_});
-    f.scatter.set_buffers({&birds_, &f.place, &f.starts, &f.blocks, &f.sorted, &f.points, &f.cells});
+                         &f.counts, &f.keys, &f.owners, &perception_});
+    f.scatter.set_buffers({&birds_, &f.place, &f.ranges, &f.sorted, &f.points});
   }
 }
 
-// The birds see their flock (the frame's start): the grid is built by a counting sort (count,
-// prefix sum in two levels, scatter), then each due bird searches it; a barrier between each.
+// The birds see their flock (the frame's start): the grid is built (each bird's cell's slot and a
+// counting sort: count, prefix sum in two levels, ranges, scatter), then each due bird searches
+// it; a barrier between each.
 void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c) {
   Flocking& f = *flocking_;
   vkCmdFillBuffer(cmd, f.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, f.owners.handle(), 0, VK_WHOLE_SIZE, kNoBird);
+  vkCmdFillBuffer(cmd, f.keys.handle(), 0, VK_WHOLE_SIZE, uint32_t(kNoFlock));  // every slot empty
   barrier_to_compute(cmd);
   const uint32_t groups = group_count(count_, kWorkgroupSize);
   f.count.dispatch(cmd, groups, &c, sizeof c);
@@ -151,6 +189,8 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   f.scan_blocks.dispatch(cmd, f.shape.buckets / kScanBlock, &c, sizeof c);
   barrier_to_compute(cmd);
   f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.ranges_pass.dispatch(cmd, group_count(f.shape.buckets, kWorkgroupSize), &c, sizeof c);
   barrier_to_compute(cmd);
   f.scatter.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);
@@ -169,7 +209,7 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      std::vector<uint32_t>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
+      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
                             kBindingRouteTargets, kBindingBranches, kBindingPerception, kBindingForces},
       sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {

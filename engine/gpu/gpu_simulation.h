@@ -56,9 +56,9 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    Buffer place, counts, starts, blocks, sorted, points, cells;
-    ComputePipeline count, scan_blocks, scan_totals, scatter, perceive;
-    Flocking(const Device& device, GridShape shape, uint32_t birds);
+    Buffer place, counts, starts, blocks, sorted, points, keys, owners, ranges, search;
+    ComputePipeline count, scan_blocks, scan_totals, ranges_pass, scatter, perceive;
+    Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
   };
   Snapshot read(Slot& slot);
   void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);

@@ -25,9 +25,11 @@ using mat4 = glm::mat4;
 using uint = uint32_t;
 #define AF_V16 alignas(16)
 #define AF_UINT(name, value) inline constexpr uint32_t name = value;
+#define AF_INT(name, value) inline constexpr int32_t name = value;
 #else
 #define AF_V16
 #define AF_UINT(name, value) const uint name = value;
+#define AF_INT(name, value) const int name = value;
 #endif
 
 // Invocations per workgroup of every compute shader.
@@ -60,23 +62,31 @@ AF_UINT(kBindingDrawLists, 8)
 AF_UINT(kBindingDraws, 9)
 AF_UINT(kBindingMesh, 10)
 AF_UINT(kBindingSegments, 11)
-// Flocking (compute): each bird's perception, and the neighbour grid (a counting sort of the
-// birds into hashed cells: each bird's bucket and rank in it, the buckets' counts, their starts
-// within a scan block, the blocks' starts, the birds in bucket order and where they are).
+// Flocking (compute): each bird's perception, and the neighbour grid: a table of the occupied
+// cells, open-addressed so that each cell of each flock has a slot of its own (its cell and flock,
+// the bird that claimed it), a counting sort of the birds into the slots (each bird's slot and
+// rank in it, the slots' counts, their starts within a scan block, the blocks' starts, each
+// slot's range of sorted birds), the birds in slot order with their places in their cells, and
+// the order a bird searches the cells around its own (flock.h: grid_search_order).
 AF_UINT(kBindingPerception, 12)
 AF_UINT(kBindingGridPlace, 13)
 AF_UINT(kBindingGridCounts, 14)
 AF_UINT(kBindingGridStarts, 15)
 AF_UINT(kBindingGridBlocks, 16)
 AF_UINT(kBindingGridSorted, 17)
-AF_UINT(kBindingGridPoints, 18)  // the sorted birds' places in their cells (xyz) and flocks (w, as bits)
-AF_UINT(kBindingGridCells, 19)   // the sorted birds' cells (xyz)
+AF_UINT(kBindingGridPoints, 18)  // the sorted birds' places in their cells (xyz) and indices (w, as bits)
+AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFlock: an empty slot)
+AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
+AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
+AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, cells^2), nearest first
 
-// Buckets per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
+// Slots per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
 // has a whole number of such blocks.
 AF_UINT(kScanBlock, 1024)
-// A bird outside the grid (it does not flock now).
+// A bird outside the grid (it does not flock now), a slot no bird claimed, its flock.
 AF_UINT(kNoBucket, 0xffffffffu)
+AF_UINT(kNoBird, 0xffffffffu)
+AF_INT(kNoFlock, -1)
 
 // GpuRoute::flags
 AF_UINT(kRouteLoop, 1)
@@ -172,7 +182,7 @@ struct StepConstants {
   uint next_targets;      // step_forces.comp: where the targets at the next frame's start begin
   uint flocking;          // 1: the birds steer by their perception
   float grid_cell;        // the neighbour grid's cell, cm
-  uint buckets;           // its buckets, a power of two, a whole number of kScanBlock
+  uint buckets;           // its slots, a power of two, a whole number of kScanBlock
   uint frame;             // the frame's index (perceive.comp: whose reaction is due)
   float frame_seconds;
   uint wind_profile;      // WindProfile (engine/model/world.h): 0 uniform, 1 power law, 2 logarithmic
@@ -234,6 +244,7 @@ struct MeshVertex {
 }  // namespace aeroflock::gpu
 #endif
 #undef AF_UINT
+#undef AF_INT
 #undef AF_V16
 #undef AF_GPU_float
 #undef AF_GPU_uint

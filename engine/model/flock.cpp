@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -117,13 +118,39 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   return p;
 }
 
-GridShape grid_shape(const std::vector<Species>& species, size_t birds) {
+GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds) {
+  std::vector<bool> flocks(species.size(), false);
+  for (const BirdState& b : birds)
+    if (b.flocking != 0 && b.species < species.size()) flocks[b.species] = true;
+  double separation = kMaxGridCell, perception = 0.0;
+  for (size_t k = 0; k < species.size(); ++k)
+    if (flocks[k]) {
+      separation = std::min(separation, species[k].separation_radius);
+      perception = std::max(perception, species[k].perception_radius);
+    }
   GridShape g;
-  for (const Species& s : species)
-    g.cell = std::max({g.cell, 0.6 * s.separation_radius, s.perception_radius / 12.0});
+  g.cell = std::max(0.6 * separation, perception / 16.0);
   g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
-  g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds, 1024)));
+  g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds.size(), 1024)));
   return g;
+}
+
+std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius) {
+  const int rings = static_cast<int>(std::ceil(radius / shape.cell));
+  std::vector<glm::ivec4> order;
+  for (int dz = -rings; dz <= rings; ++dz)
+    for (int dy = -rings; dy <= rings; ++dy)
+      for (int dx = -rings; dx <= rings; ++dx) {
+        const glm::ivec3 gap = glm::max(glm::abs(glm::ivec3(dx, dy, dz)) - 1, 0);
+        const int gap2 = gap.x * gap.x + gap.y * gap.y + gap.z * gap.z;  // cells^2
+        if (gap2 * shape.cell * shape.cell <= radius * radius) order.push_back({dx, dy, dz, gap2});
+      }
+  // Nearest first, then ring by ring: the order never depends on the sort's whims.
+  auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
+  std::sort(order.begin(), order.end(), [&](const glm::ivec4& a, const glm::ivec4& b) {
+    return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
+  });
+  return order;
 }
 
 glm::ivec3 grid_cell(const dvec3& position, double cell) {
@@ -207,7 +234,7 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species, const World& world,
               uint64_t frame, double frame_seconds, std::vector<Perception>& perception) {
   perception.resize(birds.size());
-  const NeighbourGrid grid(birds, grid_shape(species, birds.size()));
+  const NeighbourGrid grid(birds, grid_shape(species, birds));
   const int64_t n = static_cast<int64_t>(birds.size());
 #pragma omp parallel for schedule(dynamic, 256)
   for (int64_t i = 0; i < n; ++i) {

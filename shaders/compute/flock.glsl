@@ -1,8 +1,6 @@
-// Flocking (engine/model/flock.cpp, the same in float): the neighbour grid's cells and buckets,
-// what a bird sees, its k nearest by a search of the grid ring by ring, and its social goal.
-// The includer declares the grid's buffers and includes model.glsl first (perceive.comp).
-
-#include "grid.glsl"
+// Flocking (engine/model/flock.cpp, the same in float): what a bird sees, its k nearest by a
+// search of the neighbour grid's cells nearest first, and its social goal. The includer declares
+// the grid's texel buffers and kSeen, and includes model.glsl first (perceive.comp).
 
 vec3 unit_or_zero(vec3 v) {
   float l = length(v);
@@ -18,77 +16,101 @@ bool outside_blind(vec3 ahead, vec3 offset, float distance2, float cos_blind) {
   return -dot(offset, ahead) <= cos_blind * sqrt(distance2);
 }
 
-// The k nearest so far, nearest first, ties by index.
+// The k nearest found (search), nearest first, ties by index, for the social goal.
 uint near_index[kMaxNeighbours];
 float near_d2[kMaxNeighbours];
 uint near_count;
 
-bool near_full(uint k) { return near_count >= k; }
+const float kFar = 3.4e38;  // an empty place's distance squared: every bird seen is nearer
 
-bool beats_worst(uint k, uint j, float d2) {
-  return !near_full(k) || d2 < near_d2[k - 1u] || (d2 == near_d2[k - 1u] && j < near_index[k - 1u]);
-}
+// Nearer, ties by index (flock.cpp: Nearest).
+bool nearer(float d2, uint j, float than_d2, uint than_j) { return d2 < than_d2 || (d2 == than_d2 && j < than_j); }
 
-// Inserts bird j (it beats the worst: beats_worst).
-void offer(uint k, uint j, float d2) {
-  uint at = min(near_count, k - 1u);  // the last slot is overwritten when full
-  while (at > 0u && (near_d2[at - 1u] > d2 || (near_d2[at - 1u] == d2 && near_index[at - 1u] > j))) {
-    near_index[at] = near_index[at - 1u];
-    near_d2[at] = near_d2[at - 1u];
-    --at;
+// The range of the sorted birds in cell c of a flock, empty when no bird of it is there. Its
+// search in the table starts at its slot (grid.glsl): a slot holding the cell, or an empty one,
+// ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
+// `probing` the search goes on slot by slot, without it `blocked` is set (a CPU device would run
+// the probing loop's body for every cell, though a compact flock never needs it).
+uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
+  uint slot = grid_slot(c, flock, pc.buckets);
+  ivec4 key = texelFetch(grid_keys, int(slot));
+  bool other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
+  if (probing) {
+    while (other) {
+      slot = (slot + 1u) & (pc.buckets - 1u);
+      key = texelFetch(grid_keys, int(slot));
+      other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
+    }
+  } else if (other) {
+    blocked = true;
   }
-  near_index[at] = j;
-  near_d2[at] = d2;
-  near_count = min(near_count + 1u, k);
+  return key.w == kNoFlock || other ? uvec2(0u) : texelFetch(grid_ranges, int(slot)).xy;
 }
 
-uint bucket_start(uint k) { return grid_starts[k] + grid_blocks[k / kScanBlock]; }
-
-// Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by), in the frame of
-// its cell's low corner: cells and places in them are exact (grid.glsl), so the offsets between
-// birds are as fine 1,000 km out as at the origin.
-void search(uint i, GpuBird b, GpuSpecies s, uint k) {
-  near_count = 0u;
+//
+// Without `probing` the search gives up, returning true, at the first cell whose slot holds
+// another (cell_birds); then it is run again with it.
+bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
+  float kept_d2[kMaxNeighbours];
+  uint kept[kMaxNeighbours];
+  [[unroll]] for (uint n = 0u; n < kSeen; ++n) {
+    kept_d2[n] = kFar;
+    kept[n] = kNoBird;
+  }
+  float worst_d2 = kFar;  // the k-th kept: a bird must be nearer to be kept
+  uint worst = kNoBird;
   vec3 ahead = flight_direction(b);
   float cell = pc.grid_cell;
   vec3 inside;
   ivec3 home = grid_cell(b, cell, inside);
-  int rings = int(ceil(s.perception_radius / cell));
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
-  vec3 to_edge = min(inside, cell - inside);
-  float edge = max(0.0, min(to_edge.x, min(to_edge.y, to_edge.z)));
-  for (int r = 0; r <= rings; ++r) {
-    float inner = float(r - 1) * cell + edge;
-    if (r > 0 && near_full(k) && inner * inner >= near_d2[k - 1u]) break;
-    for (int dx = -r; dx <= r; ++dx)
-      for (int dy = -r; dy <= r; ++dy) {
-        bool side = abs(dx) == r || abs(dy) == r;
-        for (int dz = -r; dz <= r; dz += side ? 1 : max(2 * r, 1)) {
-          ivec3 dc = ivec3(dx, dy, dz);
-          vec3 low = vec3(dc) * cell;  // the cell's low corner
-          vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
-          float gap2 = dot(gap, gap);
-          if (gap2 > radius2 || (near_full(k) && gap2 > near_d2[k - 1u])) continue;
-          ivec3 c = home + dc;
-          uint bucket = grid_bucket(c, pc.buckets);
-          uint first = bucket_start(bucket);
-          uint end = first + grid_counts[bucket];
-          for (uint e = first; e < end; ++e) {
-            vec4 point = grid_points[e];  // only birds that flock now are in the grid
-            vec3 offset = low + point.xyz - inside;  // if it is in cell c (checked below)
-            float d2 = dot(offset, offset);
-            if (d2 > radius2 || floatBitsToUint(point.w) != b.flock || (near_full(k) && d2 > near_d2[k - 1u])) continue;
-            uint j = grid_sorted[e];
-            // Not itself, nearer than the worst so far, in this very cell (not one hashed into the
-            // same bucket: each bird is met once), and not in the blind sector.
-            if (j == i || !beats_worst(k, j, d2) || grid_cells[e].xyz != c || !outside_blind(ahead, offset, d2, cos_blind))
-              continue;
-            offer(k, j, d2);
-          }
+  int cells = textureSize(grid_search);
+  bool blocked = false;
+  for (int n = 0; n < cells && !blocked; ++n) {
+    ivec4 around = texelFetch(grid_search, n);
+    float least2 = float(around.w) * cell * cell;  // exact
+    if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
+    vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
+    vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
+    float gap2 = dot(gap, gap);
+    if (gap2 > radius2 || gap2 > worst_d2) continue;
+    uvec2 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
+    if (range.x == range.y) continue;
+    // Tested after each bird, not before the first: a CPU device's loop runs its body once more
+    // after its last trip, under a mask.
+    uint e = range.x;
+    do {
+      vec4 point = texelFetch(grid_points, int(e));
+      uint j = floatBitsToUint(point.w);
+      vec3 offset = low + point.xyz - inside;
+      float d2 = dot(offset, offset);
+      // Within sight, not itself, nearer than the k-th kept, not in the blind sector.
+      bool sees = d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) && outside_blind(ahead, offset, d2, cos_blind);
+      [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
+        bool takes = sees && m < k && nearer(d2, j, kept_d2[m], kept[m]);
+        float was_d2 = kept_d2[m];
+        uint was = kept[m];
+        kept_d2[m] = takes ? d2 : was_d2;
+        kept[m] = takes ? j : was;
+        d2 = takes ? was_d2 : d2;
+        j = takes ? was : j;
+      }
+      [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
+        if (m + 1u == k) {
+          worst_d2 = kept_d2[m];
+          worst = kept[m];
         }
       }
+    } while (++e < range.y);
   }
+  near_count = 0u;
+  [[unroll]] for (uint n = 0u; n < kSeen; ++n) {
+    near_index[n] = kept[n];
+    near_d2[n] = kept_d2[n];
+    near_count += kept[n] != kNoBird ? 1u : 0u;
+  }
+  return blocked;
 }
 
 // The social goal from the birds found (flock.cpp: social_goal).

@@ -2,30 +2,34 @@
 // Each bird in the neighbour grid whose reaction is due sees its k nearest birds through it and
 // sets its social goal (flock.glsl); the frame's steps then fly to it (step.glsl).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "buffers.glsl"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
 layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions { GpuPerception perception[]; };
-layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts { uint grid_counts[]; };
-layout(std430, set = 0, binding = kBindingGridStarts) readonly buffer GridStarts { uint grid_starts[]; };
-layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks { uint grid_blocks[]; };
-layout(std430, set = 0, binding = kBindingGridSorted) readonly buffer GridSorted { uint grid_sorted[]; };
-layout(std430, set = 0, binding = kBindingGridPoints) readonly buffer GridPoints { vec4 grid_points[]; };
-layout(std430, set = 0, binding = kBindingGridCells) readonly buffer GridCells { ivec4 grid_cells[]; };
+// The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
+// storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
+layout(set = 0, binding = kBindingGridSorted) uniform usamplerBuffer grid_sorted;
+layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
+layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
+layout(set = 0, binding = kBindingGridRanges) uniform usamplerBuffer grid_ranges;
+layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
 #include "model.glsl"
+// The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers.
+layout(constant_id = 0) const uint kSeen = kMaxNeighbours;
+#include "grid.glsl"
 #include "flock.glsl"
 
 void main() {
-  // One bird of the grid each, in bucket order: neighbouring invocations search the same cells.
+  // One bird of the grid each, in slot order: neighbouring invocations search the same cells.
   uint t = gl_GlobalInvocationID.x;
-  uint last = pc.buckets - 1u;
-  if (t >= bucket_start(last) + grid_counts[last]) return;
-  uint i = grid_sorted[t];
+  if (t >= texelFetch(grid_ranges, int(pc.buckets - 1u)).y) return;
+  uint i = texelFetch(grid_sorted, int(t)).x;
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
   near_count = 0u;
-  if (s.neighbours >= 1.0) search(i, b, s, uint(s.neighbours));
+  if (s.neighbours >= 1.0 && search(i, b, s, uint(s.neighbours), false)) search(i, b, s, uint(s.neighbours), true);
   vec3 goal = vec3(0.0);
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
