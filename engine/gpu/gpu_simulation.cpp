@@ -1,9 +1,11 @@
 #include "gpu/gpu_simulation.h"
 
+#include <algorithm>
 #include <cstring>
 #include <span>
 
 #include "gpu/shaders.h"
+#include "model/constants.h"
 
 namespace aeroflock::gpu {
 namespace {
@@ -66,16 +68,19 @@ const std::vector<Binding> kPerceiveBindings = {
     {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
     {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}};
 
-// The species that flock: the most neighbours one sees (perceive.comp's kSeen, at least 1) and
-// the farthest one sees.
-uint32_t most_seen(const Scenario& scenario, const std::vector<BirdState>& birds) {
+// perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
+// 1), and whether each of them sees that many (kAllSeeKSeen).
+std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
   std::vector<bool> flocks(scenario.species.size(), false);
   for (const BirdState& b : birds)
     if (b.flocking != 0) flocks[b.species] = true;
-  uint32_t most = 1;
+  uint32_t most = 0, least = aeroflock::kMaxNeighbours;
   for (size_t k = 0; k < flocks.size(); ++k)
-    if (flocks[k]) most = std::max(most, static_cast<uint32_t>(scenario.species[k].neighbours));
-  return most;
+    if (flocks[k]) {
+      most = std::max(most, static_cast<uint32_t>(scenario.species[k].neighbours));
+      least = std::min(least, static_cast<uint32_t>(scenario.species[k].neighbours));
+    }
+  return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u};
 }
 
 double farthest_seen(const Scenario& scenario) {
@@ -118,7 +123,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
               {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridSorted, kBindingGridPoints},
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
-               {most_seen(scenario, birds)}) {
+               perceive_constants(scenario, birds)) {
   scan_blocks.set_buffers({&counts, &starts, &blocks});
   scan_totals.set_buffers({&counts, &starts, &blocks});
   ranges_pass.set_buffers({&counts, &starts, &blocks, &ranges});

@@ -15,8 +15,10 @@ layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
 layout(set = 0, binding = kBindingGridRanges) uniform usamplerBuffer grid_ranges;
 layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
 #include "model.glsl"
-// The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers.
+// The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers;
+// and whether every flocking species sees that many (then k is known here).
 layout(constant_id = 0) const uint kSeen = kMaxNeighbours;
+layout(constant_id = 1) const bool kAllSeeKSeen = false;
 #include "grid.glsl"
 #include "flock.glsl"
 
@@ -29,7 +31,8 @@ void main() {
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
   near_count = 0u;
-  if (s.neighbours >= 1.0 && search(i, b, s, uint(s.neighbours), false)) search(i, b, s, uint(s.neighbours), true);
+  uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
+  if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
   vec3 goal = vec3(0.0);
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
