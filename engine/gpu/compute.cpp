@@ -7,10 +7,6 @@ namespace aeroflock::gpu {
 
 namespace {
 
-VkDescriptorType descriptor_type(const Binding& b) {
-  return b.texel_buffer() ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-}
-
 uint32_t format_bytes(VkFormat format) {
   switch (format) {
     case VK_FORMAT_R32_UINT: return 4;
@@ -44,11 +40,8 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     check(vkCreateShaderModule(dev, &module, nullptr, &module_), "vkCreateShaderModule");
 
     std::vector<VkDescriptorSetLayoutBinding> slots(count);
-    uint32_t texel_buffers = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-      slots[i] = {bindings_[i].number, descriptor_type(bindings_[i]), 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-      texel_buffers += bindings_[i].texel_buffer() ? 1 : 0;
-    }
+    for (uint32_t i = 0; i < count; ++i)
+      slots[i] = {bindings_[i].number, bindings_[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set_layout.bindingCount = count;
     set_layout.pBindings = slots.data();
@@ -77,13 +70,17 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
           "vkCreateComputePipelines");
 
-    const VkDescriptorPoolSize sizes[] = {
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max(1u, (count - texel_buffers) * max_sets)},
-        {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, std::max(1u, texel_buffers * max_sets)}};
+    std::vector<VkDescriptorPoolSize> sizes;
+    for (const Binding& b : bindings_) {
+      auto same = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
+      if (same == sizes.end()) same = sizes.insert(sizes.end(), {b.type, 0});
+      same->descriptorCount += max_sets;
+    }
+    if (sizes.empty()) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1});
     VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool.maxSets = max_sets;
-    pool.poolSizeCount = 2;
-    pool.pPoolSizes = sizes;
+    pool.poolSizeCount = uint32_t(sizes.size());
+    pool.pPoolSizes = sizes.data();
     check(vkCreateDescriptorPool(dev, &pool, nullptr, &pool_), "vkCreateDescriptorPool");
   } catch (...) {
     destroy();
@@ -109,23 +106,32 @@ void ComputePipeline::destroy() {
   module_ = VK_NULL_HANDLE;
 }
 
+// Throws Error unless a buffer of `bytes` fits the device's limit for the binding's type.
+void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) const {
+  const VkPhysicalDeviceLimits& limits = device_.limits();
+  const auto fail = [&](const std::string& what, VkDeviceSize size, VkDeviceSize most, const char* limit) {
+    throw Error("a " + what + " of " + std::to_string(size) + "; " + device_.name() + " allows " +
+                std::to_string(most) + " (" + limit + ")");
+  };
+  switch (binding.type) {
+    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+      if (bytes / format_bytes(binding.texels) > limits.maxTexelBufferElements)
+        fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements, "maxTexelBufferElements");
+      break;
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+      if (bytes > limits.maxUniformBufferRange) fail("uniform buffer", bytes, limits.maxUniformBufferRange, "maxUniformBufferRange");
+      break;
+    default:
+      if (bytes > limits.maxStorageBufferRange) fail("storage buffer", bytes, limits.maxStorageBufferRange, "maxStorageBufferRange");
+  }
+}
+
 VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers) {
   const uint32_t count = static_cast<uint32_t>(bindings_.size());
   if (buffers.size() != count)
     throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
                 std::to_string(count) + " bindings");
-  const VkDeviceSize range = device_.limits().maxStorageBufferRange;
-  for (uint32_t i = 0; i < count; ++i) {
-    const VkDeviceSize bytes = buffers[i]->size();
-    if (!bindings_[i].texel_buffer() && bytes > range)
-      throw Error("a storage buffer of " + std::to_string(bytes) + " bytes; " + device_.name() +
-                  " allows " + std::to_string(range) + " (maxStorageBufferRange)");
-    if (bindings_[i].texel_buffer() &&
-        bytes / format_bytes(bindings_[i].texels) > device_.limits().maxTexelBufferElements)
-      throw Error("a texel buffer of " + std::to_string(bytes / format_bytes(bindings_[i].texels)) +
-                  " texels; " + device_.name() + " allows " +
-                  std::to_string(device_.limits().maxTexelBufferElements) + " (maxTexelBufferElements)");
-  }
+  for (uint32_t i = 0; i < count; ++i) check_range(bindings_[i], buffers[i]->size());
 
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = pool_;
@@ -143,8 +149,8 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
     writes[i].dstSet = set;
     writes[i].dstBinding = bindings_[i].number;
     writes[i].descriptorCount = 1;
-    writes[i].descriptorType = descriptor_type(bindings_[i]);
-    if (bindings_[i].texel_buffer()) {
+    writes[i].descriptorType = bindings_[i].type;
+    if (bindings_[i].type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
       VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
       view.buffer = buffers[i]->handle();
       view.format = bindings_[i].texels;
@@ -153,7 +159,7 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
       views_.push_back(views[i]);
       writes[i].pTexelBufferView = &views[i];
     } else {
-      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};  // a whole uniform buffer: check_range
       writes[i].pBufferInfo = &infos[i];
     }
   }

@@ -129,27 +129,39 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
       perception = std::max(perception, species[k].perception_radius);
     }
   GridShape g;
-  g.cell = std::max(0.6 * separation, perception / 16.0);
+  g.cell = std::max(0.6 * separation, perception / 12.0);
   g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
   g.buckets = std::bit_ceil(static_cast<uint32_t>(std::max<size_t>(2 * birds.size(), 1024)));
   return g;
 }
 
 std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius) {
+  // The cells that any point of the bird's cell may see, the same for each eighth.
   const int rings = static_cast<int>(std::ceil(radius / shape.cell));
-  std::vector<glm::ivec4> order;
+  std::vector<glm::ivec3> around;
   for (int dz = -rings; dz <= rings; ++dz)
     for (int dy = -rings; dy <= rings; ++dy)
       for (int dx = -rings; dx <= rings; ++dx) {
         const glm::ivec3 gap = glm::max(glm::abs(glm::ivec3(dx, dy, dz)) - 1, 0);
-        const int gap2 = gap.x * gap.x + gap.y * gap.y + gap.z * gap.z;  // cells^2
-        if (gap2 * shape.cell * shape.cell <= radius * radius) order.push_back({dx, dy, dz, gap2});
+        if ((gap.x * gap.x + gap.y * gap.y + gap.z * gap.z) * shape.cell * shape.cell <= radius * radius)
+          around.push_back({dx, dy, dz});
       }
-  // Nearest first, then ring by ring: the order never depends on the sort's whims.
-  auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
-  std::sort(order.begin(), order.end(), [&](const glm::ivec4& a, const glm::ivec4& b) {
-    return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
-  });
+  std::vector<glm::ivec4> order;
+  for (int eighth = 0; eighth < 8; ++eighth) {
+    // The gap, in half cells, from the eighth [h, h + 1) of the cell [0, 2) to the cell [2d, 2d + 2).
+    const glm::ivec3 h((eighth & 1) != 0, (eighth & 2) != 0, (eighth & 4) != 0);
+    const size_t first = order.size();
+    for (const glm::ivec3& d : around) {
+      const glm::ivec3 gap = glm::mix(glm::mix(glm::ivec3(0), h - 2 * d - 2, glm::lessThan(d, glm::ivec3(0))),
+                                      2 * d - 1 - h, glm::greaterThan(d, glm::ivec3(0)));
+      order.push_back({d, gap.x * gap.x + gap.y * gap.y + gap.z * gap.z});
+    }
+    // Nearest first, then ring by ring: the order never depends on the sort's whims.
+    auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
+    std::sort(order.begin() + first, order.end(), [&](const glm::ivec4& a, const glm::ivec4& b) {
+      return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
+    });
+  }
   return order;
 }
 

@@ -58,21 +58,24 @@ struct GridShape {
   uint32_t buckets = 0;  // power of two
 };
 // The shape for these birds: cells of 0.6 the smallest separation_radius of the species whose
-// birds flock (at least a sixteenth of their largest perception_radius), to the nearest power of
+// birds flock (at least a twelfth of their largest perception_radius), to the nearest power of
 // two of cm within [kMinGridCell, kMaxGridCell] (so that a whole number of cells fills the
 // device's world tile, gpu/host_device.h, and a cell and a bird's place in it are exact there: a
-// bird alone searches at most 17 rings), about two buckets a bird (at least 1,024). The cell is
+// bird alone searches at most 17 rings, and grid_search_order at most 10,107 cells), about two
+// buckets a bird (at least 1,024). The cell is
 // about the distance to a bird's nearest: larger cells hold more birds that are not the nearest,
 // smaller ones cost more cells to search. Measured on lavapipe (10,000 starlings of `murmuration`,
 // the ring search): cells of 0.45, 0.6, 0.8 and 1 separation_radius cost 2.9, 2.8, 3.2 and 3.7 s
 // for 1.5 s flown. It sets only how fast the search is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
-// The cells around a bird's own within `radius` of some point of it, as offsets (xyz) and the
-// least distance between a point of the bird's cell and one of that cell (w, in cells^2: the
-// distance^2 is w * cell^2, exact), nearest first, ties ring by ring. Searching them in this order
-// a bird may stop at the first cell whose least distance exceeds its k-th nearest so far (the
-// compute shaders' search, flock.glsl).
+// The cells around a bird's own that a bird in it may see within `radius`, in the order a bird in
+// each eighth of its cell searches them, eight lists one after the other (the eighth: 1 for the
+// upper half of x, 2 of y, 4 of z): offsets (xyz) and the least distance between a point of that
+// eighth and one of that cell (w, in half cells^2: the distance^2 is w * cell^2 / 4, exact),
+// nearest first, ties ring by ring. Searching them in this order a bird may stop at the first
+// cell whose least distance exceeds its k-th nearest so far (the compute shaders' search,
+// flock.glsl).
 std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius);
 glm::ivec3 grid_cell(const glm::dvec3& position, double cell);
 uint32_t grid_bucket(const glm::ivec3& cell, uint32_t buckets);

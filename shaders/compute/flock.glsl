@@ -65,11 +65,13 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   ivec3 home = grid_cell(b, cell, inside);
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
-  int cells = textureSize(grid_search);
+  int cells = textureSize(grid_search) / 8;  // the list of the bird's eighth of its cell
+  bvec3 upper = greaterThanEqual(inside, vec3(0.5 * cell));
+  int first = cells * ((upper.x ? 1 : 0) + (upper.y ? 2 : 0) + (upper.z ? 4 : 0));
   bool blocked = false;
   for (int n = 0; n < cells && !blocked; ++n) {
-    ivec4 around = texelFetch(grid_search, n);
-    float least2 = float(around.w) * cell * cell;  // exact
+    ivec4 around = texelFetch(grid_search, first + n);
+    float least2 = float(around.w) * (0.25 * cell * cell);  // exact
     if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
     vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
