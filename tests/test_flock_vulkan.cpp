@@ -104,7 +104,8 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   const double cell = grid_shape(scenario.species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  // All in one cell (with exact ties), on cell borders, one bird, none.
+  // All in one cell (with exact ties), on cell borders, cells whose slots collide, two flocks in
+  // one place, a sparse flock, one bird, none.
   std::vector<BirdState> one_cell;
   for (int i = 0; i < 300; ++i)
     one_cell.push_back(flocking_bird(dvec3{0.25 * cell * unit(rng), 4000.0 + 10.0 * (i % 3), 0.25 * cell * unit(rng)},
@@ -116,12 +117,34 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
     for (int n = 0; n < 40; ++n)
       borders.push_back(flocking_bird(dvec3{cell * x, 4000.0 + 600.0 * unit(rng), 600.0 * unit(rng)},
                                       dvec3{0.0, 0.0, -1000.0}));
-  for (const auto& [what, birds] : {std::pair{"one cell", one_cell}, std::pair{"borders", borders}}) {
+  // The table of cells (grid.glsl: grid_slot) is 16 cells along x for a flock this small: cells
+  // 16 apart start their search at one slot. A line of birds through 48 cells makes most cells'
+  // slots taken by another's (the search goes on past them, grid_count.comp and flock.glsl).
+  std::vector<BirdState> line;
+  for (int n = 0; n < 160; ++n)
+    line.push_back(flocking_bird(dvec3{0.3 * cell * n + 7.0 * unit(rng), 4000.0 + 50.0 * unit(rng), 50.0 * unit(rng)},
+                                 dvec3{0.0, 0.0, 1000.0}));  // across the line: no bird has all behind it
+  // Two flocks in the same cells: each bird sees its own flock alone.
+  std::vector<BirdState> two_flocks;
+  for (int n = 0; n < 200; ++n)
+    two_flocks.push_back(flocking_bird(dvec3{3.0 * cell * unit(rng), 4000.0 + 2.0 * cell * unit(rng), 3.0 * cell * unit(rng)},
+                                       dvec3{0.0, 0.0, 1000.0}, n % 2));
+  for (const auto& [what, birds] : {std::pair{"one cell", one_cell}, std::pair{"borders", borders},
+                                    std::pair{"cells sharing slots", line}, std::pair{"two flocks", two_flocks}}) {
     const Compared c = perceive_on_both(device, scenario, birds);
     EXPECT_EQ(c.seeing, c.birds) << what;
     // Exact ties and borders may fall either way in float: all but 0.1 % agree.
     EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << what << ": " << c.same_neighbours;
   }
+  // Sparse: 300 birds over 300 m, most alone in their cells and many out of sight of any other.
+  std::vector<BirdState> sparse;
+  for (int n = 0; n < 300; ++n)
+    sparse.push_back(flocking_bird(dvec3{30000.0 * unit(rng), 4000.0 + 3000.0 * unit(rng), 30000.0 * unit(rng)},
+                                   dvec3{1000.0, 0.0, 0.0}));
+  const Compared apart = perceive_on_both(device, scenario, sparse);
+  EXPECT_GT(apart.seeing, 0u);
+  EXPECT_LT(apart.seeing, apart.birds);
+  EXPECT_EQ(apart.same_neighbours, apart.birds);
   const Compared one = perceive_on_both(device, scenario, {flocking_bird(dvec3{0.0, 4000.0, 0.0}, dvec3{1000.0, 0.0, 0.0})});
   EXPECT_EQ(one.same_neighbours, 1u);
   EXPECT_EQ(one.seeing, 0u);

@@ -177,60 +177,77 @@ struct TempDir {
   }
 };
 
-// One flock size, one backend, one variant: warm-up frames, then `repetitions` timed frames. Each
-// timed frame is step_frame() then birds() (the frame complete and read back), plus the render or
-// the VTK hand-over. Throws gpu::Error when the device cannot hold the flock.
+// One flock of one backend and variant, measured a frame at a time: frame() is step_frame() then
+// birds() (the frame complete and read back), plus the render or the VTK hand-over, in wall ms.
+// With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
+// them handing its state to the writer thread); otherwise one frame. Throws gpu::Error when the
+// device cannot hold the flock.
+class Subject {
+ public:
+  Subject(const std::string& backend_name, const std::string& variant, uint32_t birds, const Settings& s)
+      : cycle_(frames_per_sample(variant)) {
+    // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
+    const bool on_device = backend_name.starts_with("vulkan:");
+    const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
+    // "solo": the same birds with flocking off, to show what flocking costs.
+    Scenario scenario = s.scenario;
+    if (variant == "solo")
+      for (Flock& f : scenario.flocks) f.flocking = false;
+    const bool rendering = variant == "render";
+    sim_ = make_simulation({on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
+    if (rendering) render_ = std::make_unique<OffscreenLoad>(*sim_);
+    if (variant == "vtk") {
+      static int counter = 0;
+      vtk_dir_.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) + "-" +
+                                                   std::to_string(counter++));
+      VtkOptions vo;
+      vo.dir = vtk_dir_.path;
+      vo.every = kVtkEvery;
+      sim_->prepare_forces();
+      vtk_ = std::make_unique<VtkExporter>(vo, sim_->scenario(), sim_->bird_count());
+    }
+  }
+  ~Subject() {
+    if (vtk_) vtk_->finish();
+  }
+
+  double sample() {
+    double sum = 0.0;
+    for (int k = 0; k < cycle_; ++k) sum += frame();
+    return sum / cycle_;
+  }
+  const Simulation& simulation() const { return *sim_; }
+
+ private:
+  double frame() {
+    const auto start = Clock::now();
+    sim_->step_frame(vtk_ && vtk_->due(sim_->frames() + 1));
+    (void)sim_->birds();
+    if (render_) render_->frame();
+    if (vtk_) vtk_->offer_ready(*sim_);
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  }
+
+  int cycle_;
+  std::unique_ptr<Simulation> sim_;
+  std::unique_ptr<OffscreenLoad> render_;
+  TempDir vtk_dir_;  // before vtk_: the exporter finishes before its directory goes
+  std::unique_ptr<VtkExporter> vtk_;
+};
+
+// One flock size, one backend, one variant: warm-up samples, then `repetitions` timed ones.
 Measurement measure(const std::string& backend_name, const std::string& variant, uint32_t birds,
                     const Settings& s) {
-  const bool rendering = variant == "render";
-  // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
-  const bool on_device = backend_name.starts_with("vulkan:");
-  const int device = on_device ? std::stoi(backend_name.substr(7)) : s.device;
-  // "solo": the same birds with flocking off, to show what flocking costs.
-  Scenario scenario = s.scenario;
-  if (variant == "solo")
-    for (Flock& f : scenario.flocks) f.flocking = false;
-  std::unique_ptr<Simulation> sim = make_simulation(
-      {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
-  std::unique_ptr<OffscreenLoad> render;
-  if (rendering) render = std::make_unique<OffscreenLoad>(*sim);
-  TempDir vtk_dir;
-  std::unique_ptr<VtkExporter> vtk;
-  if (variant == "vtk") {
-    static int counter = 0;
-    vtk_dir.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) +
-                                                "-" + std::to_string(counter++));
-    VtkOptions vo;
-    vo.dir = vtk_dir.path;
-    vo.every = kVtkEvery;
-    sim->prepare_forces();
-    vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), sim->bird_count());
-  }
-  auto one_frame = [&] {
-    const auto start = Clock::now();
-    sim->step_frame(vtk && vtk->due(sim->frames() + 1));
-    (void)sim->birds();
-    if (render) render->frame();
-    if (vtk) vtk->offer_ready(*sim);
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  };
-  // With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
-  // them handing its state to the writer thread); otherwise one frame.
-  const int cycle = frames_per_sample(variant);
-  for (int i = 0; i < s.warmup * cycle; ++i) one_frame();
+  Subject subject(backend_name, variant, birds, s);
+  for (int i = 0; i < s.warmup; ++i) subject.sample();
   std::vector<double> times;
-  for (int i = 0; i < samples(variant, s); ++i) {
-    double sum = 0.0;
-    for (int k = 0; k < cycle; ++k) sum += one_frame();
-    times.push_back(sum / cycle);
-  }
-  if (vtk) vtk->finish();
+  for (int i = 0; i < samples(variant, s); ++i) times.push_back(subject.sample());
 
   Measurement m;
   m.backend = backend_name;
   m.variant = variant;
-  m.device = describe_device(*sim);
-  m.birds = uint32_t(sim->bird_count());
+  m.device = describe_device(subject.simulation());
+  m.birds = uint32_t(subject.simulation().bird_count());
   m.iterations = int(times.size());
   m.median = quantile(times, 0.5);
   m.p10 = quantile(times, 0.1);
@@ -238,6 +255,34 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.bird_steps_per_second =
       m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
   return m;
+}
+
+// What flocking costs at one size, its frames alternated with those of the same flock without it
+// (headless and solo, in turn, each first every other time), so that both see the machine as it
+// was in the same seconds: on a shared machine whose speed drifts over a sweep, the ratio of two
+// sweeps measured minutes apart says more of the machine than of flocking.
+struct Paired {
+  std::string backend;
+  uint32_t birds = 0;
+  int iterations = 0;
+  double with_ms = 0, without_ms = 0;  // median wall ms per frame
+  double keeps() const { return with_ms > 0 ? without_ms / with_ms : 0.0; }
+};
+
+Paired measure_paired(const std::string& backend, uint32_t birds, const Settings& s) {
+  Subject with(backend, "headless", birds, s), without(backend, "solo", birds, s);
+  for (int i = 0; i < s.warmup; ++i) with.sample(), without.sample();
+  std::vector<double> a, b;
+  for (int i = 0; i < s.repetitions; ++i) {
+    if (i % 2 == 0) {
+      a.push_back(with.sample());
+      b.push_back(without.sample());
+    } else {
+      b.push_back(without.sample());
+      a.push_back(with.sample());
+    }
+  }
+  return {backend, uint32_t(with.simulation().bird_count()), s.repetitions, quantile(a, 0.5), quantile(b, 0.5)};
 }
 
 void print_header(const Settings& s) {
@@ -449,7 +494,37 @@ struct Run {
   std::vector<Series> all;                     // the series done, in the order measured
   std::map<std::string, std::string> devices;  // backend: its device
   std::vector<std::string> failed;             // "series: why"
+  std::vector<Paired> paired;                  // flocking's cost, frames alternated
 };
+
+// The sizes both the headless and the solo sweep of a backend measured, their frames alternated
+// (measure_paired), as long as a pair takes at most kMaxMeasurementSeconds.
+void measure_flocking_cost(Run& run) {
+  const Settings& s = run.s;
+  for (const std::string& backend : s.backends) {
+    const Series *with = nullptr, *without = nullptr;
+    for (const Series& series : run.all)
+      if (series.backend == backend) {
+        if (series.variant == "headless") with = &series;
+        if (series.variant == "solo") without = &series;
+      }
+    if (!with || !without) continue;
+    for (const Measurement& a : with->points)
+      for (const Measurement& b : without->points) {
+        if (a.birds != b.birds) continue;
+        const double seconds = (a.median + b.median) / 1000.0 * (s.warmup + s.repetitions);
+        if (seconds > kMaxMeasurementSeconds) continue;
+        try {
+          run.progress.show(backend + ": " + std::to_string(a.birds) + " birds (flocking's cost, frames alternated)");
+          run.paired.push_back(measure_paired(backend, a.birds, s));
+          run.progress.clear();
+        } catch (const std::exception& e) {
+          run.progress.clear();
+          std::printf("%-8s %9u birds: flocking's cost not measured: %s\n", backend.c_str(), a.birds, e.what());
+        }
+      }
+  }
+}
 
 // Seconds a measurement of `n` birds would take, from the one of `last`, cost linear in N.
 double estimated_seconds(const Measurement& last, uint32_t n, const Settings& s) {
@@ -647,8 +722,17 @@ void print_exponents(const Exponents& exponents) {
   }
 }
 
+void print_flocking_cost(const std::vector<Paired>& paired) {
+  if (paired.empty()) return;
+  std::printf("\nflocking's cost, its frames alternated with those of the same flock without it (median ms a frame):\n");
+  for (const Paired& p : paired)
+    std::printf("  %-8s %9s birds  %9.3f with, %9.3f without: flocking keeps %.0f %% of the birds per frame\n",
+                p.backend.c_str(), thousands(p.birds).c_str(), p.with_ms, p.without_ms, 100.0 * p.keeps());
+}
+
 void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {
   print_birds_per_frame(run.all, run.s);
+  print_flocking_cost(run.paired);
   print_ratios(ratios);
   print_exponents(exponents);
   std::printf("\n");
@@ -723,8 +807,17 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
     exponents_json[series] = fit ? nlohmann::json(fit->b) : nlohmann::json(nullptr);
     fitted_json[series] = fit ? nlohmann::json(fit->sizes) : nlohmann::json::array();
   }
+  nlohmann::json flocking_cost = nlohmann::json::array();
+  for (const Paired& p : run.paired)
+    flocking_cost.push_back({{"backend", p.backend},
+                             {"birds", p.birds},
+                             {"iterations", p.iterations},
+                             {"with_flocking_ms", p.with_ms},
+                             {"without_flocking_ms", p.without_ms},
+                             {"flocking_keeps", p.keeps()}});
   return {
       {"context", context_json(run.s, run.devices)},
+      {"flocking_cost", flocking_cost},
       {"benchmarks", benchmarks},
       {"birds_per_frame", birds_per_frame},
       {"birds_per_frame_is_lower_bound", lower_bounds},
@@ -754,6 +847,7 @@ int run_bench(const BenchOptions& options) {
     for (const std::string& variant : s.variants)
       run.all.push_back(measure_series(run, backend, variant));
   run.progress.clear();
+  measure_flocking_cost(run);
 
   const std::vector<Ratios> ratios = vulkan_over_cpu(run.all, s.backends);
   const Exponents exponents = scaling_exponents(run.all);

@@ -109,20 +109,26 @@ void ComputePipeline::destroy() {
 // Throws Error unless a buffer of `bytes` fits the device's limit for the binding's type.
 void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) const {
   const VkPhysicalDeviceLimits& limits = device_.limits();
-  const auto fail = [&](const std::string& what, VkDeviceSize size, VkDeviceSize most, const char* limit) {
-    throw Error("a " + what + " of " + std::to_string(size) + "; " + device_.name() + " allows " +
-                std::to_string(most) + " (" + limit + ")");
+  const auto fail = [&](const char* what, VkDeviceSize size, VkDeviceSize most, const char* unit, const char* limit) {
+    throw Error(std::string("a ") + what + " of " + std::to_string(size) + " " + unit + "; " + device_.name() +
+                " allows " + std::to_string(most) + " (" + limit + ")");
   };
   switch (binding.type) {
     case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+      if (bytes < format_bytes(binding.texels))
+        throw Error("a texel buffer of " + std::to_string(bytes) + " bytes holds no texel of " +
+                    std::to_string(format_bytes(binding.texels)));
       if (bytes / format_bytes(binding.texels) > limits.maxTexelBufferElements)
-        fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements, "maxTexelBufferElements");
+        fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements, "texels",
+             "maxTexelBufferElements");
       break;
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
-      if (bytes > limits.maxUniformBufferRange) fail("uniform buffer", bytes, limits.maxUniformBufferRange, "maxUniformBufferRange");
+      if (bytes > limits.maxUniformBufferRange)
+        fail("uniform buffer", bytes, limits.maxUniformBufferRange, "bytes", "maxUniformBufferRange");
       break;
     default:
-      if (bytes > limits.maxStorageBufferRange) fail("storage buffer", bytes, limits.maxStorageBufferRange, "maxStorageBufferRange");
+      if (bytes > limits.maxStorageBufferRange)
+        fail("storage buffer", bytes, limits.maxStorageBufferRange, "bytes", "maxStorageBufferRange");
   }
 }
 

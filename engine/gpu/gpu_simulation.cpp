@@ -103,7 +103,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
       starts(grid_buffer(device, shape.buckets, "grid slots")),
       blocks(grid_buffer(device, shape.buckets / kScanBlock, "grid blocks")),
       sorted(grid_buffer(device, birds.size(), "birds in the grid")),
-      points(grid_buffer(device, 4 * birds.size(), "birds in the grid")),
+      points(grid_buffer(device, 4 * std::max<size_t>(birds.size(), 1), "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
       ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
