@@ -29,15 +29,16 @@ bool nearer(float d2, uint j, float than_d2, uint than_j) { return d2 < than_d2 
 // The range of the sorted birds in cell c of a flock, empty when no bird of it is there. Its
 // search in the table starts at its slot (grid.glsl): a slot holding the cell, or an empty one,
 // ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
-// `probing` the search goes on slot by slot, without it `blocked` is set (a CPU device would run
+// `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would run
 // the probing loop's body for every cell, though a compact flock never needs it).
 uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   uint slot = grid_slot(c, flock, pc.buckets);
   ivec4 key = texelFetch(grid_keys, int(slot));
   bool other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
   if (probing) {
+    uint step = grid_probe_step(c, flock, pc.buckets);
     while (other) {
-      slot = (slot + 1u) & (pc.buckets - 1u);
+      slot = (slot + step) & (pc.buckets - 1u);
       key = texelFetch(grid_keys, int(slot));
       other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
     }
@@ -47,9 +48,20 @@ uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   return key.w == kNoFlock || other ? uvec2(0u) : texelFetch(grid_ranges, int(slot)).xy;
 }
 
+// Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by finds the same),
+// in the frame of its cell's low corner: cells and places in them are exact (grid.glsl), so the
+// offsets between birds are as fine 1,000 km out as at the origin.
+//
+// Written for a CPU device's lanes as much as for a GPU: where the invocations diverge, a CPU
+// device (lavapipe) runs every branch under a mask and a loop's body once more than its longest
+// lane, so it is the loops' trips that cost. The cells are searched nearest first, in the order
+// made for the bird's eighth of its cell (flock.h: grid_search_order), and a bird stops at the
+// first cell that cannot hold a nearer bird than its k-th: few cells are searched in vain. The k
+// nearest stay in registers (constant indices, kSeen of them), a bird moving down them without a
+// branch. The grid is read as texels, fetched for all lanes at once.
 //
 // Without `probing` the search gives up, returning true, at the first cell whose slot holds
-// another (cell_birds); then it is run again with it.
+// another (cell_birds); it is then run again with it.
 bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   float kept_d2[kMaxNeighbours];
   uint kept[kMaxNeighbours];
@@ -78,11 +90,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
     float gap2 = dot(gap, gap);
     if (gap2 > radius2 || gap2 > worst_d2) continue;
     uvec2 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
-    if (range.x == range.y) continue;
-    // Tested after each bird, not before the first: a CPU device's loop runs its body once more
-    // after its last trip, under a mask.
-    uint e = range.x;
-    do {
+    for (uint e = range.x; e < range.y; ++e) {
       vec4 point = texelFetch(grid_points, int(e));
       uint j = floatBitsToUint(point.w);
       vec3 offset = low + point.xyz - inside;
@@ -104,7 +112,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
           worst = kept[m];
         }
       }
-    } while (++e < range.y);
+    }
   }
   near_count = 0u;
   [[unroll]] for (uint n = 0u; n < kSeen; ++n) {

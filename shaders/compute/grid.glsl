@@ -10,16 +10,25 @@ ivec3 grid_cell(GpuBird b, float cell, out vec3 inside) {
 }
 
 // Where the table's search for cell c of a flock starts: the cell's coordinates modulo the
-// table's sides (x, z, y share its bits, x first), the flock's (an odd multiplier) mixed in by
-// xor. Cells nearer than a side apart never start at one slot, so a compact flock's cells find
-// theirs at the first look; and cells side by side along x have slots side by side, so that
-// neighbouring invocations (perceive.comp: one bird each, in slot order) search the same cells.
-// A cell whose slot is taken takes the next free one (linear probing, grid_count.comp).
+// table's sides, the flock's (an odd multiplier) mixed in by xor. The sides share the slots' bits,
+// a quarter of them to y (flocks are wider than tall): with four slots a bird and cells of
+// 2.56 m, 82 x 20 x 41 m for 1,000 birds, 164 x 41 x 164 m for 10,000, 328 x 82 x 328 m for 100,000. Cells nearer than a side apart
+// never start at one slot, so a flock within the sides finds its cells' slots at the first look;
+// and cells side by side along x have slots side by side, so that neighbouring invocations
+// (perceive.comp: one bird each, in slot order) search the same cells.
 uint grid_slot(ivec3 c, uint flock, uint slots) {
   uint bits = uint(findMSB(slots));
-  uint bx = (bits + 2u) / 3u, bz = (bits + 1u) / 3u, by = bits / 3u;
+  uint by = (bits + 1u) / 4u, bx = (bits - by + 1u) / 2u, bz = bits - by - bx;
   uvec3 u = uvec3(c) & ((uvec3(1u) << uvec3(bx, by, bz)) - 1u);
   return (u.x | (u.y << bx) | (u.z << (bx + by))) ^ ((flock * 2654435761u) & (slots - 1u));
+}
+
+// A cell whose slot is taken tries the slot this far on, and so on (open addressing): an odd
+// step, so that every slot is tried, from a hash of the cell, so that the cells of a dense block
+// of slots jump out of it rather than queue along it.
+uint grid_probe_step(ivec3 c, uint flock, uint slots) {
+  uint h = (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u) ^ (flock * 2654435761u);
+  return ((h >> 11u) | 1u) & (slots - 1u);
 }
 
 // How often a bird perceives, in frames (flock.cpp: reaction_frames).

@@ -1,7 +1,7 @@
 #version 450
 // The neighbour grid, 1 of 5: each bird that flocks now finds its cell's slot in the table,
-// claiming an empty one if its cell has none yet (the table has at least twice as many slots as
-// birds: a search always ends), and counts itself into it; its rank there is the count before it.
+// claiming an empty one if its cell has none yet (the table has more slots than birds and its
+// probing step is odd: a search always ends), and counts itself into it; its rank there is the count before it.
 // A bird that does not, and whose reaction is due, sees no one (perceive.comp perceives for the
 // birds in the grid).
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +20,7 @@ layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptio
 // the search; the others tell their cell's slot by the claimer's own cell (its key may not be
 // written yet), so two cells never share a slot.
 uint claim_slot(uint i, ivec3 c, uint flock) {
-  uint slot = grid_slot(c, flock, pc.buckets);
+  uint slot = grid_slot(c, flock, pc.buckets), step = grid_probe_step(c, flock, pc.buckets);
   for (uint probe = 0u; probe < pc.buckets; ++probe) {
     uint owner = atomicCompSwap(grid_owners[slot], kNoBird, i);
     if (owner == kNoBird) {
@@ -29,7 +29,7 @@ uint claim_slot(uint i, ivec3 c, uint flock) {
     }
     vec3 unused;
     if (birds[owner].flock == flock && grid_cell(birds[owner], pc.grid_cell, unused) == c) return slot;
-    slot = (slot + 1u) & (pc.buckets - 1u);
+    slot = (slot + step) & (pc.buckets - 1u);
   }
   return kNoBucket;  // never: the table cannot fill
 }
