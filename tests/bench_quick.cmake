@@ -1,6 +1,7 @@
-# cmake -DAEROFLOCK=... -DJSON=... -DCHECK=check_bench_json.py -P bench_quick.cmake
+# cmake -DAEROFLOCK=... -DJSON=... -DCHECK=check_bench_json.py [-DARGS=a!b] -P bench_quick.cmake
 file(REMOVE "${JSON}")
-execute_process(COMMAND "${AEROFLOCK}" bench --quick --json "${JSON}" RESULT_VARIABLE rc)
+string(REPLACE "!" ";" args "${ARGS}")
+execute_process(COMMAND "${AEROFLOCK}" bench --quick --json "${JSON}" ${args} RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "aeroflock bench --quick exited ${rc}")
 endif()

@@ -35,7 +35,18 @@ def main(path):
         assert (d["scaling_exponent"][key] is None) == (len(fitted) < 2), (key, fitted)
         assert set(fitted) <= measured, f"{key}: fitted over {fitted}, measured {sorted(measured)}"
     assert isinstance(d["ratios"], list)
-    print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}")
+    # Flocking's cost, frames alternated: one entry for each size both headless and solo measured.
+    cost = d["flocking_cost"]
+    for backend in backends:
+        sizes = [{b["birds"] for b in bench if b["backend"] == backend and b["variant"] == v}
+                 for v in ("headless", "solo")]
+        paired = sorted(c["birds"] for c in cost if c["backend"] == backend)
+        assert paired == sorted(sizes[0] & sizes[1]), f"{backend}: flocking's cost at {paired}, measured {sizes}"
+    for c in cost:
+        assert c["iterations"] > 0 and c["with_flocking_ms"] > 0 and c["without_flocking_ms"] > 0, c
+        assert abs(c["flocking_keeps"] - c["without_flocking_ms"] / c["with_flocking_ms"]) < 1e-9, c
+    print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}, "
+          f"flocking's cost at {len(cost)} sizes")
 
 
 if __name__ == "__main__":

@@ -58,6 +58,10 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
   return Buffer(device, std::max<size_t>(words, 1) * sizeof(uint32_t), Memory::device_local);
 }
 
+// Workgroups a dispatch's row may hold on every device (maxComputeWorkGroupCount[0] >= 65,535):
+// a pass over the grid's slots takes several a workgroup beyond (grid_ranges.comp).
+constexpr uint32_t kMaxRowGroups = 65535;
+
 // The search reads the grid as texels (compute.h: Binding).
 const std::vector<Binding> kPerceiveBindings = {
     kBindingBirds,      kBindingSpecies,      kBindingTargets,
@@ -90,7 +94,7 @@ double farthest_seen(const Scenario& scenario) {
 }
 
 Buffer search_buffer(const Device& device, const GridShape& shape, double radius) {
-  const std::vector<glm::ivec4> order = grid_search_order(shape, radius);
+  const std::vector<glm::ivec4> order = grid_search_order(shape, radius, kSearchParts);
   return buffer_with(device, order, Memory::device_local);
 }
 
@@ -195,7 +199,7 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
   f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
   barrier_to_compute(cmd);
-  f.ranges_pass.dispatch(cmd, group_count(f.shape.buckets, kWorkgroupSize), &c, sizeof c);
+  f.ranges_pass.dispatch(cmd, std::min(group_count(f.shape.buckets, kWorkgroupSize), kMaxRowGroups), &c, sizeof c);
   barrier_to_compute(cmd);
   f.scatter.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);

@@ -80,6 +80,10 @@ AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: no
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
 AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, cells^2), nearest first
 
+// The parts of its cell along each axis for which the search has an order of its own (flock.h:
+// grid_search_order): a bird stops sooner the finer they are.
+AF_UINT(kSearchParts, 4)
+
 // Slots per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
 // has a whole number of such blocks.
 AF_UINT(kScanBlock, 1024)

@@ -135,8 +135,8 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
   return g;
 }
 
-std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius) {
-  // The cells that any point of the bird's cell may see, the same for each eighth.
+std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius, int parts) {
+  // The cells that any point of the bird's cell may see, the same for each part.
   const int rings = static_cast<int>(std::ceil(radius / shape.cell));
   std::vector<glm::ivec3> around;
   for (int dz = -rings; dz <= rings; ++dz)
@@ -146,21 +146,22 @@ std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius)
         if ((gap.x * gap.x + gap.y * gap.y + gap.z * gap.z) * shape.cell * shape.cell <= radius * radius)
           around.push_back({dx, dy, dz});
       }
+  // Nearest first, then ring by ring: the order never depends on the sort's whims.
+  auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
+  auto before = [&](const glm::ivec4& a, const glm::ivec4& b) {
+    return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
+  };
   std::vector<glm::ivec4> order;
-  for (int eighth = 0; eighth < 8; ++eighth) {
-    // The gap, in half cells, from the eighth [h, h + 1) of the cell [0, 2) to the cell [2d, 2d + 2).
-    const glm::ivec3 h((eighth & 1) != 0, (eighth & 2) != 0, (eighth & 4) != 0);
+  order.reserve(size_t(parts) * parts * parts * around.size());
+  for (int part = 0; part < parts * parts * parts; ++part) {
+    // In units of a part: the part [p, p + 1) of the bird's cell [0, parts), cell d [parts d, parts d + parts).
+    const glm::ivec3 p(part % parts, part / parts % parts, part / (parts * parts));
     const size_t first = order.size();
     for (const glm::ivec3& d : around) {
-      const glm::ivec3 gap = glm::mix(glm::mix(glm::ivec3(0), h - 2 * d - 2, glm::lessThan(d, glm::ivec3(0))),
-                                      2 * d - 1 - h, glm::greaterThan(d, glm::ivec3(0)));
+      const glm::ivec3 gap = glm::max(glm::max(parts * d - (p + 1), p - (parts * d + parts)), 0);
       order.push_back({d, gap.x * gap.x + gap.y * gap.y + gap.z * gap.z});
     }
-    // Nearest first, then ring by ring: the order never depends on the sort's whims.
-    auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
-    std::sort(order.begin() + first, order.end(), [&](const glm::ivec4& a, const glm::ivec4& b) {
-      return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
-    });
+    std::sort(order.begin() + first, order.end(), before);
   }
   return order;
 }

@@ -71,13 +71,13 @@ struct GridShape {
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
 // The cells around a bird's own that a bird in it may see within `radius`, in the order a bird in
-// each eighth of its cell searches them, eight lists one after the other (the eighth: 1 for the
-// upper half of x, 2 of y, 4 of z): offsets (xyz) and the least distance between a point of that
-// eighth and one of that cell (w, in half cells^2: the distance^2 is w * cell^2 / 4, exact),
-// nearest first, ties ring by ring. Searching them in this order a bird may stop at the first
-// cell whose least distance exceeds its k-th nearest so far (the compute shaders' search,
-// flock.glsl).
-std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius);
+// each part of its cell searches them (the cell cut into `parts` along each axis; the lists one
+// after the other, x fastest): offsets (xyz) and the least distance between a point of that part
+// and one of that cell (w, in parts^2: the distance^2 is w (cell / parts)^2, exact for a power
+// of two), nearest first, ties ring by ring. Searching them in this order a bird may stop at the
+// first cell whose least distance exceeds its k-th nearest so far (the compute shaders' search,
+// flock.glsl): the finer the parts, the sooner.
+std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius, int parts);
 glm::ivec3 grid_cell(const glm::dvec3& position, double cell);
 uint32_t grid_bucket(const glm::ivec3& cell, uint32_t buckets);
 

@@ -55,7 +55,7 @@ uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
 // Written for a CPU device's lanes as much as for a GPU: where the invocations diverge, a CPU
 // device (lavapipe) runs every branch under a mask and a loop's body once more than its longest
 // lane, so it is the loops' trips that cost. The cells are searched nearest first, in the order
-// made for the bird's eighth of its cell (flock.h: grid_search_order), and a bird stops at the
+// made for the part of its cell the bird is in (flock.h: grid_search_order), and a bird stops at the
 // first cell that cannot hold a nearer bird than its k-th: few cells are searched in vain. The k
 // nearest stay in registers (constant indices, kSeen of them), a bird moving down them without a
 // branch. The grid is read as texels, fetched for all lanes at once.
@@ -77,13 +77,14 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   ivec3 home = grid_cell(b, cell, inside);
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
-  int cells = textureSize(grid_search) / 8;  // the list of the bird's eighth of its cell
-  bvec3 upper = greaterThanEqual(inside, vec3(0.5 * cell));
-  int first = cells * ((upper.x ? 1 : 0) + (upper.y ? 2 : 0) + (upper.z ? 4 : 0));
+  const int parts = int(kSearchParts);
+  int cells = textureSize(grid_search) / (parts * parts * parts);  // the list of the bird's part of its cell
+  ivec3 part = min(ivec3(inside * (float(parts) / cell)), parts - 1);  // exact: cell / parts is a power of two
+  int first = cells * (part.x + parts * (part.y + parts * part.z));
   bool blocked = false;
   for (int n = 0; n < cells && !blocked; ++n) {
     ivec4 around = texelFetch(grid_search, first + n);
-    float least2 = float(around.w) * (0.25 * cell * cell);  // exact
+    float least2 = float(around.w) * (cell * cell / float(parts * parts));  // exact
     if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
     vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));

@@ -11,8 +11,9 @@ layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks
 layout(std430, set = 0, binding = kBindingGridRanges) writeonly buffer GridRanges { uvec2 grid_ranges[]; };
 
 void main() {
-  uint k = gl_GlobalInvocationID.x;
-  if (k >= pc.buckets) return;
-  uint first = grid_starts[k] + grid_blocks[k / kScanBlock];
-  grid_ranges[k] = uvec2(first, first + grid_counts[k]);
+  // As many slots an invocation as it takes (a device dispatches at most 65,535 workgroups a row).
+  for (uint k = gl_GlobalInvocationID.x; k < pc.buckets; k += gl_NumWorkGroups.x * kWorkgroupSize) {
+    uint first = grid_starts[k] + grid_blocks[k / kScanBlock];
+    grid_ranges[k] = uvec2(first, first + grid_counts[k]);
+  }
 }
