@@ -17,7 +17,8 @@ enum class Memory {
   host,          // host-visible, coherent, cached where possible, always mapped
 };
 
-// A storage buffer that can also be copied from and to, and hold indirect draw arguments. Destroy it only when the device no longer
+// A storage buffer that can also be copied from and to, hold indirect draw arguments and be read as
+// texels (compute.h: Binding). Destroy it only when the device no longer
 // uses it (a Submitter's destructor waits for its frames).
 class Buffer {
  public:

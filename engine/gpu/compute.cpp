@@ -122,10 +122,6 @@ void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) co
         fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements, "texels",
              "maxTexelBufferElements");
       break;
-    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
-      if (bytes > limits.maxUniformBufferRange)
-        fail("uniform buffer", bytes, limits.maxUniformBufferRange, "bytes", "maxUniformBufferRange");
-      break;
     default:
       if (bytes > limits.maxStorageBufferRange)
         fail("storage buffer", bytes, limits.maxStorageBufferRange, "bytes", "maxStorageBufferRange");
@@ -165,7 +161,7 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
       views_.push_back(views[i]);
       writes[i].pTexelBufferView = &views[i];
     } else {
-      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};  // a whole uniform buffer: check_range
+      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
       writes[i].pBufferInfo = &infos[i];
     }
   }

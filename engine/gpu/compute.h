@@ -13,20 +13,15 @@
 
 namespace aeroflock::gpu {
 
-// One binding of a compute pipeline (set 0; host_device.h names the numbers): a storage buffer;
-// a buffer read as a uniform texel buffer of format `texels` (a GLSL samplerBuffer); or a uniform
-// buffer. A CPU device (lavapipe) loads a storage buffer lane by lane, a branch each, wherever the
-// invocations may diverge, but fetches texels for all its lanes at once, and gathers from a
-// uniform buffer inline: the neighbour search reads the grid that way (perceive.comp).
+// One binding of a compute pipeline (set 0; host_device.h names the numbers): a storage buffer,
+// or a buffer read as a uniform texel buffer of format `texels` (a GLSL samplerBuffer). A CPU
+// device (lavapipe) loads a storage buffer lane by lane, a branch each, wherever the invocations
+// may diverge, but fetches texels for all its lanes at once: the neighbour search reads the grid
+// that way (perceive.comp).
 struct Binding {
   Binding(uint32_t number) : number(number) {}  // a storage buffer
   Binding(uint32_t number, VkFormat texels)
       : number(number), type(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER), texels(texels) {}
-  static Binding uniform(uint32_t number) {
-    Binding b(number);
-    b.type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-    return b;
-  }
   uint32_t number;
   VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   VkFormat texels = VK_FORMAT_UNDEFINED;  // of a texel buffer
