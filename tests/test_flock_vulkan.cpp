@@ -136,6 +136,14 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
     // Exact ties and borders may fall either way in float: all but 0.1 % agree.
     EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << what << ": " << c.same_neighbours;
   }
+  // Two species that see different numbers of neighbours (the search's k is then the bird's own).
+  Scenario unlike = scenario;
+  unlike.species[1].neighbours = 3;
+  std::vector<BirdState> two_species = two_flocks;
+  for (size_t n = 0; n < two_species.size(); ++n) two_species[n].species = uint32_t(n % 2);
+  const Compared mixed = perceive_on_both(device, unlike, two_species);
+  EXPECT_EQ(mixed.seeing, mixed.birds);
+  EXPECT_GE(double(mixed.same_neighbours), 0.999 * double(mixed.birds)) << "two species: " << mixed.same_neighbours;
   // Sparse: 300 birds over 300 m, most alone in their cells and many out of sight of any other.
   std::vector<BirdState> sparse;
   for (int n = 0; n < 300; ++n)

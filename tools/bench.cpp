@@ -691,13 +691,8 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
   }
-  // What flocking costs: birds per frame with it (headless) over without it (solo).
-  for (const Series& with : all)
-    for (const Series& without : all)
-      if (with.variant == "headless" && without.variant == "solo" && with.backend == without.backend &&
-          without.birds_per_frame > 0)
-        std::printf("  %-16s flocking keeps %.0f %% of the birds per frame without it\n", with.backend.c_str(),
-                    100.0 * with.birds_per_frame / without.birds_per_frame);
+  // What flocking costs is measured with the frames alternated (print_flocking_cost): the two
+  // searches above ran minutes apart.
 }
 
 void print_ratios(const std::vector<Ratios>& ratios) {

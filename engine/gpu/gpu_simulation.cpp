@@ -77,7 +77,7 @@ const std::vector<Binding> kPerceiveBindings = {
 std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
   std::vector<bool> flocks(scenario.species.size(), false);
   for (const BirdState& b : birds)
-    if (b.flocking != 0) flocks[b.species] = true;
+    if (b.flocking != 0 && b.species < flocks.size()) flocks[b.species] = true;
   uint32_t most = 0, least = aeroflock::kMaxNeighbours;
   for (size_t k = 0; k < flocks.size(); ++k)
     if (flocks[k]) {
@@ -87,6 +87,7 @@ std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::ve
   return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u};
 }
 
+// The farthest a species of the scenario sees: the search's order reaches it.
 double farthest_seen(const Scenario& scenario) {
   double radius = 0.0;
   for (const Species& s : scenario.species) radius = std::max(radius, s.perception_radius);
