@@ -40,8 +40,10 @@ def main(path):
     for backend in backends:
         sizes = [{b["birds"] for b in bench if b["backend"] == backend and b["variant"] == v}
                  for v in ("headless", "solo")]
-        paired = sorted(c["birds"] for c in cost if c["backend"] == backend)
-        assert paired == sorted(sizes[0] & sizes[1]), f"{backend}: flocking's cost at {paired}, measured {sizes}"
+        paired = {c["birds"] for c in cost if c["backend"] == backend}
+        # Every size both measured, but those a pair would take too long for (the smallest never).
+        assert paired <= sizes[0] & sizes[1], f"{backend}: flocking's cost at {paired}, measured {sizes}"
+        assert not (sizes[0] & sizes[1]) or min(sizes[0] & sizes[1]) in paired, f"{backend}: {paired}"
     for c in cost:
         assert c["iterations"] > 0 and c["with_flocking_ms"] > 0 and c["without_flocking_ms"] > 0, c
         assert abs(c["flocking_keeps"] - c["without_flocking_ms"] / c["with_flocking_ms"]) < 1e-9, c

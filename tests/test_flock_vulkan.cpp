@@ -136,9 +136,11 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
     // Exact ties and borders may fall either way in float: all but 0.1 % agree.
     EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << what << ": " << c.same_neighbours;
   }
-  // Two species that see different numbers of neighbours (the search's k is then the bird's own).
+  // Two species that see different numbers of neighbours, and see as far (the search's k is then
+  // the bird's own, and its order reaches the farther).
   Scenario unlike = scenario;
   unlike.species[1].neighbours = 3;
+  unlike.species[1].perception_radius = 0.5 * unlike.species[0].perception_radius;
   std::vector<BirdState> two_species = two_flocks;
   for (size_t n = 0; n < two_species.size(); ++n) two_species[n].species = uint32_t(n % 2);
   const Compared mixed = perceive_on_both(device, unlike, two_species);

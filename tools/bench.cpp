@@ -207,7 +207,8 @@ class Subject {
       vtk_ = std::make_unique<VtkExporter>(vo, sim_->scenario(), sim_->bird_count());
     }
   }
-  ~Subject() {
+  // Waits for the VTK writer; throws its error, if it had one (~VtkExporter would swallow it).
+  void finish() {
     if (vtk_) vtk_->finish();
   }
 
@@ -242,6 +243,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   for (int i = 0; i < s.warmup; ++i) subject.sample();
   std::vector<double> times;
   for (int i = 0; i < samples(variant, s); ++i) times.push_back(subject.sample());
+  subject.finish();
 
   Measurement m;
   m.backend = backend_name;

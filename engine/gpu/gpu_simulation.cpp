@@ -72,12 +72,18 @@ const std::vector<Binding> kPerceiveBindings = {
     {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
     {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}};
 
-// perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
-// 1), and whether each of them sees that many (kAllSeeKSeen).
-std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
+// Which species of the scenario have birds that flock.
+std::vector<bool> flocking_species(const Scenario& scenario, const std::vector<BirdState>& birds) {
   std::vector<bool> flocks(scenario.species.size(), false);
   for (const BirdState& b : birds)
     if (b.flocking != 0 && b.species < flocks.size()) flocks[b.species] = true;
+  return flocks;
+}
+
+// perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
+// 1), and whether each of them sees that many (kAllSeeKSeen).
+std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
+  const std::vector<bool> flocks = flocking_species(scenario, birds);
   uint32_t most = 0, least = aeroflock::kMaxNeighbours;
   for (size_t k = 0; k < flocks.size(); ++k)
     if (flocks[k]) {
@@ -87,10 +93,12 @@ std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::ve
   return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u};
 }
 
-// The farthest a species of the scenario sees: the search's order reaches it.
-double farthest_seen(const Scenario& scenario) {
+// The farthest a species that flocks sees: the search's order reaches it.
+double farthest_seen(const Scenario& scenario, const std::vector<BirdState>& birds) {
+  const std::vector<bool> flocks = flocking_species(scenario, birds);
   double radius = 0.0;
-  for (const Species& s : scenario.species) radius = std::max(radius, s.perception_radius);
+  for (size_t k = 0; k < flocks.size(); ++k)
+    if (flocks[k]) radius = std::max(radius, scenario.species[k].perception_radius);
   return radius;
 }
 
@@ -112,7 +120,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
       ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
-      search(search_buffer(device, shape, farthest_seen(scenario))),
+      search(search_buffer(device, shape, farthest_seen(scenario, birds))),
       count(device, shader_spirv("grid_count"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
              kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners, kBindingPerception},

@@ -4,8 +4,9 @@
 // to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
 // (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint, int,
 // vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid out
-// differently by C++. All descriptors are storage buffers in set 0, and no binding number serves
-// two buffers, compute or render.
+// differently by C++. All descriptors are in set 0, storage buffers but for the grid that
+// perceive.comp reads as uniform texel buffers (gpu/compute.h: Binding), and no binding number
+// serves two buffers, compute or render.
 #ifndef AEROFLOCK_HOST_DEVICE_H
 #define AEROFLOCK_HOST_DEVICE_H
 
@@ -78,7 +79,7 @@ AF_UINT(kBindingGridPoints, 18)  // the sorted birds' places in their cells (xyz
 AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFlock: an empty slot)
 AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
-AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, cells^2), nearest first
+AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
 
 // The parts of its cell along each axis for which the search has an order of its own (flock.h:
 // grid_search_order): a bird stops sooner the finer they are.

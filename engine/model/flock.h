@@ -61,9 +61,10 @@ struct GridShape {
 // birds flock (at least a twelfth of their largest perception_radius), to the nearest power of
 // two of cm within [kMinGridCell, kMaxGridCell] (so that a whole number of cells fills the
 // device's world tile, gpu/host_device.h, and a cell and a bird's place in it are exact there: a
-// bird alone searches at most 17 rings, and grid_search_order at most 10,107 cells), about four
-// buckets a bird (a power of two, at least 1,024; the device's table of cells has as many slots,
-// and the more it has, the larger a flock whose cells never share one: grid.glsl). The cell is
+// bird alone searches at most 17 rings, and grid_search_order lists at most about 26,000 cells a
+// part), about four buckets a bird (a power of two, at least 1,024; the device's table of cells
+// has as many slots, and the more it has, the larger a flock whose cells never share one:
+// grid.glsl). The cell is
 // about the distance to a bird's nearest: larger cells hold more birds that are not the nearest,
 // smaller ones cost more cells to search. Measured on lavapipe (10,000 starlings of `murmuration`,
 // the ring search): cells of 0.45, 0.6, 0.8 and 1 separation_radius cost 2.9, 2.8, 3.2 and 3.7 s

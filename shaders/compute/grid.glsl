@@ -11,7 +11,7 @@ ivec3 grid_cell(GpuBird b, float cell, out vec3 inside) {
 
 // Where the table's search for cell c of a flock starts: the cell's coordinates modulo the
 // table's sides, the flock's (an odd multiplier) mixed in by xor. The sides share the slots' bits,
-// y's four times shorter than x's and z's (the built-in flocks are about 4 x 1 x 4 when spawned):
+// y's 4 to 8 times shorter than x's and z's (the built-in flocks are about 4 x 1 x 4 when spawned):
 // with four slots a bird and cells of 2.56 m, 82 x 10 x 82 m for 1,000 birds, 164 x 41 x 164 m for
 // 10,000, 328 x 82 x 328 m for 100,000, 655 x 164 x 655 m for 760,000. Cells nearer than a side apart
 // never start at one slot, so a flock within the sides finds its cells' slots at the first look;
