@@ -66,24 +66,16 @@ constexpr uint32_t kMaxRowGroups = 65535;
 const std::vector<Binding> kPerceiveBindings = {
     kBindingBirds,      kBindingSpecies,      kBindingTargets,
     kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
-    kBindingPerception, {kBindingGridSorted, VK_FORMAT_R32_UINT},
+    kBindingPerception,
     {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
     {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
     {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
     {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}};
 
-// Which species of the scenario have birds that flock.
-std::vector<bool> flocking_species(const Scenario& scenario, const std::vector<BirdState>& birds) {
-  std::vector<bool> flocks(scenario.species.size(), false);
-  for (const BirdState& b : birds)
-    if (b.flocking != 0 && b.species < flocks.size()) flocks[b.species] = true;
-  return flocks;
-}
-
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
 // 1), and whether each of them sees that many (kAllSeeKSeen).
 std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
-  const std::vector<bool> flocks = flocking_species(scenario, birds);
+  const std::vector<bool> flocks = flocking_species(scenario.species.size(), birds);
   uint32_t most = 0, least = aeroflock::kMaxNeighbours;
   for (size_t k = 0; k < flocks.size(); ++k)
     if (flocks[k]) {
@@ -95,7 +87,7 @@ std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::ve
 
 // The farthest a species that flocks sees: the search's order reaches it.
 double farthest_seen(const Scenario& scenario, const std::vector<BirdState>& birds) {
-  const std::vector<bool> flocks = flocking_species(scenario, birds);
+  const std::vector<bool> flocks = flocking_species(scenario.species.size(), birds);
   double radius = 0.0;
   for (size_t k = 0; k < flocks.size(); ++k)
     if (flocks[k]) radius = std::max(radius, scenario.species[k].perception_radius);
@@ -115,7 +107,6 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
       counts(grid_buffer(device, shape.buckets, "grid slots")),
       starts(grid_buffer(device, shape.buckets, "grid slots")),
       blocks(grid_buffer(device, shape.buckets / kScanBlock, "grid blocks")),
-      sorted(grid_buffer(device, birds.size(), "birds in the grid")),
       points(grid_buffer(device, 4 * std::max<size_t>(birds.size(), 1), "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
@@ -133,7 +124,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                   {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridRanges},
                   sizeof(StepConstants), 1),
       scatter(device, shader_spirv("grid_scatter"),
-              {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridSorted, kBindingGridPoints},
+              {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridPoints},
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
                perceive_constants(scenario, birds)) {
@@ -182,13 +173,13 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
     slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
-                                             &perception_, &f.sorted, &f.points, &f.keys, &f.ranges, &f.search});
+                                             &perception_, &f.points, &f.keys, &f.ranges, &f.search});
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
     f.count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_, &f.place,
                          &f.counts, &f.keys, &f.owners, &perception_});
-    f.scatter.set_buffers({&birds_, &f.place, &f.ranges, &f.sorted, &f.points});
+    f.scatter.set_buffers({&birds_, &f.place, &f.ranges, &f.points});
   }
 }
 

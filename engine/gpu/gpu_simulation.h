@@ -56,7 +56,7 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    Buffer place, counts, starts, blocks, sorted, points, keys, owners, ranges, search;
+    Buffer place, counts, starts, blocks, points, keys, owners, ranges, search;
     ComputePipeline count, scan_blocks, scan_totals, ranges_pass, scatter, perceive;
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
   };

@@ -118,10 +118,15 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   return p;
 }
 
-GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds) {
-  std::vector<bool> flocks(species.size(), false);
+std::vector<bool> flocking_species(size_t species, const std::vector<BirdState>& birds) {
+  std::vector<bool> flocks(species, false);
   for (const BirdState& b : birds)
-    if (b.flocking != 0 && b.species < species.size()) flocks[b.species] = true;
+    if (b.flocking != 0 && b.species < species) flocks[b.species] = true;
+  return flocks;
+}
+
+GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds) {
+  const std::vector<bool> flocks = flocking_species(species.size(), birds);
   double separation = kMaxGridCell, perception = 0.0;
   for (size_t k = 0; k < species.size(); ++k)
     if (flocks[k]) {

@@ -71,6 +71,8 @@ struct GridShape {
 // for 1.5 s flown. It sets only how fast the search is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
+// Which of `species` species have birds that flock (the grid's cells and search are theirs).
+std::vector<bool> flocking_species(size_t species, const std::vector<BirdState>& birds);
 // The cells around a bird's own that a bird in it may see within `radius`, in the order a bird in
 // each part of its cell searches them (the cell cut into `parts` along each axis; the lists one
 // after the other, x fastest): offsets (xyz) and the least distance between a point of that part

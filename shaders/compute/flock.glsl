@@ -31,16 +31,18 @@ bool nearer(float d2, uint j, float than_d2, uint than_j) { return d2 < than_d2 
 // ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
 // `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would run
 // the probing loop's body for every cell, though a compact flock never needs it).
+bool holds_another(ivec4 key, ivec3 c, uint flock) { return key.w != kNoFlock && (key.w != int(flock) || key.xyz != c); }
+
 uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   uint slot = grid_slot(c, flock, pc.buckets);
   ivec4 key = texelFetch(grid_keys, int(slot));
-  bool other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
+  bool other = holds_another(key, c, flock);
   if (probing) {
     uint step = grid_probe_step(c, flock, pc.buckets);
     while (other) {
       slot = (slot + step) & (pc.buckets - 1u);
       key = texelFetch(grid_keys, int(slot));
-      other = key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
+      other = holds_another(key, c, flock);
     }
   } else if (other) {
     blocked = true;
@@ -81,10 +83,11 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   int cells = textureSize(grid_search) / (parts * parts * parts);  // the list of the bird's part of its cell
   ivec3 part = min(ivec3(inside * (float(parts) / cell)), parts - 1);  // exact: cell / parts is a power of two
   int first = cells * (part.x + parts * (part.y + parts * part.z));
+  float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
   bool blocked = false;
   for (int n = 0; n < cells && !blocked; ++n) {
     ivec4 around = texelFetch(grid_search, first + n);
-    float least2 = float(around.w) * (cell * cell / float(parts * parts));  // exact
+    float least2 = float(around.w) * part2;  // exact
     if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
     vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));

@@ -25,8 +25,8 @@ uint grid_slot(ivec3 c, uint flock, uint slots) {
 }
 
 // A cell whose slot is taken tries the slot this far on, and so on (open addressing): an odd
-// step, so that every slot is tried, from a hash of the cell, so that the cells of a dense block
-// of slots jump out of it rather than queue along it.
+// step, so that every slot is tried, from a hash of the cell (flock.cpp: grid_bucket's, and the
+// flock's), so that the cells of a dense block of slots jump out of it rather than queue along it.
 uint grid_probe_step(ivec3 c, uint flock, uint slots) {
   uint h = (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u) ^ (flock * 2654435761u);
   return ((h >> 11u) | 1u) & (slots - 1u);

@@ -9,7 +9,6 @@ layout(push_constant) uniform StepPush { StepConstants pc; };
 layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions { GpuPerception perception[]; };
 // The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
-layout(set = 0, binding = kBindingGridSorted) uniform usamplerBuffer grid_sorted;
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
 layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
 layout(set = 0, binding = kBindingGridRanges) uniform usamplerBuffer grid_ranges;
@@ -26,7 +25,7 @@ void main() {
   // One bird of the grid each, in slot order: neighbouring invocations search the same cells.
   uint t = gl_GlobalInvocationID.x;
   if (t >= texelFetch(grid_ranges, int(pc.buckets - 1u)).y) return;
-  uint i = texelFetch(grid_sorted, int(t)).x;
+  uint i = floatBitsToUint(texelFetch(grid_points, int(t)).w);
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
