@@ -24,6 +24,7 @@
 
 #include "backend.h"
 #include "bench.h"
+#include "converge.h"
 #include "envelope.h"
 #include "frame_output.h"
 #include "io/paths.h"
@@ -38,8 +39,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// --fidelity or --dt: the step a run takes instead of its scenario's (docs/convergence.md).
+struct StepOption {
+  std::string fidelity;
+  std::optional<double> dt;
+  void apply(Scenario& s) const {
+    if (!fidelity.empty()) set_dt(s, dt_of(parse_fidelity(fidelity)));
+    if (dt) set_dt(s, *dt);
+  }
+};
+
 struct RunOptions {
   std::string scenario = "default";
+  StepOption step;
   std::string backend = "vulkan";
   int device = -1;
   uint32_t birds = 0;
@@ -63,6 +75,7 @@ constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
 
 struct ViewOptions {
   std::string scenario = "default";
+  StepOption step;
   std::vector<std::string> flocks;  // --flock NAME=COUNT
   render::ViewerOptions viewer;
 };
@@ -213,6 +226,7 @@ int run(const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
   Scenario scenario = load_scenario(opt.scenario);
+  opt.step.apply(scenario);
   resize_flocks(scenario, opt.flocks);
   require_birds(scenario, opt.flocks);
   const double seconds = opt.seconds.value_or(scenario.duration);
@@ -303,10 +317,23 @@ int run(const RunOptions& opt) {
 
 int view(const ViewOptions& opt) {
   Scenario scenario = load_scenario(opt.scenario);
+  opt.step.apply(scenario);
   resize_flocks(scenario, opt.flocks);
   require_birds(scenario, opt.flocks);
   std::cout << render::viewer_keys() << std::endl;
   return render::run_viewer(std::move(scenario), opt.viewer);
+}
+
+// --fidelity paper|fast or --dt SECONDS: the time step, the frame kept 30 ms of flight.
+void add_step_options(CLI::App* app, StepOption& step, const char* default_is) {
+  char help[160];
+  std::snprintf(help, sizeof help, "The time step: paper (%g ms) or fast (%g ms, docs/convergence.md); default %s",
+                kPaperDt * 1e3, kFastDt * 1e3, default_is);
+  CLI::Option* fidelity =
+      app->add_option("--fidelity", step.fidelity, help)->check(CLI::IsMember({"paper", "fast"}));
+  app->add_option("--dt", step.dt, "The time step in seconds, instead of --fidelity's")
+      ->check(kPositive)
+      ->excludes(fidelity);
 }
 
 // --size WxH into `width` and `height`.
@@ -446,6 +473,7 @@ int main(int argc, char** argv) {
       ->excludes(run_birds);
   run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
       ->check(kPositive);
+  add_step_options(run_cmd, opt.step, "the scenario's");
   run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")->check(kPath);
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(integer_in(1, kMaxThreads));
@@ -507,6 +535,7 @@ int main(int argc, char** argv) {
       ->add_option("--flock", view_opt.flocks,
                    "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
       ->excludes(view_birds);
+  add_step_options(view_cmd, view_opt.step, "the scenario's");
   add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height,
                   "Window size WxH (default 1280x720)");
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
@@ -565,6 +594,31 @@ int main(int argc, char** argv) {
       ->check(kIndex);
   envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE")->check(kPath);
   envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
+  StepOption envelope_step;
+  add_step_options(envelope_cmd, envelope_step, "paper");
+
+  ConvergeOptions converge_opt;
+  std::string converge_scenarios, converge_dts;
+  CLI::App* converge_cmd = app.add_subcommand(
+      "converge", "The time step's convergence study: every scenario and the envelope at steps of 0.1 to 10 ms");
+  converge_cmd->add_option("--scenarios", converge_scenarios,
+                           "Comma-separated built-in names or FILE.toml (default: every built-in)");
+  converge_cmd->add_option("--dts", converge_dts,
+                           "Comma-separated steps in ms, the smallest the reference (default 0.1,0.3,0.5,1,2,3,5,10)");
+  converge_cmd->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
+      ->check(kPositive);
+  converge_cmd->add_option("--backend", converge_opt.backend, "cpu (reference, double) or vulkan")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
+      ->capture_default_str();
+  converge_cmd->add_option("--device", converge_opt.device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(kIndex);
+  converge_cmd->add_option("--envelope", converge_opt.envelope,
+                           "Envelope cases flown at each step: none, quick, sample (every 5th flight) or whole")
+      ->check(CLI::IsMember({"none", "quick", "sample", "whole"}))
+      ->capture_default_str();
+  converge_cmd->add_option("--json", converge_opt.json, "Write every figure to FILE.json")->check(kPath);
+  converge_cmd->add_option("--plot", converge_opt.plot, "Plot error, speed and envelope against dt to FILE.png (gnuplot)")
+      ->check(kPath);
 
   if (argc > 1 && argv[1][0] != '-')
     if (const std::string message = unknown_command(app, argv[1]); !message.empty()) {
@@ -585,7 +639,27 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (view_cmd->parsed()) return view(view_opt);
-    if (envelope_cmd->parsed()) return run_envelope(envelope_opt);
+    if (envelope_cmd->parsed()) {
+      if (!envelope_step.fidelity.empty()) envelope_opt.dt = dt_of(parse_fidelity(envelope_step.fidelity));
+      if (envelope_step.dt) envelope_opt.dt = *envelope_step.dt;
+      return run_envelope(envelope_opt);
+    }
+    if (converge_cmd->parsed()) {
+      std::string item;
+      for (std::istringstream in(converge_scenarios); std::getline(in, item, ',');)
+        if (!item.empty()) converge_opt.scenarios.push_back(item);
+      if (!converge_dts.empty()) {
+        converge_opt.dts.clear();
+        for (std::istringstream in(converge_dts); std::getline(in, item, ',');) {
+          char* end = nullptr;
+          const double ms = std::strtod(item.c_str(), &end);
+          if (item.empty() || *end != '\0' || !(ms > 0) || !std::isfinite(ms))
+            throw std::runtime_error("--dts: expected positive numbers of ms separated by commas, got " + converge_dts);
+          converge_opt.dts.push_back(ms * 1e-3);
+        }
+      }
+      return run_converge(converge_opt);
+    }
     if (bench_cmd->parsed()) {
       bench_opt.backends.clear();
       std::string item;

@@ -27,6 +27,18 @@ std::unique_ptr<Simulation> make_simulation(const BackendOptions& options, Scena
   throw std::runtime_error("unknown backend \"" + options.name + "\" (available: vulkan, cpu)");
 }
 
+SimulationFactory simulation_factory(const std::string& name, int device) {
+  if (name == "cpu")
+    return [](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
+      return std::make_unique<CpuSimulation>(std::move(s), std::move(birds));
+    };
+  if (name != "vulkan") throw std::runtime_error("unknown backend \"" + name + "\" (available: vulkan, cpu)");
+  std::shared_ptr<gpu::Device> shared = std::make_shared<gpu::Device>(gpu::headless(device, false));
+  return [shared](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
+    return std::make_unique<gpu::GpuSimulation>(*shared, std::move(s), std::move(birds));
+  };
+}
+
 std::string describe_device(const Simulation& simulation) {
   return simulation.backend() == "cpu" ? simulation.device() + " on " + cpu_model()
                                        : simulation.device();

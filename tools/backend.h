@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "model/envelope.h"
 #include "model/scenario.h"
 #include "model/simulation.h"
 
@@ -26,6 +27,10 @@ std::vector<std::string> vulkan_devices();
 // std::runtime_error for a backend that does not exist, gpu::Error when the device cannot start
 // or hold the flock.
 std::unique_ptr<Simulation> make_simulation(const BackendOptions& options, Scenario scenario);
+
+// Makes simulations of given birds on backend `name` ("cpu" or "vulkan"), all on one Vulkan device
+// (started now). Throws like make_simulation.
+SimulationFactory simulation_factory(const std::string& name, int device);
 
 // What runs a simulation, in words, for summaries: its device, and the CPU for the reference.
 std::string describe_device(const Simulation& simulation);

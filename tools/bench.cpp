@@ -36,6 +36,7 @@
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
+#include "plot.h"
 #include "progress.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
@@ -168,14 +169,6 @@ int samples(const std::string& variant, const Settings& s) {
   return variant == "vtk" ? std::max(3, (s.repetitions + 2) / 3) : s.repetitions;
 }
 
-// Removes a directory on the way out.
-struct TempDir {
-  fs::path path;
-  ~TempDir() {
-    std::error_code ec;
-    if (!path.empty()) fs::remove_all(path, ec);
-  }
-};
 
 // One flock of one backend and variant, measured a frame at a time: frame() is step_frame() then
 // birds() (the frame complete and read back), plus the render or the VTK hand-over, in wall ms.
@@ -336,79 +329,39 @@ std::optional<Fit> scaling_exponent(const std::vector<Measurement>& points) {
 }
 
 // Quoted for gnuplot ('' is a quote inside '...') and for the shell ('\'' likewise).
-std::string gnuplot_string(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-std::string shell_string(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-std::string gnuplot_terminal() {
-  if (std::system("gnuplot -e 'set terminal' 2>&1 | grep -q pngcairo") == 0)
-    return "pngcairo size 1400,560 font 'sans,10'";
-  return "png size 1400,560";
-}
-
 void write_plot(const fs::path& png, const std::vector<Series>& series, double budget_ms) {
-  TempDir dir;
-  std::string pattern = (fs::temp_directory_path() / "aeroflock-plot-XXXXXX").string();
-  if (!::mkdtemp(pattern.data()))
-    throw std::runtime_error("--plot: cannot create a temporary directory");
-  dir.path = pattern;
-  const fs::path image = dir.path / "bench.png";
-  const fs::path data = dir.path / "bench.dat";
-  const fs::path script = dir.path / "bench.gp";
-  std::vector<std::string> titles;
-  {
-    std::ofstream out(data);
-    for (const Series& s : series) {
-      if (s.points.empty()) continue;
-      out << "# " << s.key() << "\n";
-      for (const Measurement& m : s.points)
-        out << m.birds << " " << m.median << " " << m.bird_steps_per_second << "\n";
-      out << "\n\n";
-      titles.push_back(s.key());
+  std::vector<const Series*> drawn;
+  for (const Series& s : series)
+    if (!s.points.empty()) drawn.push_back(&s);
+  if (drawn.empty()) throw std::runtime_error("--plot: nothing was measured");
+  write_plot_png(png, "--plot", 1400, 560, [&](std::ostream& gp, const fs::path& dir) {
+    const std::string data = (dir / "bench.dat").string();
+    {
+      std::ofstream out(data);
+      for (const Series* s : drawn) {
+        out << "# " << s->key() << "\n";
+        for (const Measurement& m : s->points)
+          out << m.birds << " " << m.median << " " << m.bird_steps_per_second << "\n";
+        out << "\n\n";
+      }
     }
-  }
-  if (titles.empty()) throw std::runtime_error("--plot: nothing was measured");
-  std::ofstream gp(script);
-  gp << "set terminal " << gnuplot_terminal() << "\n";
-  gp << "set output " << gnuplot_string(image.string()) << "\n";
-  gp << "set multiplot layout 1,2 title 'aeroflock bench (default scenario)'\n";
-  gp << "set logscale xy\nset grid\nset key top left\nset xlabel 'birds'\n";
-  auto plot = [&](int column) {
-    gp << "plot ";
-    for (size_t i = 0; i < titles.size(); ++i)
-      gp << (i ? ", " : "") << gnuplot_string(data.string()) << " index " << i
-         << " using 1:" << column << " with linespoints title " << gnuplot_string(titles[i]);
-    if (column == 2)
-      gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms
-         << " ms'";
-    gp << "\n";
-  };
-  gp << "set ylabel 'ms per frame (median)'\n";
-  plot(2);
-  gp << "set ylabel 'bird-steps per second'\n";
-  plot(3);
-  gp << "unset multiplot\n";
-  gp.close();
-  const std::string command = "gnuplot " + shell_string(script.string());
-  if (std::system(command.c_str()) != 0)
-    throw std::runtime_error("--plot: gnuplot failed writing " + png.string());
-  // Copied beside the destination and renamed onto it: never a half-written image.
-  try {
-    write_file_atomically(png, [&](const fs::path& tmp) {
-      std::error_code ec;
-      fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
-      if (ec) throw std::runtime_error(ec.message());
-    });
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(std::string("--plot: ") + e.what());
-  }
+    gp << "set multiplot layout 1,2 title 'aeroflock bench (default scenario)'\n";
+    gp << "set logscale xy\nset grid\nset key top left\nset xlabel 'birds'\n";
+    auto plot = [&](int column) {
+      gp << "plot ";
+      for (size_t i = 0; i < drawn.size(); ++i)
+        gp << (i ? ", " : "") << gnuplot_string(data) << " index " << i << " using 1:" << column
+           << " with linespoints title " << gnuplot_string(drawn[i]->key());
+      if (column == 2)
+        gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
+      gp << "\n";
+    };
+    gp << "set ylabel 'ms per frame (median)'\n";
+    plot(2);
+    gp << "set ylabel 'bird-steps per second'\n";
+    plot(3);
+    gp << "unset multiplot\n";
+  });
 }
 
 // Everything about the options that can fail fails now, before the run.

@@ -8,8 +8,6 @@
 #include <vector>
 
 #include "backend.h"
-#include "gpu/device.h"
-#include "gpu/gpu_simulation.h"
 #include "io/atomic_file.h"
 #include "io/paths.h"
 #include "io/scenario_file.h"
@@ -57,20 +55,15 @@ int run_envelope(const EnvelopeOptions& options) {
     throw std::runtime_error("--backend: expected cpu or vulkan, got " + options.backend);
   const Species species = species_named(options.species);
   const std::vector<EnvelopeCase> cases = envelope_cases(options.quick);
-  std::printf("aeroflock envelope: %s, %zu cases on the %s backend\n", species.name.c_str(), cases.size(),
-              options.backend.c_str());
+  std::printf("aeroflock envelope: %s, %zu cases on the %s backend, dt %g s\n", species.name.c_str(), cases.size(),
+              options.backend.c_str(), options.dt);
   std::fflush(stdout);
 
-  std::unique_ptr<gpu::Device> device;
-  if (options.backend == "vulkan") device = std::make_unique<gpu::Device>(gpu::headless(options.device, false));
-  const SimulationFactory make = [&](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
-    if (device) return std::make_unique<gpu::GpuSimulation>(*device, std::move(s), std::move(birds));
-    return std::make_unique<CpuSimulation>(std::move(s), std::move(birds));
-  };
+  const SimulationFactory make = simulation_factory(options.backend, options.device);
   Progress progress;
   const std::vector<EnvelopeResult> results = fly_envelope(species, cases, make, [&](double t) {
     if (progress.due()) progress.show("t = " + std::to_string(int(t)) + " s");
-  });
+  }, options.dt);
   progress.finish();
 
   std::map<std::string, Tally> by_kind, by_speed, by_pitch, by_bank, by_rise, by_bearing, by_distance, by_wind;

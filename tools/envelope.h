@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "model/scenario.h"
+
 namespace aeroflock {
 
 struct EnvelopeOptions {
@@ -12,6 +14,7 @@ struct EnvelopeOptions {
   int device = -1;                   // Vulkan device index
   std::string json;                  // every case with its outcome, to this file
   bool quick = false;                // a small subset of short flights
+  double dt = kPaperDt;              // s
 };
 
 // Returns 0 when every case succeeds, 1 otherwise; throws for bad options.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -27,7 +28,7 @@ constexpr std::string_view kTopKeys[] = {"simulation", "ground",  "units",    "w
 constexpr std::string_view kUnitsKeys[] = {"length"};
 constexpr std::string_view kWindKeys[] = {"velocity", "profile", "height", "exponent", "roughness"};
 constexpr std::string_view kSimulationKeys[] = {
-    "name", "description", "dt", "steps_per_frame", "duration", "seed", "turning", "wind"};
+    "name", "description", "dt", "fidelity", "steps_per_frame", "duration", "seed", "turning", "wind"};
 constexpr std::string_view kGroundKeys[] = {"height", "effect"};
 constexpr std::string_view kTargetKeys[] = {"name",     "centre",    "radius",
                                             "velocity", "amplitude", "period"};
@@ -93,6 +94,17 @@ void read_simulation(const TableReader& top, std::string_view source_name, const
   if (!sim) return;
   s.name = sim->string("name", s.name);
   s.description = sim->string("description", "");
+  // The step: `dt` in seconds, or a `fidelity` that names one (docs/convergence.md); a frame
+  // stays 30 ms of flight unless steps_per_frame says otherwise.
+  if (auto fidelity = sim->located_string("fidelity")) {
+    if (sim->find("dt")) sim->fail("fidelity", "dt is given too: give the step in one place");
+    try {
+      s.dt = dt_of(parse_fidelity(fidelity->value));
+    } catch (const std::invalid_argument& e) {
+      io::fail(fidelity->where, e.what());
+    }
+    s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(kFrameSeconds / s.dt)));
+  }
   s.dt = sim->number("dt", s.dt, Range::positive);
   s.steps_per_frame =
       static_cast<uint32_t>(sim->integer("steps_per_frame", s.steps_per_frame, 1, UINT32_MAX));

@@ -23,7 +23,7 @@ constexpr double kSettleTime = 3.0;        // s: the limits on bank and pitch ho
 constexpr double kBankMargin = radians(5.0);
 constexpr double kPitchLimit = radians(60.0);
 constexpr double kCruise = 1000.0;         // cm/s: the time limits allow 1.5 times the path at it
-constexpr uint32_t kStepsPerFrame = 20;    // the flights are judged every 6 ms
+constexpr double kJudgeEvery = 0.006;      // s: the flights are judged every 6 ms (or every step)
 
 double time_limit(const EnvelopeCase& c) {
   if (c.kind == EnvelopeCase::Kind::landing) return 60.0;
@@ -127,7 +127,7 @@ std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest) {
 
 std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
-                                         const std::function<void(double)>& progress) {
+                                         const std::function<void(double)>& progress, double dt) {
   std::vector<EnvelopeResult> results(cases.size());
   std::map<double, std::vector<size_t>> by_wind;  // one simulation per crosswind
   for (size_t i = 0; i < cases.size(); ++i) by_wind[cases[i].crosswind].push_back(i);
@@ -136,7 +136,8 @@ std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vect
     Scenario s;
     s.name = "envelope";
     s.species = {species};
-    s.steps_per_frame = kStepsPerFrame;
+    s.dt = dt;
+    s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(kJudgeEvery / dt)));
     s.world.wind = dvec3{0.0, 0.0, wind};  // from the left of a bird heading +x
     std::vector<BirdState> birds;
     double longest = 0.0;

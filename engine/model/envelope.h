@@ -61,9 +61,10 @@ using SimulationFactory =
     std::function<std::unique_ptr<Simulation>(Scenario scenario, std::vector<BirdState> birds)>;
 
 // Flies every case (one bird each; the birds do not meet) and judges it, one simulation per
-// crosswind. `progress` (may be empty) is told the simulated seconds of each frame.
+// crosswind, stepped by `dt`. `progress` (may be empty) is told the simulated seconds of each frame.
 std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
-                                         const std::function<void(double)>& progress = {});
+                                         const std::function<void(double)>& progress = {},
+                                         double dt = kPaperDt);
 
 }  // namespace aeroflock

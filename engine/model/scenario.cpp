@@ -1,5 +1,6 @@
 #include "scenario.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
@@ -8,6 +9,24 @@
 #include <glm/geometric.hpp>
 
 namespace aeroflock {
+
+double dt_of(Fidelity f) { return f == Fidelity::fast ? kFastDt : kPaperDt; }
+
+const char* fidelity_name(double dt) {
+  return dt == kPaperDt ? "paper" : dt == kFastDt ? "fast" : "custom";
+}
+
+Fidelity parse_fidelity(const std::string& name) {
+  if (name == "paper") return Fidelity::paper;
+  if (name == "fast") return Fidelity::fast;
+  throw std::invalid_argument("expected \"paper\" or \"fast\", got \"" + name + "\"");
+}
+
+void set_dt(Scenario& s, double dt) {
+  const double frame = s.frame_seconds();
+  s.dt = dt;
+  s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(frame / dt)));
+}
 
 void validate(const Scenario& s) {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };

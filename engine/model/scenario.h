@@ -33,11 +33,23 @@ struct Flock {
   bool flocking = false;         // its birds see one another and steer by it (MODEL.md "Flocking")
 };
 
+// How finely a scenario is stepped: the paper's dt, or the largest dt at which every behaviour and
+// envelope case still holds and positions stay within 1 % of the flight (docs/convergence.md).
+enum class Fidelity { paper, fast };
+inline constexpr double kPaperDt = 0.0003;      // s (paper, section 6)
+inline constexpr double kFastDt = 0.002;        // s (docs/convergence.md)
+inline constexpr double kFrameSeconds = 0.03;   // s: a frame, whatever the dt
+double dt_of(Fidelity f);
+// "paper", "fast", or "custom" for any other dt.
+const char* fidelity_name(double dt);
+// Throws std::invalid_argument for anything but "paper" or "fast".
+Fidelity parse_fidelity(const std::string& name);
+
 struct Scenario {
   std::string name;
   std::string description;
   std::string hash;              // of the text it was read from (engine/io): which run this was
-  double dt = 0.0003;            // s
+  double dt = kPaperDt;          // s
   uint32_t steps_per_frame = 100;
   double duration = 10.0;        // s
   uint64_t seed = 1;
@@ -46,6 +58,9 @@ struct Scenario {
   std::vector<Flock> flocks;
   double frame_seconds() const { return dt * steps_per_frame; }
 };
+
+// Steps `s` by `dt`, its frames kept as long as they were (steps_per_frame rounded, at least 1).
+void set_dt(Scenario& s, double dt);
 
 // Throws std::invalid_argument naming what is wrong (indices out of range, dt <= 0, ...).
 void validate(const Scenario& s);

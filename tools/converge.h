@@ -1,0 +1,28 @@
+// aeroflock converge: the time step's convergence study. Flies every built-in scenario and the
+// flight envelope at a ladder of time steps and reports, for each, how far the birds end from where
+// the smallest step puts them (relative to the distance they flew), whether every behaviour still
+// holds, and how fast it runs (docs/convergence.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aeroflock {
+
+struct ConvergeOptions {
+  std::vector<std::string> scenarios;  // built-in names or FILE.toml (empty: every built-in)
+  std::vector<double> dts{0.0001, 0.0003, 0.0005, 0.001, 0.002, 0.003, 0.005, 0.01};  // s; the smallest is the reference
+  double seconds = 10.0;               // flown by each run; positions compared at the end
+  std::string backend = "cpu";         // cpu (double, the reference) or vulkan
+  int device = -1;
+  std::string envelope = "sample";     // none, quick, sample (every 5th flight) or whole
+  std::string json;                    // every figure, to this file
+  std::string plot;                    // error and speed against dt, to this PNG
+  double tolerance = 0.01;             // the position error allowed, of the distance flown
+};
+
+// Returns 0 when at least one step but the reference holds everywhere within the tolerance.
+// Throws std::runtime_error for bad options.
+int run_converge(const ConvergeOptions& options);
+
+}  // namespace aeroflock
