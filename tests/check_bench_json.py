@@ -47,6 +47,19 @@ def main(path):
     for c in cost:
         assert c["iterations"] > 0 and c["with_flocking_ms"] > 0 and c["without_flocking_ms"] > 0, c
         assert abs(c["flocking_keeps"] - c["without_flocking_ms"] / c["with_flocking_ms"]) < 1e-9, c
+    # Birds in real time: each realtime series measured has its step, its budget (the frame's
+    # flight) and the flock its search found, no larger than the largest size measured.
+    real_time = d["birds_in_real_time"]
+    for b in bench:
+        if b["variant"].startswith("realtime-"):
+            key = f"{b['backend']}/{b['variant']}"
+            assert key in real_time, f"birds_in_real_time lacks {key}"
+    for key, r in real_time.items():
+        assert r["dt"] > 0 and r["budget_ms"] > 0 and isinstance(r["birds"], int), (key, r)
+        assert key.endswith("realtime-paper") == (r["dt"] == 0.0003), (key, r)
+        measured = [b for b in bench if f"{b['backend']}/{b['variant']}" == key]
+        fitted = [b["birds"] for b in measured if b["real_time"] <= r["budget_ms"]]
+        assert r["birds"] == 0 or r["birds"] >= max(fitted, default=0), (key, r, fitted)
     print(f"{path}: {len(bench)} benchmarks, birds per frame {d['birds_per_frame']}, "
           f"flocking's cost at {len(cost)} sizes")
 

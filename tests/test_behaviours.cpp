@@ -283,7 +283,7 @@ TEST(SolidGround, ADivingBirdTouchesDownAndTakesOffAgain) {
   RecordProperty("took_off_s", std::to_string(took_off_at));
   EXPECT_GE(lowest, s.world.ground_height + sp.stand_height - sp.crouch_depth - 1e-6);
   ASSERT_GT(touched_at, 0.0) << "never touched down";
-  EXPECT_NEAR(took_off_at - touched_at, kRestAfterTouchdown, 2 * s.dt);
+  EXPECT_NEAR(took_off_at - touched_at, kRestAfterTouchdown, 2 * sim.scenario().dt);
 }
 
 // --- 5. Take-off (Figs. 19, 20): higher at 0.3 s and 0.7 s with the leg force than without.

@@ -566,8 +566,8 @@ int main(int argc, char** argv) {
                    "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
   bench_cmd->add_option("--variants", bench_variants,
-                        "Comma-separated variants: headless, solo, render, vtk (default: all; "
-                        "--quick: headless)");
+                        "Comma-separated variants: headless, solo, render, vtk, realtime (birds in real "
+                        "time at the paper's and the fast step) (default: all; --quick: headless)");
   bench_cmd->add_option("--scenario", bench_opt.scenario,
                         "Scenario measured, a built-in name or FILE.toml (default: default)");
   bench_cmd->add_option("--max-birds", bench_opt.max_birds,

@@ -97,7 +97,9 @@ struct Series {
   bool lower_bound = false;  // every size measured fitted: the real figure may be larger
   int search_steps = 0;
   bool skipped = false;  // n/a (the CPU reference with rendering)
+  double budget_ms = 0.0, dt = 0.0;  // the realtime series': the frame's flight, and its step
   std::string key() const { return backend + "/" + variant; }
+  bool real_time() const { return variant.starts_with("realtime-"); }
 };
 
 std::string host_name() {
@@ -384,11 +386,11 @@ void check_options(const BenchOptions& options) {
         throw std::runtime_error("--backends " + b + ": no such device (" + std::to_string(count) +
                                  " Vulkan device(s); see `aeroflock devices`)");
     }
-  const std::vector<std::string> known{"headless", "solo", "render", "vtk"};
+  const std::vector<std::string> known{"headless", "solo", "render", "vtk", "realtime"};
   for (size_t i = 0; i < options.variants.size(); ++i) {
     const std::string& v = options.variants[i];
     if (std::find(known.begin(), known.end(), v) == known.end())
-      throw std::runtime_error("--variants: unknown variant " + v + " (headless, solo, render, vtk)");
+      throw std::runtime_error("--variants: unknown variant " + v + " (headless, solo, render, vtk, realtime)");
     if (std::find(options.variants.begin() + i + 1, options.variants.end(), v) != options.variants.end())
       throw std::runtime_error("--variants: " + v + " given twice");
   }
@@ -406,7 +408,7 @@ Settings settings(const BenchOptions& options) {
   s.backends = options.backends;
   s.variants = !options.variants.empty() ? options.variants
                : options.quick            ? std::vector<std::string>{"headless"}
-                                          : std::vector<std::string>{"headless", "solo", "render", "vtk"};
+                                          : std::vector<std::string>{"headless", "solo", "render", "vtk", "realtime"};
   s.sizes = options.quick
                 ? std::vector<uint32_t>{1000, 3000}
                 : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
@@ -571,6 +573,27 @@ Series measure_series(Run& run, const std::string& backend, const std::string& v
   return series;
 }
 
+// Birds in real time: at the paper's and at the fast step, the largest flock (flocking as the
+// scenario says) whose frame takes no longer on the wall clock than it flies: the budget is the
+// frame's simulated time. Series "realtime-paper" and "realtime-fast", measured as headless.
+void measure_real_time(Run& run, const std::string& backend) {
+  for (const Fidelity fidelity : {Fidelity::paper, Fidelity::fast}) {
+    Settings rt = run.s;
+    set_dt(rt.scenario, dt_of(fidelity));
+    rt.budget_ms = rt.scenario.frame_seconds() * 1000.0;
+    const std::string name = fidelity_name(rt.scenario.dt);
+    std::printf("%-8s realtime-%s: %u steps of %g ms a frame, budget %g ms (the frame's flight)\n", backend.c_str(),
+                name.c_str(), rt.scenario.steps_per_frame, rt.scenario.dt * 1000, rt.budget_ms);
+    Run sub(rt);
+    Series series = measure_series(sub, backend, "realtime-" + name);
+    series.budget_ms = rt.budget_ms;
+    series.dt = rt.scenario.dt;
+    run.devices.insert(sub.devices.begin(), sub.devices.end());
+    run.failed.insert(run.failed.end(), sub.failed.begin(), sub.failed.end());
+    run.all.push_back(std::move(series));
+  }
+}
+
 // A Vulkan backend over the CPU reference in bird-steps/s, at the sizes both measured headless.
 struct Ratios {
   std::string backend;
@@ -617,9 +640,17 @@ uint32_t largest_measured(const Series& series) {
   return n;
 }
 
-void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
-  std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
+// Birds per frame, or (real_time) birds in real time, each series' search found.
+void print_birds_per_frame(const std::vector<Series>& all, const Settings& s, bool real_time) {
+  bool any = false;
+  for (const Series& series : all) any = any || series.real_time() == real_time;
+  if (!any) return;
+  if (real_time)
+    std::printf("\nbirds in real time (median frame <= the frame's flight, flocking as the scenario says):\n");
+  else
+    std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
   for (const Series& series : all) {
+    if (series.real_time() != real_time) continue;
     if (series.skipped) {
       std::printf("  %-16s n/a\n", series.key().c_str());
       continue;
@@ -643,6 +674,7 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s) {
                   : s.quick           ? " or more: the largest size measured fitted (--quick does not search beyond)"
                                       : " or more: every size measured fitted");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
+    if (real_time) std::printf("  (dt %g ms, frame %g ms)", series.dt * 1000, series.budget_ms);
     std::printf("\n");
     if (!series.stopped.empty()) std::printf("  %-16s   sweep: %s\n", "", series.stopped.c_str());
   }
@@ -681,7 +713,8 @@ void print_flocking_cost(const std::vector<Paired>& paired) {
 }
 
 void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {
-  print_birds_per_frame(run.all, run.s);
+  print_birds_per_frame(run.all, run.s, false);
+  print_birds_per_frame(run.all, run.s, true);
   print_flocking_cost(run.paired);
   print_ratios(ratios);
   print_exponents(exponents);
@@ -757,6 +790,13 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
     exponents_json[series] = fit ? nlohmann::json(fit->b) : nlohmann::json(nullptr);
     fitted_json[series] = fit ? nlohmann::json(fit->sizes) : nlohmann::json::array();
   }
+  nlohmann::json real_time = nlohmann::json::object();
+  for (const Series& series : run.all)
+    if (series.real_time() && !series.points.empty())
+      real_time[series.key()] = {{"dt", series.dt},
+                                 {"budget_ms", series.budget_ms},
+                                 {"birds", series.birds_per_frame},
+                                 {"lower_bound", series.lower_bound}};
   nlohmann::json flocking_cost = nlohmann::json::array();
   for (const Paired& p : run.paired)
     flocking_cost.push_back({{"backend", p.backend},
@@ -771,6 +811,7 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
       {"benchmarks", benchmarks},
       {"birds_per_frame", birds_per_frame},
       {"birds_per_frame_is_lower_bound", lower_bounds},
+      {"birds_in_real_time", real_time},
       {"sweep_notes", sweep_notes},
       {"scaling_exponent", exponents_json},
       {"scaling_exponent_sizes", fitted_json},
@@ -795,7 +836,10 @@ int run_bench(const BenchOptions& options) {
   Run run(s);
   for (const std::string& backend : s.backends)
     for (const std::string& variant : s.variants)
-      run.all.push_back(measure_series(run, backend, variant));
+      if (variant == "realtime")
+        measure_real_time(run, backend);
+      else
+        run.all.push_back(measure_series(run, backend, variant));
   run.progress.clear();
   measure_flocking_cost(run);
 
