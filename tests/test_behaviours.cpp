@@ -318,7 +318,12 @@ TEST(TakeOff, CrouchesBeforeThePush) {
   const Species& sp = species_of(sim, sim.birds()[0]);
   const double standing = sim.birds()[0].position.y;
   run_steps(sim, 0.95 * sp.crouch_time, [](Simulation&) {});
-  EXPECT_NEAR(sim.birds()[0].position.y, standing - 0.95 * sp.crouch_depth, 0.01 * sp.crouch_depth);
+  // Crouched in proportion to its time on the legs before this step (step.cpp: stand_on_legs), at
+  // the step that ends at or just after 0.95 crouch_time.
+  const double dt = sim.scenario().dt;
+  const double crouched = std::min((sim.time() - dt) / sp.crouch_time, 1.0);
+  EXPECT_GE(crouched, 0.9);
+  EXPECT_NEAR(sim.birds()[0].position.y, standing - crouched * sp.crouch_depth, 0.01 * sp.crouch_depth);
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
 
@@ -380,7 +385,10 @@ TEST(TurnAblation, TheBankTurnsTheBirdWithOrWithoutTheTailTwist) {
     EXPECT_LT(f.r_hi, 3500.0);
   }
   EXPECT_NEAR(without.turn_rate, with.turn_rate, 0.1 * std::fabs(with.turn_rate)) << "the same turn";
-  EXPECT_LT(with.sideslip, without.sideslip) << "the twist keeps the head into the airflow";
+  // Both turns are coordinated: the head within a few degrees of the airflow. Which has less
+  // sideslip is not a property of the model: it turns on the step (docs/convergence.md: with the
+  // twist 4.2-4.8 degrees, without it 4.1-5.3, over the steps of 0.5 to 10 ms).
+  for (const CircleFigures& f : {with, without}) EXPECT_LT(degrees(f.sideslip), 8.0) << "a coordinated turn";
 }
 
 // Issue 10: the take-off climbs out to its route. Followed for 5 s: never below the ground, never

@@ -151,11 +151,14 @@ INSTANTIATE_TEST_SUITE_P(FastEnvelope, WholeGrid,
 
 // Issue 10: the envelope does not rest on single calibrated values. Every fifth flight of the
 // grid (324) and every take-off and landing (72) still succeed with the shoulder 2 cm further
-// forward or back, the mass 30 % lighter or heavier and the lead-lag 3 degrees smaller or larger,
-// each preset under all six changes. Flown at the fast fidelity's step (issue 13), which the
-// flocks fly at and which lets all twelve fit the suite's time; one test per preset and change, so
-// that ctest spreads them over the cores. All twelve whole grids (1,692 cases a change) succeed at
-// the paper's step too, flown with `aeroflock envelope` (README "Flight envelope").
+// forward or back, the mass 30 % lighter or heavier and the lead-lag 3 degrees smaller or larger:
+// the starling under all six changes, the eagle under four (two more, 2.5 minutes each, would take
+// the suite past 30 minutes). One test per preset and change, so that ctest spreads them over the
+// cores. All twelve whole grids (1,692 cases a change) succeed, flown with `aeroflock envelope`
+// (README "Flight envelope"); the near, steep descents where the eagle failed last are mostly not
+// in this sample (AHeavyEagleGlidingDownBeatsInTimeToHoldTheTargetsHeight flies one). At the fast
+// fidelity's step they do not all succeed (docs/convergence.md: 11 of the 4,752 cases over-pitch,
+// under four of the twelve changes), so they are flown at the paper's.
 struct MovedCalibration {
   Species (*preset)();
   const char* what;
@@ -170,7 +173,7 @@ TEST_P(MovedCalibrations, StillFliesTheGrid) {
   ASSERT_EQ(cases.size(), 396u);
   Species s = GetParam().preset();
   GetParam().apply(s);
-  for (const EnvelopeResult& r : fly_envelope(s, cases, cpu(), {}, kFastDt))
+  for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
     EXPECT_EQ(r.outcome, Outcome::reached) << GetParam().what << ": " << r.c.describe() << ": " << name(r.outcome);
 }
 
@@ -189,8 +192,6 @@ INSTANTIATE_TEST_SUITE_P(Envelope, MovedCalibrations,
                                            MovedCalibration{starling, "leadlag_plus_3_deg", more_leadlag},
                                            MovedCalibration{starling, "leadlag_minus_3_deg", less_leadlag},
                                            MovedCalibration{eagle, "shoulder_plus_2_cm", shoulder_forward},
-                                           MovedCalibration{eagle, "shoulder_minus_2_cm", shoulder_back},
-                                           MovedCalibration{eagle, "mass_plus_30_percent", heavier},
                                            MovedCalibration{eagle, "mass_minus_30_percent", lighter},
                                            MovedCalibration{eagle, "leadlag_plus_3_deg", more_leadlag},
                                            MovedCalibration{eagle, "leadlag_minus_3_deg", less_leadlag}),

@@ -165,6 +165,33 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
 }
 
 // MODEL.md's criteria 1-4 on the compute shaders: the default starlings, 20 to 80 s.
+// Issue 13: frames recorded several to a submission (step_frames) fly exactly as the same frames
+// submitted one by one: a flocking flock (the perception each frame) and a bird chasing a moving
+// target (each frame's targets), bit for bit; a submission's last frame is the one read back.
+TEST(GpuFrames, SeveralFramesASubmissionFlyAsFramesOneByOne) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  for (const char* name : {"default", "fig21-moving-target"}) {
+    SCOPED_TRACE(name);
+    const Scenario s = load_scenario(name);
+    gpu::GpuSimulation batched(device, s, 300), single(device, s, 300);
+    batched.step_frames(7);
+    EXPECT_EQ(batched.frames(), 7u);
+    batched.step_frames(20);  // a submission of 16, then one of 4
+    EXPECT_EQ(batched.ready_frame(), 23u);
+    for (int f = 0; f < 27; ++f) single.step_frame();
+    ASSERT_EQ(batched.frames(), single.frames());
+    ASSERT_EQ(batched.time(), single.time());
+    const std::vector<BirdState> a = batched.birds(), b = single.birds();
+    ASSERT_EQ(a.size(), b.size());
+    size_t same = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+      same += a[i].position == b[i].position && a[i].velocity == b[i].velocity && a[i].attitude == b[i].attitude &&
+              a[i].omega == b[i].omega && a[i].phase == b[i].phase && a[i].amplitude == b[i].amplitude &&
+              a[i].targets_reached == b[i].targets_reached && a[i].mode == b[i].mode;
+    EXPECT_EQ(same, a.size());
+  }
+}
+
 TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = load_scenario("default");

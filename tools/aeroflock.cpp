@@ -27,6 +27,7 @@
 #include "converge.h"
 #include "envelope.h"
 #include "frame_output.h"
+#include "gpu/gpu_simulation.h"
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
@@ -43,9 +44,13 @@ namespace fs = std::filesystem;
 struct StepOption {
   std::string fidelity;
   std::optional<double> dt;
+  // The step chosen, if one was.
+  std::optional<double> value() const {
+    if (!fidelity.empty()) return dt_of(parse_fidelity(fidelity));
+    return dt;
+  }
   void apply(Scenario& s) const {
-    if (!fidelity.empty()) set_dt(s, dt_of(parse_fidelity(fidelity)));
-    if (dt) set_dt(s, *dt);
+    if (const auto v = value()) set_dt(s, *v);
   }
 };
 
@@ -72,6 +77,7 @@ struct RunOptions {
 volatile std::sig_atomic_t g_interrupted = 0;
 extern "C" void on_sigint(int) { g_interrupted = 1; }
 constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
+constexpr uint64_t kBirdFramesPerSubmission = 20000;  // a run's frames go to the device in batches of about this
 
 struct ViewOptions {
   std::string scenario = "default";
@@ -274,17 +280,25 @@ int run(const RunOptions& opt) {
   bool interrupted = false;
   Pace pace;
   pace.add(0.0, 0.0);
-  for (uint64_t frame = 0; frame < frames; ++frame) {
+  // Without pictures or exports nothing reads a frame: a small flock's frames go to the device
+  // several at a time (Simulation::step_frames), about kBirdFramesPerSubmission bird-frames each.
+  const uint64_t batch = images || vtk ? 1 : std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1, gpu::kFramesPerSubmission);
+  for (uint64_t frame = 0; frame < frames;) {
     if (g_interrupted || (vtk && vtk->failed())) {
       interrupted = g_interrupted;
       break;
     }
+    const uint64_t n = std::min(batch, frames - frame);
     // Frames due for export record their forces; the exporter takes the newest state that is
     // ready without waiting (on Vulkan the frame before the last) and writes on its own thread.
     // The last frame is exported whatever --vtk-every says: the files end where the run does.
-    sim->step_frame(vtk && (vtk->due(sim->frames() + 1) || frame + 1 == frames));
+    if (n > 1)
+      sim->step_frames(uint32_t(n));
+    else
+      sim->step_frame(vtk && (vtk->due(sim->frames() + 1) || frame + 1 == frames));
     if (images) images->frame(*sim, frame);
     if (vtk) vtk->offer_ready(*sim);
+    frame += n;
     if (progress.due()) {
       // What the device has finished, not merely what was submitted to it.
       const double done = double(sim->ready_frame()) * frame_seconds;
@@ -581,6 +595,8 @@ int main(int argc, char** argv) {
   bench_cmd
       ->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
+  StepOption bench_step;
+  add_step_options(bench_cmd, bench_step, "the scenario's");
 
   EnvelopeOptions envelope_opt;
   CLI::App* envelope_cmd = app.add_subcommand(
@@ -617,8 +633,6 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"none", "quick", "sample", "whole"}))
       ->capture_default_str();
   converge_cmd->add_option("--json", converge_opt.json, "Write every figure to FILE.json")->check(kPath);
-  converge_cmd->add_option("--plot", converge_opt.plot, "Plot error, speed and envelope against dt to FILE.png (gnuplot)")
-      ->check(kPath);
 
   if (argc > 1 && argv[1][0] != '-')
     if (const std::string message = unknown_command(app, argv[1]); !message.empty()) {
@@ -640,8 +654,7 @@ int main(int argc, char** argv) {
     }
     if (view_cmd->parsed()) return view(view_opt);
     if (envelope_cmd->parsed()) {
-      if (!envelope_step.fidelity.empty()) envelope_opt.dt = dt_of(parse_fidelity(envelope_step.fidelity));
-      if (envelope_step.dt) envelope_opt.dt = *envelope_step.dt;
+      envelope_opt.dt = envelope_step.value().value_or(kPaperDt);
       return run_envelope(envelope_opt);
     }
     if (converge_cmd->parsed()) {
@@ -667,6 +680,7 @@ int main(int argc, char** argv) {
         if (!item.empty()) bench_opt.backends.push_back(item);
       for (std::istringstream in(bench_variants); std::getline(in, item, ',');)
         if (!item.empty()) bench_opt.variants.push_back(item);
+      bench_opt.dt = bench_step.value().value_or(0.0);
       return run_bench(bench_opt);
     }
     return run(opt);

@@ -405,6 +405,7 @@ void check_options(const BenchOptions& options) {
 Settings settings(const BenchOptions& options) {
   Settings s;
   s.scenario = load_scenario(options.scenario);
+  if (options.dt > 0) set_dt(s.scenario, options.dt);
   s.backends = options.backends;
   s.variants = !options.variants.empty() ? options.variants
                : options.quick            ? std::vector<std::string>{"headless"}

@@ -21,7 +21,6 @@
 #include "model/constants.h"
 #include "model/envelope.h"
 #include "model/flock_geometry.h"
-#include "plot.h"
 #include "progress.h"
 
 namespace aeroflock {
@@ -271,56 +270,10 @@ nlohmann::ordered_json to_json(const std::vector<ScenarioStudy>& studies, const 
   return j;
 }
 
-void plot(const fs::path& png, const std::vector<ScenarioStudy>& studies, const std::vector<EnvelopeStudy>& env,
-          double tolerance) {
-  write_plot_png(png, "--plot", 1500, 520, [&](std::ostream& gp, const fs::path& dir) {
-    const std::string errors = (dir / "errors.dat").string();
-    const std::string speed = (dir / "speed.dat").string();
-    const std::string cases = (dir / "envelope.dat").string();
-    {
-      std::ofstream e(errors), sp(speed), c(cases);
-      for (const ScenarioStudy& st : studies) {
-        e << "# " << st.name << "\n";
-        sp << "# " << st.name << "\n";
-        for (size_t k = 1; k < st.runs.size(); ++k)
-          e << st.runs[k].dt * 1e3 << " " << std::max(st.runs[k].criterion(), 1e-9) << "\n";
-        for (const Run& r : st.runs) sp << r.dt * 1e3 << " " << double(r.birds) * r.sim / r.wall << "\n";
-        e << "\n\n";
-        sp << "\n\n";
-      }
-      for (const EnvelopeStudy& es : env) {
-        c << "# " << es.species << "\n";
-        for (const EnvelopeStudy::Row& r : es.rows) c << r.dt * 1e3 << " " << 100.0 * r.reached / r.cases << "\n";
-        c << "\n\n";
-      }
-    }
-    gp << "set multiplot layout 1," << (env.empty() ? 2 : 3) << " title 'aeroflock converge: the time step'\n";
-    gp << "set grid\nset logscale x\nset xlabel 'dt (ms)'\nset key top left font ',8'\n";
-    auto series = [&](const std::string& file, size_t count, auto title) {
-      for (size_t i = 0; i < count; ++i)
-        gp << (i ? ", " : "") << gnuplot_string(file) << " index " << i << " using 1:2 with linespoints title "
-           << gnuplot_string(title(i));
-    };
-    gp << "set logscale y\nset format y '%g'\nset ylabel 'position error after 10 s / distance flown'\nplot ";
-    series(errors, studies.size(), [&](size_t i) { return studies[i].name; });
-    gp << ", " << tolerance << " with lines dashtype 2 lc rgb 'black' title '" << 100 * tolerance << " %'\n";
-    gp << "set ylabel 'bird-seconds simulated per second'\nplot ";
-    series(speed, studies.size(), [&](size_t i) { return studies[i].name; });
-    gp << "\n";
-    if (!env.empty()) {
-      gp << "unset logscale y\nset yrange [0:105]\nset key bottom left\nset ylabel 'envelope cases reached (%)'\nplot ";
-      series(cases, env.size(), [&](size_t i) { return env[i].species; });
-      gp << "\n";
-    }
-    gp << "unset multiplot\n";
-  });
-}
-
 }  // namespace
 
 int run_converge(const ConvergeOptions& o) {
   if (!o.json.empty()) check_output_path(o.json, "--json", {".json"});
-  if (!o.plot.empty()) check_output_path(o.plot, "--plot", {".png"});
   if (o.dts.size() < 2) throw std::runtime_error("--dts: expected at least two steps (the smallest is the reference)");
   std::vector<double> dts = o.dts;
   std::sort(dts.begin(), dts.end());
@@ -422,10 +375,6 @@ int run_converge(const ConvergeOptions& o) {
   if (!o.json.empty()) {
     write_text_atomically(o.json, to_json(studies, envelopes, options, largest).dump(2) + "\n");
     std::printf("json             %s\n", o.json.c_str());
-  }
-  if (!o.plot.empty()) {
-    plot(o.plot, studies, envelopes, o.tolerance);
-    std::printf("plot             %s\n", o.plot.c_str());
   }
   return largest > 0 ? 0 : 1;
 }

@@ -1,7 +1,8 @@
 // aeroflock converge: the time step's convergence study. Flies every built-in scenario and the
 // flight envelope at a ladder of time steps and reports, for each, how far the birds end from where
 // the smallest step puts them (relative to the distance they flew), whether every behaviour still
-// holds, and how fast it runs (docs/convergence.md).
+// holds, and how fast it runs (docs/convergence.md; tools/convergence_table.py tabulates and plots
+// its JSON).
 #pragma once
 
 #include <string>
@@ -17,7 +18,6 @@ struct ConvergeOptions {
   int device = -1;
   std::string envelope = "sample";     // none, quick, sample (every 5th flight) or whole
   std::string json;                    // every figure, to this file
-  std::string plot;                    // error and speed against dt, to this PNG
   double tolerance = 0.01;             // the position error allowed, of the distance flown
 };
 

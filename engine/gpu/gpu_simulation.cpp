@@ -24,9 +24,10 @@ std::vector<GpuSpecies> pack_species(const Scenario& s) {
   return out;
 }
 
-// A frame's targets: where they are at its start, then at the next frame's start.
+// A frame's targets: where they are at its start, then at the next frame's start; for each frame
+// of a submission.
 Buffer targets_buffer(const Device& device, const World& world) {
-  return Buffer(device, std::max<size_t>(2 * world.targets.size(), 1) * sizeof(GpuTarget),
+  return Buffer(device, std::max<size_t>(2 * world.targets.size() * kFramesPerSubmission, 1) * sizeof(GpuTarget),
                 Memory::host);
 }
 
@@ -228,55 +229,76 @@ void GpuSimulation::prepare_forces() {
   }
 }
 
-void GpuSimulation::step(uint32_t steps, bool record_forces) {
-  if (record_forces) prepare_forces();
-  VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous frame only
-  Slot& slot = slots_[submitter_.frame()];
-  const double start = begin_frame();
-  // The targets where they are at the frame's start, then where the next frame sees them (for
-  // the recorded forces), in this slot's buffer (the other slot's frame may still read its own).
-  std::vector<GpuTarget> targets = pack_targets(world(), start);
-  const std::vector<GpuTarget> next = pack_targets(world(), frame_start(this->steps() + steps));
-  targets.insert(targets.end(), next.begin(), next.end());
-  if (!targets.empty())
-    std::memcpy(slot.targets.mapped(), targets.data(), targets.size() * sizeof(GpuTarget));
+void GpuSimulation::step(uint32_t steps, bool record_forces) { submit_frames(1, steps, record_forces); }
 
-  StepConstants c{};
-  c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
-  c.dt = float(scenario().dt);
-  c.time = float(time());
-  c.steps = steps;
-  c.bird_count = count_;
-  c.turning = uint32_t(world().turning);
-  c.ground_effect = world().ground_effect ? 1u : 0u;
-  c.next_targets = uint32_t(next.size());
-  c.flocking = flocking_ ? 1u : 0u;
-  c.frame = uint32_t(frames() - 1);
-  c.frame_seconds = float(scenario().frame_seconds());
-  c.wind_profile = uint32_t(world().wind_profile);
-  c.wind_height = float(world().wind_height);
-  c.wind_exponent = float(world().wind_exponent);
-  c.wind_roughness = float(world().wind_roughness);
-  if (flocking_) {
-    c.grid_cell = float(flocking_->shape.cell);
-    c.buckets = flocking_->shape.buckets;
+void GpuSimulation::step_frames(uint32_t frames) {
+  while (frames > 0) {
+    const uint32_t n = std::min(frames, kFramesPerSubmission);
+    submit_frames(n, scenario().steps_per_frame, false);
+    frames -= n;
   }
-  barrier_to_compute(cmd);
-  if (flocking_) record_perception(cmd, slot, c);
-  if (record_forces)
-    step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
-  else
-    step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+}
+
+void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_forces) {
+  if (record_forces) prepare_forces();
+  VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
+  Slot& slot = slots_[submitter_.frame()];
+  auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
+  const uint32_t per_frame = 2 * uint32_t(world().targets.size());
+  for (uint32_t f = 0; f < frames; ++f) {
+    const double start = begin_frame();
+    // The targets where they are at the frame's start, then where the next frame sees them (for
+    // the recorded forces), in this slot's buffer (the other slot's frames may still read theirs).
+    std::vector<GpuTarget> targets = pack_targets(world(), start);
+    const std::vector<GpuTarget> next = pack_targets(world(), frame_start(this->steps() + steps));
+    targets.insert(targets.end(), next.begin(), next.end());
+    if (!targets.empty()) std::memcpy(targets_of + f * per_frame, targets.data(), targets.size() * sizeof(GpuTarget));
+
+    StepConstants c{};
+    c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
+    c.dt = float(scenario().dt);
+    c.time = float(time());
+    c.steps = steps;
+    c.bird_count = count_;
+    c.turning = uint32_t(world().turning);
+    c.ground_effect = world().ground_effect ? 1u : 0u;
+    c.next_targets = uint32_t(next.size());
+    c.flocking = flocking_ ? 1u : 0u;
+    c.frame = uint32_t(this->frames() - 1);
+    c.frame_seconds = float(scenario().frame_seconds());
+    c.wind_profile = uint32_t(world().wind_profile);
+    c.wind_height = float(world().wind_height);
+    c.wind_exponent = float(world().wind_exponent);
+    c.wind_roughness = float(world().wind_roughness);
+    c.targets_base = f * per_frame;
+    if (flocking_) {
+      c.grid_cell = float(flocking_->shape.cell);
+      c.buckets = flocking_->shape.buckets;
+    }
+    barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes
+    if (flocking_) record_perception(cmd, slot, c);
+    if (record_forces)
+      step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+    else
+      step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+    end_frame(steps);
+  }
   record_readback(cmd, birds_, slot.readback);
   if (record_forces) record_readback(cmd, *forces_, *slot.forces);
   if (flocking_) record_readback(cmd, perception_, *slot.perception);
   slot.fence = submitter_.submit();
-  end_frame(steps);
 
-  slot.snapshot = {frames(), this->steps(), time(), nullptr, nullptr};
+  slot.snapshot = {this->frames(), this->steps(), time(), nullptr, nullptr};
   slot.unpacked = false;
   slot.has_forces = record_forces;
   last_ = static_cast<int>(submitter_.frame());
+}
+
+uint64_t GpuSimulation::ready_frame() const {
+  if (last_ < 0) return frames();
+  const Slot& other = slots_[1 - last_];
+  // Before a second submission the last is the only one: waited for.
+  return other.fence == VK_NULL_HANDLE ? frames() : other.snapshot.frame;
 }
 
 Snapshot GpuSimulation::read(Slot& slot) {

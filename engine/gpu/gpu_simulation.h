@@ -15,6 +15,9 @@
 
 namespace aeroflock::gpu {
 
+// The most frames step_frames() records in one command buffer (the targets' buffer holds theirs).
+inline constexpr uint32_t kFramesPerSubmission = 16;
+
 class GpuSimulation final : public Simulation {
  public:
   // Throws gpu::Error when the flock does not fit the device (naming the limit and the largest
@@ -29,9 +32,10 @@ class GpuSimulation final : public Simulation {
   size_t bird_count() const override { return count_; }
   // Records and submits one dispatch of `steps` steps; returns without waiting for it.
   void step(uint32_t steps, bool record_forces = false) override;
+  void step_frames(uint32_t frames) override;
   Snapshot snapshot() override;
   Snapshot ready_snapshot() override;
-  uint64_t ready_frame() const override { return frames() < 2 ? frames() : frames() - 1; }
+  uint64_t ready_frame() const override;
   void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
@@ -42,7 +46,7 @@ class GpuSimulation final : public Simulation {
  private:
   // What one frame in flight owns: its targets, its readback and its unpacked state.
   struct Slot {
-    Buffer targets, readback;
+    Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
     std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
     std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
     VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE, perceive_set = VK_NULL_HANDLE;
@@ -61,6 +65,8 @@ class GpuSimulation final : public Simulation {
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
   };
   Snapshot read(Slot& slot);
+  // Records and submits `frames` frames of `steps` steps each in one command buffer.
+  void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);
 
   std::unique_ptr<Device> owned_device_;

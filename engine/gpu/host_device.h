@@ -193,6 +193,7 @@ struct StepConstants {
   float wind_height;      // where the wind is wind_ground.xyz, cm above the ground
   float wind_exponent;    // of the power law
   float wind_roughness;   // z0 of the logarithmic profile, cm
+  uint targets_base;      // where this frame's targets begin (several frames a submission)
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

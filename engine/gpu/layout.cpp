@@ -16,7 +16,7 @@ static_assert(sizeof(GpuBird) % 16 == 0);
 static_assert(sizeof(GpuSpecies) % 4 == 0);
 static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 48);
 static_assert(sizeof(GpuForces) == 11 * 16);
-static_assert(sizeof(StepConstants) == 80 && sizeof(PoseConstants) == 48);
+static_assert(sizeof(StepConstants) == 96 && sizeof(PoseConstants) == 48);
 static_assert(sizeof(GpuPerception) == 32);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 

@@ -53,6 +53,12 @@ class Simulation {
   virtual void step(uint32_t steps, bool record_forces = false) = 0;
   // One frame of the scenario: steps_per_frame steps.
   void step_frame(bool record_forces = false) { step(scenario_.steps_per_frame, record_forces); }
+  // `frames` frames of the scenario, the same as as many step_frame() calls. A device records
+  // several of them in one submission: a small flock is then not bound by each submission's
+  // overhead, but only a submission's last frame is read back (ready_snapshot() gives one).
+  virtual void step_frames(uint32_t frames) {
+    for (uint32_t f = 0; f < frames; ++f) step_frame();
+  }
 
   // The state after the last step() (on a device, waits for it).
   virtual Snapshot snapshot() = 0;

@@ -409,7 +409,7 @@ struct Leg {
   GpuRoute route;
   vec4 centre_radius;
   vec3 velocity;
-  uint targets_from;  // 0: the targets at the frame's start; pc.next_targets: at the next one's
+  uint targets_from;  // pc.targets_base: the targets at the frame's start; + pc.next_targets: at the next one's
 };
 
 Leg load_leg(GpuBird b, uint targets_from) {

@@ -35,7 +35,7 @@ void main() {
   vec3 goal = vec3(0.0);
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
-    Leg leg = load_leg(route_bird, 0u);
+    Leg leg = load_leg(route_bird, pc.targets_base);
     step_wind = wind_at(b.position.y);
     goal = route_goal(route_bird, s, leg);
   }

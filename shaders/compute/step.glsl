@@ -33,7 +33,7 @@ void main() {
   if (i >= pc.bird_count) return;
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
-  Leg leg = load_leg(b, 0u);
+  Leg leg = load_leg(b, pc.targets_base);
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
   for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
@@ -44,7 +44,7 @@ void main() {
     // The step is taken again by the next frame, with the targets where it sees them: only its
     // forces are kept.
     GpuBird next = b;
-    Leg next_leg = load_leg(next, pc.next_targets);
+    Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
     forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt, seen);
   }
 #endif
