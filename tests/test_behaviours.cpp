@@ -322,7 +322,7 @@ TEST(TakeOff, CrouchesBeforeThePush) {
   // the step that ends at or just after 0.95 crouch_time.
   const double dt = sim.scenario().dt;
   const double crouched = std::min((sim.time() - dt) / sp.crouch_time, 1.0);
-  EXPECT_GE(crouched, 0.9);
+  EXPECT_GE(crouched, 0.8);  // late in the crouch, at any step the study flies
   EXPECT_NEAR(sim.birds()[0].position.y, standing - crouched * sp.crouch_depth, 0.01 * sp.crouch_depth);
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
