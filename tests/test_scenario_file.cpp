@@ -212,6 +212,10 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:6:10: error: targets[0].centre: expected an array of 3 numbers, got 1"},
       {"dt <= 0", replace(kValid, "dt = 0.0003", "dt = 0.0"),
        "bad.toml:2:6: error: simulation.dt: expected a positive number, got 0"},
+      {"fidelity unknown", replace(kValid, "dt = 0.0003", "fidelity = \"quick\""),
+       "bad.toml:2:12: error: simulation.fidelity: expected \"paper\" or \"fast\", got \"quick\""},
+      {"fidelity and dt", replace(kValid, "dt = 0.0003", "dt = 0.0003\nfidelity = \"fast\""),
+       "bad.toml:3:12: error: simulation.fidelity: dt is given too: give the step in one place"},
       {"count 0", replace(kValid, "count = 3", "count = 0"),
        "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got 0"},
       {"count negative", replace(kValid, "count = 3", "count = -3"),
@@ -323,6 +327,27 @@ perception_radius = 1500.0
   }
   // Without [units]: cm.
   EXPECT_DOUBLE_EQ(parse_scenario(world, "u.toml").world.targets[0].centre.x, 500.0);
+}
+
+// Issue 13: `fidelity` names the step and keeps a frame 30 ms of flight; steps_per_frame may
+// still say otherwise.
+TEST(ScenarioFile, FidelityNamesTheStep) {
+  const Scenario fast = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"fast\""), "f.toml");
+  EXPECT_EQ(fast.dt, kFastDt);
+  EXPECT_EQ(fast.steps_per_frame, 15u);
+  EXPECT_STREQ(fidelity_name(fast.dt), "fast");
+  const Scenario paper = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"paper\""), "p.toml");
+  EXPECT_EQ(paper.dt, kPaperDt);
+  EXPECT_EQ(paper.steps_per_frame, 100u);
+  const Scenario own = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"fast\"\nsteps_per_frame = 5"), "o.toml");
+  EXPECT_EQ(own.steps_per_frame, 5u);
+  // set_dt keeps the frame's length.
+  Scenario s = paper;
+  set_dt(s, 0.001);
+  EXPECT_EQ(s.steps_per_frame, 30u);
+  EXPECT_STREQ(fidelity_name(s.dt), "custom");
+  EXPECT_EQ(load_scenario("murmuration").dt, kFastDt);
+  EXPECT_EQ(load_scenario("fig16-circling-eagle").dt, kPaperDt);
 }
 
 TEST(ScenarioFile, WindProfile) {

@@ -614,13 +614,16 @@ int main(int argc, char** argv) {
   add_step_options(envelope_cmd, envelope_step, "paper");
 
   ConvergeOptions converge_opt;
-  std::string converge_scenarios, converge_dts;
+  std::vector<double> converge_dts_ms;
   CLI::App* converge_cmd = app.add_subcommand(
       "converge", "The time step's convergence study: every scenario and the envelope at steps of 0.1 to 10 ms");
-  converge_cmd->add_option("--scenarios", converge_scenarios,
-                           "Comma-separated built-in names or FILE.toml (default: every built-in)");
-  converge_cmd->add_option("--dts", converge_dts,
-                           "Comma-separated steps in ms, the smallest the reference (default 0.1,0.3,0.5,1,2,3,5,10)");
+  converge_cmd->add_option("--scenarios", converge_opt.scenarios,
+                           "Built-in names or FILE.toml, comma-separated (default: every built-in)")
+      ->delimiter(',');
+  converge_cmd->add_option("--dts", converge_dts_ms,
+                           "Steps in ms, comma-separated, the smallest the reference (default 0.1,0.3,0.5,1,2,3,5,10)")
+      ->delimiter(',')
+      ->check(kPositive);
   converge_cmd->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
       ->check(kPositive);
   converge_cmd->add_option("--backend", converge_opt.backend, "cpu (reference, double) or vulkan")
@@ -658,18 +661,9 @@ int main(int argc, char** argv) {
       return run_envelope(envelope_opt);
     }
     if (converge_cmd->parsed()) {
-      std::string item;
-      for (std::istringstream in(converge_scenarios); std::getline(in, item, ',');)
-        if (!item.empty()) converge_opt.scenarios.push_back(item);
-      if (!converge_dts.empty()) {
+      if (!converge_dts_ms.empty()) {
         converge_opt.dts.clear();
-        for (std::istringstream in(converge_dts); std::getline(in, item, ',');) {
-          char* end = nullptr;
-          const double ms = std::strtod(item.c_str(), &end);
-          if (item.empty() || *end != '\0' || !(ms > 0) || !std::isfinite(ms))
-            throw std::runtime_error("--dts: expected positive numbers of ms separated by commas, got " + converge_dts);
-          converge_opt.dts.push_back(ms * 1e-3);
-        }
+        for (double ms : converge_dts_ms) converge_opt.dts.push_back(ms * 1e-3);
       }
       return run_converge(converge_opt);
     }

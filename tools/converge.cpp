@@ -285,10 +285,11 @@ int run_converge(const ConvergeOptions& o) {
   std::vector<Scenario> scenarios;
   for (const std::string& name : names) scenarios.push_back(load_scenario(name));  // bad names fail first
 
-  std::printf("aeroflock converge: %zu scenarios and the %s envelope at %zu steps from %g to %g ms, %g s each, "
-              "on the %s backend; the %g ms step is the reference\n",
-              scenarios.size(), o.envelope.c_str(), dts.size(), dts.front() * 1e3, dts.back() * 1e3, o.seconds,
-              o.backend.c_str(), dts.front() * 1e3);
+  const std::string envelope = o.envelope == "none" ? "" : " and the envelope (" + o.envelope + ")";
+  std::printf("aeroflock converge: %zu scenario%s%s at %zu steps from %g to %g ms, %g s each, on the %s backend; "
+              "the %g ms step is the reference\n",
+              scenarios.size(), scenarios.size() == 1 ? "" : "s", envelope.c_str(), dts.size(), dts.front() * 1e3,
+              dts.back() * 1e3, o.seconds, o.backend.c_str(), dts.front() * 1e3);
   std::fflush(stdout);
   Progress progress;
   std::vector<ScenarioStudy> studies;
