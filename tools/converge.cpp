@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -30,10 +29,6 @@ namespace fs = std::filesystem;
 using glm::dvec3;
 using Clock = std::chrono::steady_clock;
 
-// The limits a flight keeps once settled, as the envelope judges them (engine/model/envelope.cpp).
-constexpr double kSettleTime = 3.0;  // s
-constexpr double kBankMargin = radians(5.0);
-constexpr double kPitchLimit = radians(60.0);
 constexpr double kLeastPath = 100.0;  // cm: birds that flew less (perched all along) have no relative error
 
 // One scenario flown at one dt.
@@ -81,15 +76,19 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
   const double ground = scenario.world.ground_height;
   std::unique_ptr<Simulation> sim = make_simulation({options.backend, 0, options.device, false}, scenario);
   const Scenario& s = sim->scenario();
-  std::vector<BirdState> last = sim->birds();
-  const size_t n = last.size();
+  const size_t n = sim->bird_count();
+  std::vector<dvec3> last(n);  // each bird's position at the frame before
   run.birds = n;
   run.path.assign(n, 0.0);
   std::vector<uint8_t> nan(n, 0), below(n, 0), bank(n, 0), pitch(n, 0), taken(n, 0);
   run.end.resize(n);
   run.flock.resize(n);
   run.cut.assign(n, compare_at);
-  for (size_t i = 0; i < n; ++i) run.flock[i] = last[i].flock;
+  const std::vector<BirdState>& start = sim->birds();
+  for (size_t i = 0; i < n; ++i) {
+    last[i] = start[i].position;
+    run.flock[i] = start[i].flock;
+  }
   const double half_frame = 0.5 * s.frame_seconds();
   // Takes bird i's position at `at` from its state at time t.
   auto take = [&](size_t i, const BirdState& b, double t, double at) {
@@ -116,10 +115,10 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
         pitch[i] |= std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
       }
       if (taken[i]) continue;  // the behaviours are judged to the end, the position where it was taken
-      run.path[i] += glm::length(b.position - last[i].position);
+      run.path[i] += glm::length(b.position - last[i]);
+      last[i] = b.position;
       if (cut.empty() ? route_done(b, s.world) : t >= cut[i] - half_frame) take(i, b, t, cut.empty() ? t : cut[i]);
     }
-    last = now;
     if (progress.due()) {
       char text[160];
       std::snprintf(text, sizeof text, "%s, dt %g ms: t = %.1f of %.1f s", label.c_str(), dt * 1e3, t, compare_at);
@@ -127,18 +126,19 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
     }
   }
   run.sim = sim->time();
+  const std::vector<BirdState>& end = sim->birds();
   for (size_t i = 0; i < n; ++i)
-    if (!taken[i]) take(i, last[i], run.sim, compare_at);
+    if (!taken[i]) take(i, end[i], run.sim, compare_at);
   for (size_t i = 0; i < n; ++i) {
     run.nan_birds += nan[i];
     run.below_ground += below[i];
     run.over_bank += bank[i];
     run.over_pitch += pitch[i];
   }
-  const FlockStatistics stats = flock_statistics(last);
+  const FlockStatistics stats = flock_statistics(end);
   run.targets_reached = stats.targets_reached;
   run.perched = stats.perched;
-  run.flocking = flocking_summary(s, last);
+  run.flocking = flocking_summary(s, end);
   return run;
 }
 

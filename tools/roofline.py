@@ -106,8 +106,8 @@ def classify(op, rest, n, types_of):
         return "flop", 2 * types_of.get(rest[1], 3) - 1
     if op == "OpExtInst":
         cost = EXT_FLOP.get(rest[2])
-        if cost is None:
-            return "other", n
+        if cost is None:  # UMin and the like: integer, counted with those
+            return "integer", n
         if isinstance(cost, tuple):
             return "flop", cost[1] * types_of.get(rest[3], 3)
         return "flop", cost * n

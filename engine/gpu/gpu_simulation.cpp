@@ -244,7 +244,26 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];
   auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
-  const uint32_t per_frame = 2 * uint32_t(world().targets.size());
+  const uint32_t targets_count = uint32_t(world().targets.size());
+  const uint32_t per_frame = 2 * targets_count;  // a frame's targets at its start, then at the next's
+  StepConstants c{};  // what every frame of the submission shares; the loop sets the rest
+  c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
+  c.dt = float(scenario().dt);
+  c.steps = steps;
+  c.bird_count = count_;
+  c.turning = uint32_t(world().turning);
+  c.ground_effect = world().ground_effect ? 1u : 0u;
+  c.next_targets = targets_count;
+  c.flocking = flocking_ ? 1u : 0u;
+  c.frame_seconds = float(scenario().frame_seconds());
+  c.wind_profile = uint32_t(world().wind_profile);
+  c.wind_height = float(world().wind_height);
+  c.wind_exponent = float(world().wind_exponent);
+  c.wind_roughness = float(world().wind_roughness);
+  if (flocking_) {
+    c.grid_cell = float(flocking_->shape.cell);
+    c.buckets = flocking_->shape.buckets;
+  }
   for (uint32_t f = 0; f < frames; ++f) {
     const double start = begin_frame();
     // The targets where they are at the frame's start, then where the next frame sees them (for
@@ -254,27 +273,9 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     targets.insert(targets.end(), next.begin(), next.end());
     if (!targets.empty()) std::memcpy(targets_of + f * per_frame, targets.data(), targets.size() * sizeof(GpuTarget));
 
-    StepConstants c{};
-    c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
-    c.dt = float(scenario().dt);
     c.time = float(time());
-    c.steps = steps;
-    c.bird_count = count_;
-    c.turning = uint32_t(world().turning);
-    c.ground_effect = world().ground_effect ? 1u : 0u;
-    c.next_targets = uint32_t(next.size());
-    c.flocking = flocking_ ? 1u : 0u;
     c.frame = uint32_t(this->frames() - 1);
-    c.frame_seconds = float(scenario().frame_seconds());
-    c.wind_profile = uint32_t(world().wind_profile);
-    c.wind_height = float(world().wind_height);
-    c.wind_exponent = float(world().wind_exponent);
-    c.wind_roughness = float(world().wind_roughness);
     c.targets_base = f * per_frame;
-    if (flocking_) {
-      c.grid_cell = float(flocking_->shape.cell);
-      c.buckets = flocking_->shape.buckets;
-    }
     barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes
     if (flocking_) record_perception(cmd, slot, c);
     if (record_forces)

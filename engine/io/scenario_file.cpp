@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -103,7 +102,7 @@ void read_simulation(const TableReader& top, std::string_view source_name, const
     } catch (const std::invalid_argument& e) {
       io::fail(fidelity->where, e.what());
     }
-    s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(kFrameSeconds / s.dt)));
+    s.steps_per_frame = steps_in(kFrameSeconds, s.dt);
   }
   s.dt = sim->number("dt", s.dt, Range::positive);
   s.steps_per_frame =

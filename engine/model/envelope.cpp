@@ -19,9 +19,6 @@ using glm::dvec3;
 constexpr double kStartHeight = 20000.0;   // cm: flights start 200 m up, 50 m above the lowest target
 constexpr double kBranchHeight = 500.0;    // cm
 constexpr double kTargetRadius = 300.0;    // cm
-constexpr double kSettleTime = 3.0;        // s: the limits on bank and pitch hold from then on
-constexpr double kBankMargin = radians(5.0);
-constexpr double kPitchLimit = radians(60.0);
 constexpr double kCruise = 1000.0;         // cm/s: the time limits allow 1.5 times the path at it
 constexpr double kJudgeEvery = 0.006;      // s: the flights are judged every 6 ms (or every step)
 
@@ -137,7 +134,7 @@ std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vect
     s.name = "envelope";
     s.species = {species};
     s.dt = dt;
-    s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(kJudgeEvery / dt)));
+    s.steps_per_frame = steps_in(kJudgeEvery, dt);
     s.world.wind = dvec3{0.0, 0.0, wind};  // from the left of a bird heading +x
     std::vector<BirdState> birds;
     double longest = 0.0;

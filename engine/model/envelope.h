@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "constants.h"
 #include "simulation.h"
 #include "species.h"
 
@@ -26,6 +27,11 @@ struct EnvelopeCase {
   double crosswind = 0.0;   // from the bird's left at the start, cm/s
   std::string describe() const;
 };
+
+// The limits a flight keeps once settled (the envelope's judge; the convergence study's too).
+inline constexpr double kSettleTime = 3.0;                 // s: the limits hold from then on
+inline constexpr double kBankMargin = radians(5.0);   // beyond the species' bank_max
+inline constexpr double kPitchLimit = radians(60.0);
 
 enum class Outcome {
   reached,       // the target passed (landing: perched) in time, within the limits throughout

@@ -22,10 +22,13 @@ Fidelity parse_fidelity(const std::string& name) {
   throw std::invalid_argument("expected \"paper\" or \"fast\", got \"" + name + "\"");
 }
 
+uint32_t steps_in(double seconds, double dt) {
+  return static_cast<uint32_t>(std::max(1.0, std::round(seconds / dt)));
+}
+
 void set_dt(Scenario& s, double dt) {
-  const double frame = s.frame_seconds();
+  s.steps_per_frame = steps_in(s.frame_seconds(), dt);
   s.dt = dt;
-  s.steps_per_frame = static_cast<uint32_t>(std::max(1.0, std::round(frame / dt)));
 }
 
 void validate(const Scenario& s) {

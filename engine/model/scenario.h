@@ -59,6 +59,9 @@ struct Scenario {
   double frame_seconds() const { return dt * steps_per_frame; }
 };
 
+// The whole steps of `dt` nearest to `seconds`, at least one.
+uint32_t steps_in(double seconds, double dt);
+
 // Steps `s` by `dt`, its frames kept as long as they were (steps_per_frame rounded, at least 1).
 void set_dt(Scenario& s, double dt);
 
