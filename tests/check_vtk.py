@@ -2,14 +2,19 @@
 """Checks an `aeroflock run --vtk DIR` export with Python's VTK: Debian's python3-vtk9 under
 /usr/bin/python3, or ParaView's own under pvpython (whichever is present; both have vtkmodules).
 
-usage: python3 tests/check_vtk.py DIR [--birds N] [--frames N] [--min-frames N]
+usage: python3 tests/check_vtk.py DIR [--birds N] [--frames N] [--min-frames N] [--last-time T]
 
 Parses DIR/flock.pvd as XML, checks that every file it lists exists, that the first is t = 0 and
 the times rise strictly without float noise, opens each file with vtkXMLPolyDataReader and checks
 its point count, arrays (reals Float32, time Float64) and the field data that describes it
 (species and flight-state names, every array's unit, TimeValue), and opens DIR/trajectories.vtp
-(one polyline per bird, one point per saved frame). Exits 0 when all is well, 1 with the reasons
+(one polyline per bird, one point per saved frame), and that frames/ holds no frame file the
+collection does not list and DIR no temporary. Exits 0 when all is well, 1 with the reasons
 otherwise, and 77 (skipped) when VTK's Python modules cannot be imported.
+
+check_export() is the same check for other scripts (tests/check_faults.py), with allowances for a
+run that was stopped by a fault: trajectories through the first frames only, a frame file written
+but not yet listed.
 """
 import argparse
 import os
@@ -75,32 +80,30 @@ def check_field_data(path, data, arrays):
     return species
 
 
-def main():
-    parser = argparse.ArgumentParser()
-    parser.add_argument("dir")
-    parser.add_argument("--birds", type=int, help="birds expected in every frame")
-    parser.add_argument("--frames", type=int, help="frames expected in the collection")
-    parser.add_argument("--min-frames", type=int, default=1, help="at least this many frames")
-    parser.add_argument("--last-time", type=float, help="the last frame's time, s")
-    args = parser.parse_args()
-
-    pvd = os.path.join(args.dir, "flock.pvd")
+def check_export(dir, birds=None, frames=None, min_frames=1, last_time=None,
+                 trajectories_prefix=False, unlisted_frames=0, temporaries=False):
+    """The errors found in the export in `dir` (an empty list when all is well), and the times of
+    its frames. trajectories_prefix: the trajectories may end before the collection (a write of
+    them failed, or they were due); unlisted_frames: that many frame files may follow the listed
+    ones (written, the process killed before it listed them); temporaries: allowed (a killed
+    run's, named as only aeroflock names them)."""
+    errors.clear()
+    pvd = os.path.join(dir, "flock.pvd")
     root = ET.parse(pvd).getroot()
     check(root.tag == "VTKFile" and root.get("type") == "Collection", f"{pvd}: not a collection")
     datasets = root.findall("./Collection/DataSet")
-    check(len(datasets) >= args.min_frames, f"{pvd}: {len(datasets)} frames, expected at least {args.min_frames}")
-    if args.frames is not None:
-        check(len(datasets) == args.frames, f"{pvd}: {len(datasets)} frames, expected {args.frames}")
+    check(len(datasets) >= min_frames, f"{pvd}: {len(datasets)} frames, expected at least {min_frames}")
+    if frames is not None:
+        check(len(datasets) == frames, f"{pvd}: {len(datasets)} frames, expected {frames}")
 
     times = []
-    birds = args.birds
     if datasets:
         check(float(datasets[0].get("timestep")) == 0.0, f"{pvd}: the first frame is at t = {datasets[0].get('timestep')}, not 0")
     for ds in datasets:
         text = ds.get("timestep")
         check(not re.search(r"(9{6}|0{6})[0-9]$", text), f"{pvd}: timestep {text} carries float noise")
         t = float(text)
-        path = os.path.join(args.dir, ds.get("file"))
+        path = os.path.join(dir, ds.get("file"))
         if times:
             check(t > times[-1], f"{pvd}: time {t} after {times[-1]} does not rise")
         times.append(t)
@@ -135,13 +138,32 @@ def main():
             lo, hi = pd.GetArray("speed").GetRange()
             check(0 <= lo <= hi < 1e5, f"{path}: speeds {lo}..{hi} cm/s out of range")
 
-    if args.last_time is not None:
-        check(times and times[-1] == args.last_time, f"{pvd}: the last frame is at {times[-1] if times else '-'} s, expected {args.last_time}")
+    if last_time is not None:
+        check(times and times[-1] == last_time, f"{pvd}: the last frame is at {times[-1] if times else '-'} s, expected {last_time}")
 
-    traj_path = os.path.join(args.dir, "trajectories.vtp")
+    # No frame file but those listed (an earlier run's would be stale), unless allowed.
+    listed = {os.path.normpath(os.path.join(dir, ds.get("file"))) for ds in datasets}
+    frames_dir = os.path.join(dir, "frames")
+    on_disk = sorted(f for f in os.listdir(frames_dir) if re.fullmatch(r"flock_[0-9]{6,}\.vtp", f)) \
+        if os.path.isdir(frames_dir) else []
+    unlisted = [f for f in on_disk if os.path.join(frames_dir, f) not in listed]
+    check(len(unlisted) <= unlisted_frames, f"{frames_dir}: frame files the collection does not list: {unlisted[:5]}")
+    for f in unlisted:  # complete, and the next ones
+        data = read(os.path.join(frames_dir, f))
+        check(birds is None or data.GetNumberOfPoints() == birds, f"{f}: {data.GetNumberOfPoints()} points")
+        check(int(f[6:-4]) >= len(datasets), f"{frames_dir}: {f} is not after the listed frames")
+
+    traj_path = os.path.join(dir, "trajectories.vtp")
     if check(os.path.isfile(traj_path), f"{traj_path}: missing"):
         traj = read(traj_path)
         frames = len(times)
+        if trajectories_prefix:
+            # Through the first frames: its times are theirs.
+            t = traj.GetPointData().GetArray("time")
+            frames = traj.GetNumberOfPoints() // max(birds or 1, 1)
+            check(frames <= len(times), f"{traj_path}: {frames} frames, more than the collection's {len(times)}")
+            check(t is None or [t.GetValue(i) for i in range(min(frames, t.GetNumberOfTuples()))] == times[:frames],
+                  f"{traj_path}: its times are not the collection's first {frames}")
         cells = traj.GetNumberOfCells()
         check(cells == (birds or 0), f"{traj_path}: {cells} cells, expected one per bird ({birds})")
         check(traj.GetNumberOfPoints() == (birds or 0) * frames,
@@ -158,9 +180,22 @@ def main():
             traj.GetCellPoints(c, ids)
             check(ids.GetNumberOfIds() == frames, f"{traj_path}: bird {c} has {ids.GetNumberOfIds()} points")
 
-    leftovers = [f for _, _, files in os.walk(args.dir) for f in files if f.endswith(".tmp")]
-    check(not leftovers, f"{args.dir}: temporary files left: {leftovers}")
+    leftovers = [f for _, _, files in os.walk(dir) for f in files if f.endswith(".tmp")]
+    if temporaries:
+        leftovers = [f for f in leftovers if not re.fullmatch(r".+\.aeroflock-[0-9]+-[0-9]+\.tmp", f)]
+    check(not leftovers, f"{dir}: temporary files left: {leftovers}")
+    return list(errors), times, birds
 
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("dir")
+    parser.add_argument("--birds", type=int, help="birds expected in every frame")
+    parser.add_argument("--frames", type=int, help="frames expected in the collection")
+    parser.add_argument("--min-frames", type=int, default=1, help="at least this many frames")
+    parser.add_argument("--last-time", type=float, help="the last frame's time, s")
+    args = parser.parse_args()
+    errors, times, birds = check_export(args.dir, args.birds, args.frames, args.min_frames, args.last_time)
     if errors:
         print("\n".join(errors))
         return 1

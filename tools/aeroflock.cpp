@@ -70,13 +70,14 @@ struct RunOptions {
   std::string vtk_birds = "all";
   std::string vtk_compression = "lz4";
   std::string vtk_precision = "float";
+  bool overwrite = false;  // --overwrite: an earlier export in vtk_dir is replaced
 };
 
-// Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130. A second
-// Ctrl-C (SA_RESETHAND) ends the program at once.
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_sigint(int) { g_interrupted = 1; }
-constexpr int kInterruptedStatus = 130;  // 128 + SIGINT, as a shell reports it
+// Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
+// exits 128 + the signal's number, as a shell reports a death by it (130, 143). A second one
+// (SA_RESETHAND) ends the program at once.
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_stop_signal(int signal) { g_signal = signal; }
 constexpr uint64_t kBirdFramesPerSubmission = 20000;  // a run's frames go to the device in batches of about this
 
 struct ViewOptions {
@@ -179,6 +180,8 @@ std::string flock_counts(const Scenario& scenario, const std::vector<BirdState>&
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
                    const std::string& summary_path, const VtkExporter* vtk,
                    const std::vector<std::string>& images, bool interrupted) {
+  // A file that could not be written is not named as written.
+  const bool failed = !r.error.empty();
   const FlockStatistics& s = r.stats;
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
   std::printf("scenario         %s\n", r.scenario.c_str());
@@ -202,13 +205,20 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
                 "polarisation %.3f, largest cluster %.1f %%\n",
                 f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close, f.metrics.polarisation,
                 100 * f.metrics.largest_cluster);
-  if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
+  if (!summary_path.empty() && !failed) std::printf("summary          %s\n", summary_path.c_str());
   for (const std::string& line : images) std::printf("%s\n", line.c_str());
-  if (vtk)
+  if (vtk && !failed)
     std::printf("vtk              %s (%zu frame%s of %zu bird%s: flock.pvd, trajectories.vtp)\n",
                 vtk->dir().c_str(), vtk->frames_added(), vtk->frames_added() == 1 ? "" : "s",
                 vtk->selected().size(), vtk->selected().size() == 1 ? "" : "s");
-  if (interrupted) std::printf("interrupted      at t = %.3f s (Ctrl-C)\n", r.sim_seconds);
+  if (vtk)
+    std::printf("vtk queue        at most %llu of %llu frames waited for the disk (%.3g MB)\n",
+                (unsigned long long)r.vtk_queue_frames, (unsigned long long)r.vtk_queue_bound,
+                double(r.vtk_queue_bytes) / 1e6);
+  if (interrupted)
+    std::printf("interrupted      at t = %.3f s (%s)\n", r.sim_seconds,
+                r.signal == "SIGINT" ? "SIGINT, Ctrl-C" : r.signal.c_str());
+  if (failed) std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
 }
 
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
@@ -222,12 +232,15 @@ void require_birds(const Scenario& scenario, const std::vector<std::string>& flo
 }
 
 int run(const RunOptions& opt) {
-  g_interrupted = 0;
+  g_signal = 0;
   struct sigaction action {};
-  action.sa_handler = on_sigint;
+  action.sa_handler = on_stop_signal;
   action.sa_flags = SA_RESETHAND;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  // A video's ffmpeg that has died: a write error to report, not a silent death by SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
   if (!opt.summary.empty()) check_output_path(opt.summary, "--summary", {".json"});
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
@@ -266,6 +279,7 @@ int run(const RunOptions& opt) {
     vo.compression = parse_vtk_compression(opt.vtk_compression);
     vo.precision = opt.vtk_precision == "double" ? VtkOptions::Precision::float64
                                                  : VtkOptions::Precision::float32;
+    vo.overwrite = opt.overwrite;
     try {
       vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
     } catch (const std::invalid_argument& e) {
@@ -283,9 +297,11 @@ int run(const RunOptions& opt) {
   // Without pictures or exports nothing reads a frame: a small flock's frames go to the device
   // several at a time (Simulation::step_frames), about kBirdFramesPerSubmission bird-frames each.
   const uint64_t batch = images || vtk ? 1 : std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1, gpu::kFramesPerSubmission);
+  // A write error stops the run; what was written stays valid, and the summary says why.
+  std::vector<std::string> errors;
   for (uint64_t frame = 0; frame < frames;) {
-    if (g_interrupted || (vtk && vtk->failed())) {
-      interrupted = g_interrupted;
+    if (g_signal || (vtk && vtk->failed()) || !errors.empty()) {
+      interrupted = g_signal;
       break;
     }
     const uint64_t n = std::min(batch, frames - frame);
@@ -296,7 +312,13 @@ int run(const RunOptions& opt) {
       sim->step_frames(uint32_t(n));
     else
       sim->step_frame(vtk && (vtk->due(sim->frames() + 1) || frame + 1 == frames));
-    if (images) images->frame(*sim, frame);
+    if (images) {
+      try {
+        images->frame(*sim, frame);
+      } catch (const std::runtime_error& e) {
+        errors.push_back(e.what());
+      }
+    }
     if (vtk) vtk->offer_ready(*sim);
     frame += n;
     if (progress.due()) {
@@ -312,7 +334,7 @@ int run(const RunOptions& opt) {
     progress.show(run_progress(sim->time(), total_seconds, birds, sim->scenario().dt, pace.rate()));
   }
   progress.finish();
-  interrupted = interrupted || g_interrupted;
+  interrupted = interrupted || g_signal;
   if (vtk) vtk->offer_last(*sim);  // the last frame, if still owed
 
   summary.wall_seconds = wall();
@@ -321,12 +343,43 @@ int run(const RunOptions& opt) {
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
-  if (images) images->finish(*sim);
-  if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
-  if (!opt.summary.empty()) write_summary(opt.summary, summary);
+  // Every output closed valid, whatever stopped the run; the first error is the summary's.
+  if (images) {
+    try {
+      images->finish(*sim);
+    } catch (const std::runtime_error& e) {
+      errors.push_back(e.what());
+    }
+  }
+  if (vtk) {
+    try {
+      vtk->finish();  // the writer's error, if any, is thrown here
+    } catch (const std::runtime_error& e) {
+      errors.push_back(e.what());
+    }
+    const VtkExporter::QueueUse queue = vtk->queue_high_water();
+    summary.vtk_queue_frames = queue.frames;
+    summary.vtk_queue_bytes = queue.bytes;
+    summary.vtk_queue_bound = vtk->queue_bound();
+  }
+  if (interrupted) summary.signal = g_signal == SIGTERM ? "SIGTERM" : "SIGINT";
+  if (!errors.empty()) summary.error = errors.front();
+  if (!opt.summary.empty()) {
+    try {
+      write_summary(opt.summary, summary);
+    } catch (const std::runtime_error& e) {
+      errors.push_back(e.what());
+      if (summary.error.empty()) summary.error = e.what();
+    }
+  }
   print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, opt.summary,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
-  return interrupted ? kInterruptedStatus : 0;
+  if (!errors.empty()) {
+    std::fflush(stdout);
+    for (const std::string& e : errors) std::cerr << "aeroflock: error: " << e << "\n";
+    return 2;
+  }
+  return interrupted ? 128 + (g_signal ? int(g_signal) : SIGINT) : 0;
 }
 
 int view(const ViewOptions& opt) {
@@ -531,6 +584,11 @@ int main(int argc, char** argv) {
                    "are double always; default float, the Vulkan backend's own)")
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str()
+      ->needs(vtk_opt);
+  run_cmd
+      ->add_flag("--overwrite", opt.overwrite,
+                 "With --vtk: replace an earlier run's export in DIR (its flock.pvd, trajectories.vtp "
+                 "and frames/flock_*.vtp, no other file); without it such a DIR is an error")
       ->needs(vtk_opt);
 
   ViewOptions view_opt;

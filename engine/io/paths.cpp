@@ -17,16 +17,23 @@ namespace fs = std::filesystem;
   throw std::runtime_error(what + " " + path.string() + ": " + why);
 }
 
-// Writes and removes `file`; why it could not be written, or "" when it could.
+// Writes and removes a temporary of `file` (a new name of this program's: nothing that stands there
+// is touched); why it could not be written, or "" when it could.
 std::string probe(const fs::path& file) {
+  fs::path tmp;
+  try {
+    tmp = create_temporary(file);
+  } catch (const std::exception& e) {
+    const std::string text = e.what(), lead = "cannot write " + file.string() + ": ";
+    return text.starts_with(lead) ? text.substr(lead.size()) : text;
+  }
   errno = 0;
-  std::ofstream out(file);
-  if (!out) return std::strerror(errno ? errno : EIO);  // and whatever stands there is left alone
-  out << "probe\n";
+  std::ofstream out(tmp);
+  if (out) out << "probe\n";
   out.close();
   const int err = errno;
   std::error_code ignored;
-  fs::remove(file, ignored);
+  fs::remove(tmp, ignored);
   return out ? std::string() : std::strerror(err ? err : EIO);
 }
 
@@ -61,8 +68,9 @@ void check_output_path(const fs::path& path, const std::string& what,
   const fs::path dir = directory_of(path);
   if (!fs::is_directory(dir, ec))
     fail(what, path, "directory " + dir.string() + " does not exist (create it first)");
-  if (const std::string why = probe(temporary_path(path)); !why.empty())
+  if (const std::string why = probe(path); !why.empty())
     fail(what, path, "cannot write there: " + why);
+  remove_stale_temporaries(dir, path.filename().string() + ".");  // a killed run's
 }
 
 void check_writable_dir(const fs::path& dir, const std::string& what) {
@@ -76,6 +84,7 @@ void check_writable_dir(const fs::path& dir, const std::string& what) {
   }
   if (const std::string why = probe(dir / ".aeroflock-probe"); !why.empty())
     fail(what, dir, "cannot write there: " + why);
+  remove_stale_temporaries(dir);  // a killed run's
 }
 
 }  // namespace aeroflock

@@ -13,14 +13,16 @@ namespace aeroflock {
 // leave a tree of directories behind.
 
 // Makes sure a file can be written at `path`: not a directory, its directory existing, and a
-// scratch file written and removed at PATH.tmp (where write_file_atomically writes). With
+// scratch file written and removed beside it (a temporary of create_temporary's, as
+// write_file_atomically writes; a killed run's temporaries of PATH are removed). With
 // `extensions` (".png", ...; compared without case) the name must end in one of them. Throws
 // std::runtime_error "WHAT PATH: why" otherwise; `what` names the option or the output.
 void check_output_path(const std::filesystem::path& path, const std::string& what,
                        std::initializer_list<const char*> extensions = {});
 
 // Makes sure files can be written in `dir`: creates it when its parent exists and writes and
-// removes a scratch file there. Throws std::runtime_error "WHAT DIR: why" otherwise.
+// removes a scratch file there (and a killed run's temporaries: remove_stale_temporaries). Throws
+// std::runtime_error "WHAT DIR: why" otherwise.
 void check_writable_dir(const std::filesystem::path& dir, const std::string& what);
 
 }  // namespace aeroflock

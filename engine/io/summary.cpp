@@ -91,6 +91,12 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"perched", s.perched},
       {"flying", s.flying},
       {"flocking", flocking},
+      {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
+      {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},
+      {"vtk_queue", r.vtk_queue_bound == 0 ? nlohmann::ordered_json()
+                                           : nlohmann::ordered_json{{"high_water_frames", r.vtk_queue_frames},
+                                                                    {"high_water_bytes", r.vtk_queue_bytes},
+                                                                    {"bound_frames", r.vtk_queue_bound}}},
   };
 }
 

@@ -48,12 +48,18 @@ struct RunSummary {
   double wall_seconds = 0.0;
   FlockStatistics stats;
   std::vector<FlockingSummary> flocking;
+  std::string signal;  // the signal that stopped the run ("SIGINT", "SIGTERM"), or ""
+  std::string error;   // the write error that stopped the run ("cannot write PATH: why"), or ""
+  // With --vtk: the most frames (and bytes of bird data) that waited for the writer at once, and
+  // the queue's bound in frames (0 without --vtk).
+  uint64_t vtk_queue_frames = 0, vtk_queue_bytes = 0, vtk_queue_bound = 0;
 };
 
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
 // flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
-// too_close, polarisation, largest_cluster.
+// too_close, polarisation, largest_cluster; `signal` and `error` (null when none) and, with
+// --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null).
 nlohmann::ordered_json summary_json(const RunSummary& summary);
 
 // Writes summary_json atomically (PATH.tmp, then rename). Throws std::runtime_error naming the

@@ -6,6 +6,7 @@
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
@@ -90,6 +91,14 @@ std::string frame_name(size_t index) {
   return name;
 }
 
+// Whether `name` is one that frame_name gives: flock_ and six or more digits, .vtp.
+bool is_frame_name(std::string_view name) {
+  if (!name.starts_with("flock_") || !name.ends_with(".vtp")) return false;
+  const std::string_view digits = name.substr(6, name.size() - 10);
+  return digits.size() >= 6 &&
+         std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 // Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
 // exception.
 void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
@@ -123,7 +132,12 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
     }
     errno = 0;
     if (writer->Write() == 1 && writer->GetErrorCode() == 0) return;
+    // The system's reason when there is one: VTK's own text for a full disk is its internals
+    // ("FORWARD_DIRECTION: 0" and the like), of no use to the reader.
     const int err = errno;
+    if (writer->GetErrorCode() == vtkErrorCode::OutOfDiskSpaceError)
+      throw std::runtime_error(std::strerror(err == EDQUOT || err == EFBIG || err == EIO ? err : ENOSPC));
+    if (err != 0) throw std::runtime_error(std::strerror(err));
     // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
     while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
       message.pop_back();
@@ -131,8 +145,7 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
     if (const size_t colon = message.find("): ");
         message.starts_with("vtk") && colon != std::string::npos)
       message.erase(0, colon + 3);
-    if (err != 0) message += (message.empty() ? "" : ": ") + std::string(std::strerror(err));
-    throw std::runtime_error(message);
+    throw std::runtime_error(message.empty() ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()) : message);
   });
 }
 
@@ -336,6 +349,10 @@ struct VtkExporter::Writer {
     std::vector<BirdState> birds;    // the selected birds, in the order of `ids`
     std::vector<StepForces> forces;  // theirs, of the next step
     std::vector<Perception> perception;  // theirs, as last perceived
+    size_t bytes() const {
+      return birds.size() * sizeof(BirdState) + forces.size() * sizeof(StepForces) +
+             perception.size() * sizeof(Perception);
+    }
   };
 
   // Fixed at construction.
@@ -350,11 +367,15 @@ struct VtkExporter::Writer {
   std::vector<std::string> frame_units;                 // "name: unit" of each point array
   double dt = 0.0;
   uint32_t steps_per_frame = 0;
+  std::function<void()> before_frame_write;
 
   // Shared with the simulation's thread.
   std::mutex mutex;
-  std::condition_variable wake;
+  std::condition_variable wake;  // a frame queued, or stop
+  std::condition_variable room;  // a frame taken from the queue, or a failure
   std::deque<Frame> queue;
+  size_t queued_bytes = 0;
+  QueueUse high_water;
   bool stop = false;
   std::exception_ptr error;
   std::atomic<bool> failed{false};
@@ -383,11 +404,13 @@ struct VtkExporter::Writer {
         if (!queue.empty()) {
           frame = std::move(queue.front());
           queue.pop_front();
+          queued_bytes -= frame.bytes();
           have = true;
         } else if (stop) {
           break;
         }
       }
+      if (have) room.notify_all();
       if (failed) continue;  // drain and drop
       try {
         if (have) write_frame(frame);
@@ -397,10 +420,14 @@ struct VtkExporter::Writer {
         fail(std::current_exception());
       }
     }
-    // The final collection (even empty) and trajectories, the latter also after an error (what
-    // was saved until then).
+    // The final collection (even empty: also when the first frame failed) and trajectories, also
+    // after an error (the frames written until then). Errors after the first are dropped.
     try {
-      if (!failed) write_collection();
+      write_collection();
+    } catch (...) {
+      fail(std::current_exception());
+    }
+    try {
       if (trajectories_stale || trajectories_written == Clock::time_point{}) write_trajectories();
     } catch (...) {
       fail(std::current_exception());
@@ -408,9 +435,12 @@ struct VtkExporter::Writer {
   }
 
   void fail(std::exception_ptr e) {
-    std::lock_guard lock(mutex);
-    if (!error) error = e;
-    failed = true;
+    {
+      std::lock_guard lock(mutex);
+      if (!error) error = e;
+      failed = true;
+    }
+    room.notify_all();  // an offer waiting for room gives up
   }
 
   // Field data that makes a file describe itself: the run (scenario, its hash, dt), the names
@@ -475,13 +505,22 @@ struct VtkExporter::Writer {
     data->GetFieldData()->AddArray(value_array<vtkDoubleArray>("TimeValue", frame.time));
 
     const std::string name = "frames/" + frame_name(collection.size());
+    if (before_frame_write) before_frame_write();
     write_polydata(data, dir / name, compression);
-    // Only frames written in full reach the collection and the trajectories.
+    // Only frames written in full, and listed in the .pvd, reach the collection and the
+    // trajectories: a frame the .pvd cannot list is removed again.
+    collection.emplace_back(frame.time, name);
+    try {
+      write_collection();
+    } catch (...) {
+      collection.pop_back();
+      std::error_code ignored;
+      fs::remove(dir / name, ignored);
+      throw;
+    }
     saved_times.push_back(frame.time);
     saved_positions.insert(saved_positions.end(), positions.begin(), positions.end());
     saved_speeds.insert(saved_speeds.end(), speeds.begin(), speeds.end());
-    collection.emplace_back(frame.time, name);
-    write_collection();
     trajectories_stale = true;
   }
 
@@ -555,9 +594,33 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   selected_ = select_birds(options.birds, bird_count);
   if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");
 
-  // Create and probe the directories before the run.
+  // Create and probe the directories before the run (which removes a killed run's temporaries).
   check_writable_dir(dir_, "VTK export directory");
   check_writable_dir(dir_ / "frames", "VTK export directory");
+  // An earlier export: its frames would stay beside this run's, its .pvd list them until the first
+  // is written. Refused, or removed (its own files only) when asked.
+  if (const std::vector<fs::path> earlier = earlier_export_files(dir_); !earlier.empty()) {
+    if (!options.overwrite) {
+      size_t frames = 0;
+      for (const fs::path& f : earlier) frames += f.parent_path().filename() == "frames";
+      std::string what;
+      for (const char* name : {"flock.pvd", "trajectories.vtp"})
+        if (std::find(earlier.begin(), earlier.end(), dir_ / name) != earlier.end())
+          what += std::string(what.empty() ? "" : ", ") + name;
+      if (frames > 0)
+        what += (what.empty() ? "" : ", ") + std::to_string(frames) + " frame" + (frames == 1 ? "" : "s");
+      throw std::runtime_error("VTK export directory " + dir_.string() + " holds an earlier run's export (" +
+                               what + "): --overwrite replaces it, or choose another directory");
+    }
+    for (const fs::path& f : earlier) {
+      std::error_code ec;
+      fs::remove(f, ec);
+      if (ec) throw std::runtime_error("VTK export directory " + dir_.string() + ": cannot remove " +
+                                       f.string() + " of an earlier run: " + ec.message());
+    }
+  }
+  queue_frames_ = std::max<size_t>(options.queue_frames, 1);
+  queue_bytes_ = options.queue_bytes;
 
   writer_ = std::make_unique<Writer>();
   Writer& w = *writer_;
@@ -573,6 +636,7 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   for (const PointArray& a : kPointArrays) w.frame_units.push_back(std::string(a.name) + ": " + a.unit);
   w.dt = scenario.dt;
   w.steps_per_frame = scenario.steps_per_frame;
+  w.before_frame_write = options.before_frame_write;
   w.thread = std::thread([&w] { w.run(); });
 }
 
@@ -608,14 +672,42 @@ void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
     frame.perception.push_back(snapshot.perception ? (*snapshot.perception)[id] : Perception{});
   }
   {
-    std::lock_guard lock(writer_->mutex);
-    writer_->queue.push_back(std::move(frame));
+    // Room for it: fewer than queue_frames waiting and their bytes within queue_bytes (an empty
+    // queue takes any frame), or the writer has failed (the frame is dropped).
+    Writer& w = *writer_;
+    std::unique_lock lock(w.mutex);
+    w.room.wait(lock, [&] {
+      return w.failed || (w.queue.size() < queue_frames_ &&
+                          (w.queue.empty() || w.queued_bytes + frame.bytes() <= queue_bytes_));
+    });
+    if (w.failed) return;
+    w.queued_bytes += frame.bytes();
+    w.queue.push_back(std::move(frame));
+    w.high_water.frames = std::max(w.high_water.frames, w.queue.size());
+    w.high_water.bytes = std::max(w.high_water.bytes, w.queued_bytes);
   }
   writer_->wake.notify_one();
   ++frames_added_;
 }
 
 bool VtkExporter::failed() const { return writer_->failed; }
+
+VtkExporter::QueueUse VtkExporter::queue_high_water() const {
+  std::lock_guard lock(writer_->mutex);
+  return writer_->high_water;
+}
+
+std::vector<fs::path> earlier_export_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const char* name : {"flock.pvd", "trajectories.vtp"})
+    if (fs::is_regular_file(dir / name, ec)) files.push_back(dir / name);
+  for (fs::directory_iterator it(dir / "frames", ec), end; !ec && it != end; it.increment(ec))
+    if (std::error_code ignored; is_frame_name(it->path().filename().string()) && it->is_regular_file(ignored))
+      files.push_back(it->path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
 void VtkExporter::finish() {
   if (finished_) return;

@@ -12,14 +12,21 @@
 // DIR/trajectories.vtp one polyline per exported bird through its saved positions; point data
 //                      time and speed, cell data bird_id and species; the same field data.
 //
-// Files are written by a thread of the exporter, so the simulation never waits for the disk. The
-// .pvd and the trajectories are written to a temporary name and renamed: at every moment they are
-// complete and readable (the trajectories at most about 2 s of wall time behind).
+// Files are written by a thread of the exporter, so the simulation waits for the disk only when
+// the queue of frames for it is full (VtkOptions::queue_frames, queue_bytes). Every file is written
+// to a temporary name and renamed (io/atomic_file.h): at every moment each is complete and readable,
+// the .pvd lists exactly the frame files written (a frame whose .pvd cannot be written is removed
+// again), and the trajectories are at most about 2 s of wall time behind. A write error stops the
+// writer (finish() throws "cannot write PATH: why") and leaves the files so far as they are.
+//
+// A directory that holds an earlier export (earlier_export_files) is refused, or with
+// VtkOptions::overwrite cleared of those files (and no others) before the run.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -38,7 +45,20 @@ struct VtkOptions {
   enum class Compression { none, lz4, zlib } compression = Compression::lz4;
   // The point data's reals (positions and times are double always).
   enum class Precision { float32, float64 } precision = Precision::float32;
+  // An earlier export in `dir` (earlier_export_files): removed before the run when true, an error
+  // when false.
+  bool overwrite = false;
+  // Frames (at least one) and bytes of bird data queued for the writer at most, besides the frame
+  // it is writing: offer() waits for room, so a slow disk slows the run instead of filling memory.
+  size_t queue_frames = 4;
+  size_t queue_bytes = size_t(256) << 20;
+  // Test hook: called on the writer thread before each frame file is written (a slow disk).
+  std::function<void()> before_frame_write;
 };
+
+// The files of an earlier export in `dir`, as this exporter names them: flock.pvd,
+// trajectories.vtp and frames/flock_NNNNNN.vtp. Nothing else in `dir` is counted.
+std::vector<std::filesystem::path> earlier_export_files(const std::filesystem::path& dir);
 
 // The names of the point arrays of a frame file, in the order they are written.
 std::vector<std::string> vtk_point_arrays();
@@ -54,7 +74,9 @@ std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count
 class VtkExporter {
  public:
   // Parses the selection and creates and checks the directory (std::runtime_error naming it when
-  // it cannot be created or written), before the run starts. Starts the writer thread.
+  // it cannot be created or written, or when it holds an earlier export and options.overwrite is
+  // false), before the run starts; removes an earlier export with options.overwrite and a killed
+  // run's temporaries. Starts the writer thread.
   VtkExporter(const VtkOptions& options, const Scenario& scenario, size_t bird_count);
   // Finishes (drains the queue) if finish() was not called; errors are then dropped.
   ~VtkExporter();
@@ -67,8 +89,9 @@ class VtkExporter {
 
   // Queues the snapshot's selected birds for the writer when its frame is due and newer than the
   // last one queued (so that the newest ready snapshot can be offered after every frame, and the
-  // last one at the end); returns at once. A due snapshot without forces is a logic_error. Does
-  // nothing after the writer has failed (see failed()).
+  // last one at the end); returns at once unless the queue is full, then waits for room. A due
+  // snapshot without forces is a logic_error. Does nothing after the writer has failed (see
+  // failed()).
   void offer(const Snapshot& snapshot) { offer(snapshot, false); }
   // After each frame of `sim`: offers the newest frame ready without waiting for the device,
   // reading it only when it is wanted. After the run, offer_last: the last frame (waited for).
@@ -98,6 +121,14 @@ class VtkExporter {
   bool failed() const;
 
   size_t frames_added() const { return frames_added_; }
+  // The most frames (and their bytes of bird data) that waited in the queue at once.
+  struct QueueUse {
+    size_t frames = 0;
+    size_t bytes = 0;
+  };
+  QueueUse queue_high_water() const;
+  // The queue's bound (VtkOptions::queue_frames, at least 1).
+  size_t queue_bound() const { return queue_frames_; }
   const std::vector<uint32_t>& selected() const { return selected_; }
   const std::filesystem::path& dir() const { return dir_; }
 
@@ -109,6 +140,7 @@ class VtkExporter {
   std::vector<uint32_t> selected_;
   size_t bird_count_ = 0;
   size_t frames_added_ = 0;
+  size_t queue_frames_ = 1, queue_bytes_ = 0;
   uint64_t last_frame_ = 0;  // the last frame queued
   bool any_offered_ = false;
   bool finished_ = false;
