@@ -83,8 +83,8 @@ def check_field_data(path, data, arrays):
 def check_export(dir, birds=None, frames=None, min_frames=1, last_time=None,
                  trajectories_prefix=False, unlisted_frames=0, temporaries=False):
     """The errors found in the export in `dir` (an empty list when all is well), and the times of
-    its frames. trajectories_prefix: the trajectories may end before the collection (a write of
-    them failed, or they were due); unlisted_frames: that many frame files may follow the listed
+    its frames. trajectories_prefix: the trajectories may end before the collection or be missing
+    (a write of them failed, or one was due); unlisted_frames: that many frame files may follow the listed
     ones (written, the process killed before it listed them); temporaries: allowed (a killed
     run's, named as only aeroflock names them)."""
     errors.clear()
@@ -154,7 +154,7 @@ def check_export(dir, birds=None, frames=None, min_frames=1, last_time=None,
         check(int(f[6:-4]) >= len(datasets), f"{frames_dir}: {f} is not after the listed frames")
 
     traj_path = os.path.join(dir, "trajectories.vtp")
-    if check(os.path.isfile(traj_path), f"{traj_path}: missing"):
+    if check(os.path.isfile(traj_path) or trajectories_prefix, f"{traj_path}: missing") and os.path.isfile(traj_path):
         traj = read(traj_path)
         frames = len(times)
         if trajectories_prefix:
@@ -165,7 +165,7 @@ def check_export(dir, birds=None, frames=None, min_frames=1, last_time=None,
             check(t is None or [t.GetValue(i) for i in range(min(frames, t.GetNumberOfTuples()))] == times[:frames],
                   f"{traj_path}: its times are not the collection's first {frames}")
         cells = traj.GetNumberOfCells()
-        check(cells == (birds or 0), f"{traj_path}: {cells} cells, expected one per bird ({birds})")
+        check(cells == (birds or 0 if frames > 0 else 0), f"{traj_path}: {cells} cells, expected one per bird ({birds})")
         check(traj.GetNumberOfPoints() == (birds or 0) * frames,
               f"{traj_path}: {traj.GetNumberOfPoints()} points, expected {birds} x {frames}")
         if frames >= 2:

@@ -108,8 +108,21 @@ TEST(Summary, JsonHasEveryKey) {
   for (const char* key :
        {"backend", "device", "scenario", "birds", "steps", "dt", "steps_per_frame", "sim_seconds",
         "wall_seconds", "bird_steps_per_second", "nan_birds", "centroid", "mean_speed",
-        "targets_reached", "perched", "flying", "flocking"})
+        "targets_reached", "perched", "flying", "flocking", "signal", "error", "vtk_queue"})
     EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["signal"].is_null());
+  EXPECT_TRUE(j["error"].is_null());
+  EXPECT_TRUE(j["vtk_queue"].is_null());  // no --vtk
+  RunSummary stopped = sample_summary();
+  stopped.signal = "SIGTERM";
+  stopped.error = "cannot write out/vtk/flock.pvd: No space left on device";
+  stopped.vtk_queue_frames = 3;
+  stopped.vtk_queue_bytes = 1200;
+  stopped.vtk_queue_bound = 4;
+  const nlohmann::ordered_json s = summary_json(stopped);
+  EXPECT_EQ(s["signal"], "SIGTERM");
+  EXPECT_EQ(s["error"], stopped.error);
+  EXPECT_EQ(s["vtk_queue"], (nlohmann::ordered_json{{"high_water_frames", 3}, {"high_water_bytes", 1200}, {"bound_frames", 4}}));
   EXPECT_EQ(j["birds"], 2);
   EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
   EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
@@ -144,7 +157,8 @@ TEST(Summary, WritesAtomically) {
   std::ifstream in(path);
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["scenario"], "test");
-  EXPECT_FALSE(std::filesystem::exists(dir / "summary.json.tmp"));
+  // Nothing beside it: no temporary left.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
 
   const auto bad = dir / "no-such-dir" / "summary.json";
   try {

@@ -14,6 +14,8 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +24,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "io/scenario_file.h"
@@ -515,6 +518,7 @@ TEST(VtkExport, WriterErrorIsReportedByFinish) {
   exporter.offer(sim.snapshot());
   // The frames directory turns into a file: the next frame cannot be written.
   exporter.finish();
+  options.overwrite = true;
   VtkExporter second(options, sim.scenario(), 2);
   fs::remove_all(options.dir / "frames");
   std::ofstream(options.dir / "frames") << "in the way\n";
@@ -531,6 +535,94 @@ TEST(VtkExport, WriterErrorIsReportedByFinish) {
   }
   EXPECT_TRUE(second.failed());
   second.finish();  // once reported, finishing again does nothing
+}
+
+// A slow disk slows the run instead of filling memory: offer() waits while queue_frames frames wait
+// for the writer, and every frame is still written. Seen from outside: the frames offered less the
+// frames the writer has begun never exceed the bound and the one it is writing.
+TEST(VtkExport, ASlowDiskMakesTheRunWaitAndLosesNoFrame) {
+  Scenario scenario = load_scenario("fig21-moving-target");
+  CpuSimulation sim(scenario, 4);
+  VtkOptions options;
+  options.dir = fresh_dir("slow");
+  options.queue_frames = 2;
+  constexpr auto kDelay = std::chrono::milliseconds(40);
+  std::atomic<int> begun{0};
+  options.before_frame_write = [&] {
+    ++begun;
+    std::this_thread::sleep_for(kDelay);
+  };
+  VtkExporter exporter(options, sim.scenario(), 4);
+  EXPECT_EQ(exporter.queue_bound(), 2u);
+  constexpr int kFrames = 12;
+  int most_ahead = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int f = 0; f < kFrames; ++f) {
+    sim.step_frame(true);
+    exporter.offer(sim.snapshot());
+    most_ahead = std::max(most_ahead, f + 1 - begun.load());
+  }
+  const auto offering = std::chrono::steady_clock::now() - start;
+  exporter.finish();
+  EXPECT_LE(most_ahead, 2 + 1) << "frames queued beyond the bound";
+  EXPECT_GE(offering, (kFrames - 2 - 1) * kDelay) << "the run did not wait for the disk";
+  EXPECT_EQ(exporter.queue_high_water().frames, 2u);
+  EXPECT_EQ(exporter.frames_added(), size_t(kFrames));
+  const std::vector<PvdEntry> entries = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(entries.size(), size_t(kFrames));
+  for (const PvdEntry& e : entries) EXPECT_EQ(read_vtp(options.dir / e.file)->GetNumberOfPoints(), 4);
+
+  // The bound in bytes: one frame at a time when a frame is over it (an empty queue takes any).
+  options.dir = fresh_dir("slow_bytes");
+  options.queue_frames = 8;
+  options.queue_bytes = 1;
+  VtkExporter by_bytes(options, sim.scenario(), 4);
+  for (int f = 0; f < 4; ++f) {
+    sim.step_frame(true);
+    by_bytes.offer(sim.snapshot());
+  }
+  by_bytes.finish();
+  EXPECT_EQ(by_bytes.queue_high_water().frames, 1u);
+  EXPECT_GT(by_bytes.queue_high_water().bytes, 4 * sizeof(BirdState));
+  EXPECT_EQ(read_pvd(options.dir / "flock.pvd").size(), 4u);
+}
+
+// An earlier export in the directory: refused, or with overwrite its files (and no others)
+// removed before the new one, which then lists only its own frames.
+TEST(VtkExport, AnEarlierExportIsRefusedOrReplaced) {
+  Scenario scenario = load_scenario("fig21-moving-target");
+  CpuSimulation sim(scenario, 2);
+  VtkOptions options;
+  options.dir = fresh_dir("earlier");
+  {
+    VtkExporter first(options, sim.scenario(), 2);
+    for (int f = 0; f < 3; ++f) {
+      sim.step_frame(true);
+      first.offer(sim.snapshot());
+    }
+  }
+  EXPECT_EQ(earlier_export_files(options.dir).size(), 5u);  // .pvd, trajectories, 3 frames
+  std::ofstream(options.dir / "frames" / "flock_1.vtp") << "mine\n";
+  std::ofstream(options.dir / "frames" / "flock_000001.vtp.bak") << "mine\n";
+  std::ofstream(options.dir / "notes.txt") << "mine\n";
+  try {
+    VtkExporter again(options, sim.scenario(), 2);
+    FAIL() << "an earlier export was not refused";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds an earlier run's export (flock.pvd, trajectories.vtp, 3 frames)"),
+              std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_pvd(options.dir / "flock.pvd").size(), 3u);  // untouched
+  options.overwrite = true;
+  {
+    VtkExporter replacing(options, sim.scenario(), 2);
+    sim.step_frame(true);
+    replacing.offer(sim.snapshot());
+  }
+  EXPECT_EQ(read_pvd(options.dir / "flock.pvd").size(), 1u);
+  EXPECT_FALSE(fs::exists(options.dir / "frames" / "flock_000001.vtp"));
+  for (const char* mine : {"frames/flock_1.vtp", "frames/flock_000001.vtp.bak", "notes.txt"})
+    EXPECT_EQ(read_text(options.dir / mine), "mine\n") << mine;
 }
 
 }  // namespace

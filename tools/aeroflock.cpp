@@ -235,7 +235,8 @@ int run(const RunOptions& opt) {
   g_signal = 0;
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
-  action.sa_flags = SA_RESETHAND;
+  // SA_RESTART: a write under way (a video frame into ffmpeg's pipe) goes on, not half done.
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
