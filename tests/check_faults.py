@@ -4,7 +4,8 @@
 usage: python3 tests/check_faults.py AEROFLOCK WORKDIR MODE [options]
 
   full-disk          --vtk into small tmpfs mounts (11 sizes, in a user and mount namespace of
-                     unshare -rm): exit 2, "aeroflock: error: cannot write PATH: No space left on
+                     unshare -rm; where none can be mounted, or with --injected, directories that
+                     --fake-disk-lib LIB, tests/fake_full_disk.cpp, fills at those sizes): exit 2, "aeroflock: error: cannot write PATH: No space left on
                      device", the .pvd listing exactly the frame files there, the trajectories
                      valid, no temporary, the summary written with the error where it fits.
   signal             --signal INT|TERM --backend cpu|vulkan [--video]: the signal mid-run; exit
@@ -18,7 +19,7 @@ usage: python3 tests/check_faults.py AEROFLOCK WORKDIR MODE [options]
                      and a succeeding run.
 
 Exits 0 when all is well, 1 with the reasons otherwise, 77 (skipped) when VTK's Python modules
-cannot be imported or (full-disk) no tmpfs can be mounted.
+cannot be imported or (full-disk) no tmpfs can be mounted and no --fake-disk-lib is given.
 """
 import argparse
 import json
@@ -106,26 +107,37 @@ def report(cv_errors, what):
 
 
 def full_disk(opt):
-    if os.geteuid() != 0 and not opt.in_namespace:
+    tmpfs = not opt.injected
+    if tmpfs and os.geteuid() != 0 and not opt.in_namespace:
         # Root in a namespace of our own: mount may then make a tmpfs.
-        os.execvp("unshare", ["unshare", "-rm", sys.executable, os.path.abspath(__file__), *sys.argv[1:], "--in-namespace"])
+        if shutil.which("unshare") and run(["unshare", "-rm", "true"]).returncode == 0:
+            os.execvp("unshare", ["unshare", "-rm", sys.executable, os.path.abspath(__file__), *sys.argv[1:], "--in-namespace"])
+        tmpfs = False
     cv = vtk_check()
     # The export needs about 1.3 MB (67 frames of 100 birds, ~20 kB each): every size fills up, at
     # a different file (the first frame, a later one, the .pvd, the trajectories).
     sizes_kib = [4, 8, 16, 24, 32, 48, 64, 96, 128, 200, 400]
     for i, kib in enumerate(sizes_kib):
         mount = fresh(os.path.join(opt.workdir, f"disk{kib}k"))
-        m = run(["mount", "-t", "tmpfs", "-o", f"size={kib}k", "tmpfs", mount])
-        if m.returncode != 0:
-            print(f"SKIPPED: cannot mount a tmpfs: {m.stderr.strip()}")
-            sys.exit(77)
+        env = None
+        if tmpfs:
+            m = run(["mount", "-t", "tmpfs", "-o", f"size={kib}k", "tmpfs", mount])
+            if m.returncode != 0:
+                print(f"cannot mount a tmpfs: {m.stderr.strip()}")
+                tmpfs = False
+        if not tmpfs:
+            if not opt.fake_disk_lib:
+                print("SKIPPED: no tmpfs can be mounted, and no --fake-disk-lib")
+                sys.exit(77)
+            env = dict(os.environ, LD_PRELOAD=opt.fake_disk_lib, AEROFLOCK_FAKE_DISK=f"{mount}:{kib * 1024}",
+                       ASAN_OPTIONS="verify_asan_link_order=0:" + os.environ.get("ASAN_OPTIONS", ""))
         try:
             vtk = os.path.join(mount, "vtk")
             # The summary beside the export (on the full disk) every other size, else elsewhere.
             summary = os.path.join(mount if i % 2 else opt.workdir, f"s{kib}k.json")
             r = run([opt.aeroflock, "run", "fig21-moving-target", "--backend", "cpu", "--birds", "100",
-                     "--seconds", "2", "--vtk", vtk, "--summary", summary])
-            what = f"{kib} KiB"
+                     "--seconds", "2", "--vtk", vtk, "--summary", summary], env=env)
+            what = f"{kib} KiB" + ("" if env is None else " (injected)")
             check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2\n{r.stderr}")
             first = r.stderr.splitlines()[0] if r.stderr else ""
             check(re.fullmatch(rf"aeroflock: error: (cannot write {re.escape(mount)}/\S+|VTK export directory \S+: "
@@ -148,7 +160,8 @@ def full_disk(opt):
                 check(summary.startswith(mount) and f"cannot write {summary}" in r.stderr,
                       f"{what}: no summary, and no error about it: {r.stderr!r}")
         finally:
-            run(["umount", mount])
+            if env is None:
+                run(["umount", mount])
 
 
 def signal_run(opt):
@@ -282,10 +295,12 @@ def main():
     parser.add_argument("--signal", choices=["INT", "TERM"], default="TERM")
     parser.add_argument("--backend", choices=["cpu", "vulkan"], default="cpu")
     parser.add_argument("--video", action="store_true", help="signal: with --video (needs ffmpeg)")
+    parser.add_argument("--injected", action="store_true", help="full-disk: a disk filled by --fake-disk-lib, not a tmpfs")
+    parser.add_argument("--fake-disk-lib", help="full-disk: tests/fake_full_disk.cpp built, for LD_PRELOAD")
     parser.add_argument("--in-namespace", action="store_true", help=argparse.SUPPRESS)
     opt = parser.parse_args()
     opt.aeroflock = os.path.abspath(opt.aeroflock)
-    opt.workdir = os.path.abspath(opt.workdir)
+    opt.workdir = os.path.realpath(opt.workdir)
     os.makedirs(opt.workdir, exist_ok=True)
     {"full-disk": full_disk, "signal": signal_run, "kill": kill_run, "rerun": rerun,
      "summary-tmp": summary_tmp}[opt.mode](opt)
