@@ -184,6 +184,9 @@ def signal_run(opt):
           f"summary: interrupted {s.get('interrupted')}, signal {s.get('signal')}, error {s.get('error')}")
     cv_errors, times, _ = cv.check_export(os.path.join(out, "vtk"), birds=300, min_frames=3)
     report(cv_errors, "export")
+    q = s.get("vtk_queue") or {}
+    check(q.get("bound_frames") == 4 and 1 <= q.get("high_water_frames", 0) <= 4 and q.get("high_water_bytes", 0) > 0,
+          f"summary: vtk_queue {q}")
     # The files end at the last frame due for export (every 2nd, 0.03 s each) up to the stop.
     stop = s.get("sim_seconds", -1)
     check(times and stop - 0.06 - 1e-9 < times[-1] <= stop + 1e-9, f"last frame {times[-1:]} s, stopped at {stop} s")

@@ -180,8 +180,6 @@ std::string flock_counts(const Scenario& scenario, const std::vector<BirdState>&
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
                    const std::string& summary_path, const VtkExporter* vtk,
                    const std::vector<std::string>& images, bool interrupted) {
-  // A file that could not be written is not named as written.
-  const bool failed = !r.error.empty();
   const FlockStatistics& s = r.stats;
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
   std::printf("scenario         %s\n", r.scenario.c_str());
@@ -205,9 +203,10 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
                 "polarisation %.3f, largest cluster %.1f %%\n",
                 f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close, f.metrics.polarisation,
                 100 * f.metrics.largest_cluster);
-  if (!summary_path.empty() && !failed) std::printf("summary          %s\n", summary_path.c_str());
+  // Only the files written are named (summary_path is empty when its write failed).
+  if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
   for (const std::string& line : images) std::printf("%s\n", line.c_str());
-  if (vtk && !failed)
+  if (vtk && !vtk->failed())
     std::printf("vtk              %s (%zu frame%s of %zu bird%s: flock.pvd, trajectories.vtp)\n",
                 vtk->dir().c_str(), vtk->frames_added(), vtk->frames_added() == 1 ? "" : "s",
                 vtk->selected().size(), vtk->selected().size() == 1 ? "" : "s");
@@ -218,7 +217,7 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   if (interrupted)
     std::printf("interrupted      at t = %.3f s (%s)\n", r.sim_seconds,
                 r.signal == "SIGINT" ? "SIGINT, Ctrl-C" : r.signal.c_str());
-  if (failed) std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
+  if (!r.error.empty()) std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
 }
 
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
@@ -365,15 +364,17 @@ int run(const RunOptions& opt) {
   }
   if (interrupted) summary.signal = g_signal == SIGTERM ? "SIGTERM" : "SIGINT";
   if (!errors.empty()) summary.error = errors.front();
+  std::string summary_written = opt.summary;
   if (!opt.summary.empty()) {
     try {
       write_summary(opt.summary, summary);
     } catch (const std::runtime_error& e) {
       errors.push_back(e.what());
       if (summary.error.empty()) summary.error = e.what();
+      summary_written.clear();
     }
   }
-  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, opt.summary,
+  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, summary_written,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
   if (!errors.empty()) {
     std::fflush(stdout);
