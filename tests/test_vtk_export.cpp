@@ -542,6 +542,7 @@ TEST(VtkExport, WriterErrorIsReportedByFinish) {
 // frames the writer has begun never exceed the bound and the one it is writing.
 TEST(VtkExport, ASlowDiskMakesTheRunWaitAndLosesNoFrame) {
   Scenario scenario = load_scenario("fig21-moving-target");
+  scenario.steps_per_frame = 1;  // frames far faster than the disk
   CpuSimulation sim(scenario, 4);
   VtkOptions options;
   options.dir = fresh_dir("slow");
@@ -566,7 +567,9 @@ TEST(VtkExport, ASlowDiskMakesTheRunWaitAndLosesNoFrame) {
   exporter.finish();
   EXPECT_LE(most_ahead, 2 + 1) << "frames queued beyond the bound";
   EXPECT_GE(offering, (kFrames - 2 - 1) * kDelay) << "the run did not wait for the disk";
-  EXPECT_EQ(exporter.queue_high_water().frames, 2u);
+  // Its own count agrees (2 unless a busy machine let the writer keep up).
+  EXPECT_LE(exporter.queue_high_water().frames, 2u);
+  EXPECT_GE(exporter.queue_high_water().frames, 1u);
   EXPECT_EQ(exporter.frames_added(), size_t(kFrames));
   const std::vector<PvdEntry> entries = read_pvd(options.dir / "flock.pvd");
   ASSERT_EQ(entries.size(), size_t(kFrames));
