@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 #include <span>
+#include <stdexcept>
+#include <string>
 
 #include "gpu/shaders.h"
 #include "model/constants.h"
@@ -229,6 +231,13 @@ void GpuSimulation::prepare_forces() {
   }
 }
 
+void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
+  if (steps < 1 || steps > kMaxStepsPerDispatch)
+    throw std::invalid_argument("steps per dispatch: " + std::to_string(steps) + " is not in 1.." +
+                                std::to_string(kMaxStepsPerDispatch));
+  steps_per_dispatch_ = steps;
+}
+
 void GpuSimulation::step(uint32_t steps, bool record_forces) { submit_frames(1, steps, record_forces); }
 
 void GpuSimulation::step_frames(uint32_t frames) {
@@ -249,7 +258,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   StepConstants c{};  // what every frame of the submission shares; the loop sets the rest
   c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
   c.dt = float(scenario().dt);
-  c.steps = steps;
+  c.frame_steps = steps;
   c.bird_count = count_;
   c.turning = uint32_t(world().turning);
   c.ground_effect = world().ground_effect ? 1u : 0u;
@@ -278,10 +287,19 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     c.targets_base = f * per_frame;
     barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes
     if (flocking_) record_perception(cmd, slot, c);
-    if (record_forces)
-      step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
-    else
-      step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+    // The frame's steps, at most steps_per_dispatch_ a dispatch (kMaxStepsPerDispatch); a frame
+    // of 0 steps is one dispatch still (it retiles, it may record forces).
+    for (uint32_t first = 0;;) {
+      c.first_step = first;
+      c.steps = std::min(steps - first, steps_per_dispatch_);
+      if (first > 0) barrier_to_compute(cmd);  // after the part before
+      if (record_forces)
+        step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+      else
+        step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+      first += c.steps;
+      if (first == steps) break;
+    }
     end_frame(steps);
   }
   record_readback(cmd, birds_, slot.readback);

@@ -1,5 +1,5 @@
 // The flock stepped by the compute shader (step.comp): every bird one element of a storage
-// buffer, a frame's steps in one dispatch, the state read back double-buffered without stalling
+// buffer, a frame's steps in one dispatch (several for a long frame), the state read back double-buffered without stalling
 // the stepping.
 #pragma once
 
@@ -18,6 +18,15 @@ namespace aeroflock::gpu {
 // The most frames step_frames() records in one command buffer (the targets' buffer holds theirs).
 inline constexpr uint32_t kFramesPerSubmission = 16;
 
+// The most steps one dispatch of step.comp takes: a longer frame is split into several (step.glsl),
+// which step exactly as one. Lavapipe ends every loop of a shader once the loops together have
+// come round 65,535 times (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one count per invocation group
+// for all its loops): the step loop and the landing curve's search (model.glsl:
+// landing_progress) take at least 2 a step, so a 32,769th step was silently never taken, and a
+// landing's search takes up to 128 more per bird of the group. 4,096 steps leave room for that,
+// and keep a dispatch short for a driver that stops long ones (a watchdog).
+inline constexpr uint32_t kMaxStepsPerDispatch = 4096;
+
 class GpuSimulation final : public Simulation {
  public:
   // Throws gpu::Error when the flock does not fit the device (naming the limit and the largest
@@ -30,7 +39,8 @@ class GpuSimulation final : public Simulation {
   std::string backend() const override { return "vulkan"; }
   std::string device() const override;
   size_t bird_count() const override { return count_; }
-  // Records and submits one dispatch of `steps` steps; returns without waiting for it.
+  // Records and submits a frame of `steps` steps (one dispatch, or one per kMaxStepsPerDispatch);
+  // returns without waiting for it.
   void step(uint32_t steps, bool record_forces = false) override;
   void step_frames(uint32_t frames) override;
   Snapshot snapshot() override;
@@ -39,6 +49,10 @@ class GpuSimulation final : public Simulation {
   void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
+  // The most steps a dispatch takes (1 to kMaxStepsPerDispatch): tests split frames finer to
+  // compare the parts with the whole.
+  void set_steps_per_dispatch(uint32_t steps);
+  uint32_t steps_per_dispatch() const { return steps_per_dispatch_; }
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
@@ -81,6 +95,7 @@ class GpuSimulation final : public Simulation {
   std::unique_ptr<Buffer> forces_;
   Slot slots_[2];
   int last_ = -1;  // the slot of the last frame (-1: none yet)
+  uint32_t steps_per_dispatch_ = kMaxStepsPerDispatch;
   std::vector<BirdState> initial_;
   Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
 };
