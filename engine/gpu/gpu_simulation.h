@@ -15,7 +15,8 @@
 
 namespace aeroflock::gpu {
 
-// The most frames step_frames() records in one command buffer (the targets' buffer holds theirs).
+// The most frames step_frames() records in one command buffer (the targets' buffer holds theirs;
+// fewer where so many targets would not fit one storage buffer: frames_per_submission()).
 inline constexpr uint32_t kFramesPerSubmission = 16;
 
 // The most steps one dispatch of step.comp takes: a longer frame is split into several (step.glsl),
@@ -54,6 +55,8 @@ class GpuSimulation final : public Simulation {
   // compare the parts with the whole.
   void set_steps_per_dispatch(uint32_t steps);
   uint32_t steps_per_dispatch() const { return steps_per_dispatch_; }
+  // The frames step_frames() records in one command buffer (at most kFramesPerSubmission).
+  uint32_t frames_per_submission() const { return frames_per_submission_; }
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
@@ -91,6 +94,7 @@ class GpuSimulation final : public Simulation {
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
   std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
   ComputePipeline step_;
+  uint32_t frames_per_submission_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.
   std::unique_ptr<ComputePipeline> step_forces_;
   std::unique_ptr<Buffer> forces_;
