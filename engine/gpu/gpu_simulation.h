@@ -1,6 +1,6 @@
 // The flock stepped by the compute shader (step.comp): every bird one element of a storage
-// buffer, a frame's steps in one dispatch (several for a long frame), the state read back double-buffered without stalling
-// the stepping.
+// buffer, a frame's steps in one dispatch (several for a long frame), the state read back
+// double-buffered without stalling the stepping.
 #pragma once
 
 #include <cstdint>
