@@ -182,19 +182,22 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
       step_(device, shader_spirv("step"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-             kBindingBranches, kBindingPerception},
+             kBindingBranches, kBindingPerception, kBindingStepsShort},
             sizeof(StepConstants), 2),
       frames_per_submission_(frames_fitting(device, world())),
-      slots_{{targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host)},
-             {targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host)}},
+      slots_{{targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+              Buffer(device, sizeof(uint32_t), Memory::host)},
+             {targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+              Buffer(device, sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
   if (any_flocking(this->scenario()))
     flocking_ = std::make_unique<Flocking>(device, this->scenario(), initial_);
   for (Slot& slot : slots_) {
+    std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
     slot.set = step_.make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_});
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, &slot.steps_short});
     if (!flocking_) continue;
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
@@ -244,21 +247,29 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
-                            kBindingRouteTargets, kBindingBranches, kBindingPerception, kBindingForces},
+      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
+                           kBindingBranches, kBindingPerception, kBindingForces, kBindingStepsShort},
       sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
     slot.forces_set = step_forces_->make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get()});
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get(),
+         &slot.steps_short});
   }
 }
 
 void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
-  if (steps < 1 || steps > kMaxStepsPerDispatch)
-    throw std::invalid_argument("steps per dispatch: " + std::to_string(steps) + " is not in 1.." +
-                                std::to_string(kMaxStepsPerDispatch));
+  if (steps < 1) throw std::invalid_argument("steps per dispatch: 0");
   steps_per_dispatch_ = steps;
+}
+
+void GpuSimulation::check_steps_taken(const Slot& slot) const {
+  const uint32_t short_birds = *reinterpret_cast<const uint32_t*>(slot.steps_short.mapped());
+  if (short_birds == 0) return;
+  throw Error(device() + " ended the steps of " + std::to_string(short_birds) + " of " + std::to_string(count_) +
+              " birds early (a limit of the driver's on a shader's loops; dispatches of " +
+              std::to_string(steps_per_dispatch_) + " steps at most): frame " + std::to_string(slot.snapshot.frame) +
+              "'s state is wrong");
 }
 
 void GpuSimulation::step(uint32_t steps, bool record_forces) { submit_frames(1, steps, record_forces); }
@@ -273,6 +284,12 @@ void GpuSimulation::step_frames(uint32_t frames) {
 
 void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_forces) {
   if (record_forces) prepare_forces();
+  if (last_ >= 0 && slots_[1 - last_].fence != VK_NULL_HANDLE) {  // the slot about to be reused
+    Slot& reused = slots_[1 - last_];
+    submitter_.wait(reused.fence);  // as begin() would
+    check_steps_taken(reused);     // before its count is cleared
+    std::memset(reused.steps_short.mapped(), 0, sizeof(uint32_t));
+  }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];
   auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
@@ -346,6 +363,7 @@ uint64_t GpuSimulation::ready_frame() const {
 Snapshot GpuSimulation::read(Slot& slot) {
   if (!slot.unpacked) {
     submitter_.wait(slot.fence);
+    check_steps_taken(slot);
     const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
     slot.birds.resize(count_);
     for (uint32_t i = 0; i < count_; ++i) slot.birds[i] = unpack(gpu[i]);

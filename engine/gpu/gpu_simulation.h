@@ -51,8 +51,8 @@ class GpuSimulation final : public Simulation {
   void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
-  // The most steps a dispatch takes (1 to kMaxStepsPerDispatch): tests split frames finer to
-  // compare the parts with the whole.
+  // The most steps a dispatch takes (kMaxStepsPerDispatch unless set): tests split frames finer
+  // to compare the parts with the whole, or coarser to see a driver's limit caught.
   void set_steps_per_dispatch(uint32_t steps);
   uint32_t steps_per_dispatch() const { return steps_per_dispatch_; }
   // The frames step_frames() records in one command buffer (at most kFramesPerSubmission).
@@ -65,6 +65,7 @@ class GpuSimulation final : public Simulation {
   // What one frame in flight owns: its targets, its readback and its unpacked state.
   struct Slot {
     Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
+    Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)
     std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
     std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
     VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE, perceive_set = VK_NULL_HANDLE;
@@ -83,6 +84,8 @@ class GpuSimulation final : public Simulation {
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
   };
   Snapshot read(Slot& slot);
+  // Throws Error when the finished submission of `slot` had birds' steps cut short by the device.
+  void check_steps_taken(const Slot& slot) const;
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);

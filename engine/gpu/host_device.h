@@ -79,6 +79,8 @@ AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFloc
 AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
 AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
+// The birds whose steps a dispatch ended short of its steps (step.glsl): a driver's limit caught.
+AF_UINT(kBindingStepsShort, 23)
 
 // The parts of its cell along each axis for which the search has an order of its own (flock.h:
 // grid_search_order): a bird stops sooner the finer they are.

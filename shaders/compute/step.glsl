@@ -11,6 +11,9 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };  // model.glsl reads pc
 layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perceptions { GpuPerception perception[]; };
+// Counts the birds whose loop ended before its steps were taken: a driver may end a shader's
+// loops (lavapipe after 65,535 turns); the host refuses the frame rather than show it.
+layout(std430, set = 0, binding = kBindingStepsShort) buffer StepsShort { uint steps_short; };
 #ifdef RECORD_FORCES
 layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuForces forces_out[]; };
 #endif
@@ -40,7 +43,12 @@ void main() {
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
   uint end = pc.first_step + pc.steps;
-  for (uint k = pc.first_step; k < end; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+  uint taken = 0u;  // counted apart from k, so that no compiler reads it off the loop's condition
+  for (uint k = pc.first_step; k < end; ++k) {
+    step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+    ++taken;
+  }
+  if (taken != pc.steps) atomicAdd(steps_short, 1u);
   bool frame_ends = end == pc.frame_steps;
   if (frame_ends) retile(b);
   birds[i] = b;
