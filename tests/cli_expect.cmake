@@ -3,6 +3,7 @@
 #   [-DEXPECT_STDERR=regex] [-DEXPECT_STDOUT=regex] [-DCLEAN_DIR=dir: removed before the run] [-DSUMMARY=file.json: must exist with every summary key]
 #   [-DPNG=file.png -DPNG_SIZE=WxH: must exist, a PNG of that size]
 #   [-DEXPECT_ABSENT=path: must not exist after the run] [-DSTDOUT_FILE=file: stdout saved there]
+#   [-DMAX_RATE=N with SUMMARY: its bird_steps_per_second below N when its device is lavapipe (llvmpipe)]
 string(REPLACE "," ";" args "${ARGS}")
 if(SUMMARY)
   file(REMOVE "${SUMMARY}")
@@ -44,6 +45,14 @@ if(SUMMARY)
       message(FATAL_ERROR "${SUMMARY}: no key ${key}")
     endif()
   endforeach()
+  # A bound on the rate, for a rate no lavapipe reaches: only what a wall time read too soon
+  # would show (a GPU may be that fast: no bound there).
+  string(JSON device GET "${json}" device)
+  string(JSON rate GET "${json}" bird_steps_per_second)
+  if(MAX_RATE AND device MATCHES "llvmpipe" AND NOT rate LESS MAX_RATE)
+    message(FATAL_ERROR "${SUMMARY}: ${rate} bird-steps/s, not below ${MAX_RATE}: the wall time was read before "
+                        "the device finished")
+  endif()
 endif()
 if(PNG)
   if(NOT EXISTS "${PNG}")

@@ -2,13 +2,16 @@
 // (shaders/compute/selftest_add.comp), with the Khronos validation layer on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <string>
 #include <numeric>
 #include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/compute.h"
 #include "gpu/device.h"
+#include "gpu/host_device.h"
 #include "gpu/shaders.h"
 
 namespace gpu = aeroflock::gpu;
@@ -170,6 +173,31 @@ TEST(GpuDevice, ChecksStorageSize) {
       EXPECT_NE(m.find("maxStorageBufferRange"), std::string::npos) << m;
     }
   }
+}
+
+// Issue 16: a flock is checked against the work groups one dispatch may have, as against the
+// storage: the error names the limit and the largest flock.
+TEST(GpuDevice, ChecksGroupCount) {
+  SKIP_WITHOUT_VULKAN();
+  gpu::Device device;
+  const uint64_t most = uint64_t(device.limits().maxComputeWorkGroupCount[0]) * gpu::kWorkgroupSize;
+  EXPECT_NO_THROW(gpu::check_group_count(device, most, gpu::kWorkgroupSize));
+  try {
+    gpu::check_group_count(device, most + 1, gpu::kWorkgroupSize);
+    FAIL() << "no error for " << most + 1 << " birds";
+  } catch (const gpu::Error& e) {
+    const std::string m = e.what();
+    std::printf("%s\n", m.c_str());
+    EXPECT_NE(m.find(std::to_string(most + 1) + " birds need"), std::string::npos) << m;
+    EXPECT_NE(m.find("(maxComputeWorkGroupCount[0]): at most " + std::to_string(most) + " birds"), std::string::npos)
+        << m;
+  }
+  EXPECT_EQ(gpu::storage_capacity(device, 1000), [&] {
+    const gpu::DeviceInfo& info = device.info();
+    VkDeviceSize limit = std::min(info.max_storage_buffer_range, info.device_local_heap);
+    if (info.max_allocation_size > 0) limit = std::min(limit, info.max_allocation_size);
+    return limit / 1000;
+  }());
 }
 
 TEST(GpuDevice, BadIndexListsDevices) {

@@ -122,6 +122,8 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
   EXPECT_EQ(perceive.offsets("GpuPerception").at("seen_key"), offsetof(GpuPerception, seen_key));
   // The push-constant blocks, member by member where C++ can name them.
   EXPECT_EQ(step.offsets("StepConstants").at("next_targets"), offsetof(StepConstants, next_targets));
+  EXPECT_EQ(step.offsets("StepConstants").at("first_step"), offsetof(StepConstants, first_step));
+  EXPECT_EQ(forces.offsets("StepConstants").at("frame_steps"), offsetof(StepConstants, frame_steps));
   EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"), offsetof(StepConstants, frame_seconds));
   EXPECT_EQ(perceive.offsets("StepConstants").at("grid_cell"), offsetof(StepConstants, grid_cell));
   EXPECT_EQ(pose.offsets("PoseConstants").at("lod_scale"), offsetof(PoseConstants, lod_scale));

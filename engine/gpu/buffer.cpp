@@ -1,5 +1,6 @@
 #include "gpu/buffer.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -122,6 +123,15 @@ std::vector<std::byte> Buffer::download() const {
   Submitter(*device_).run([&](VkCommandBuffer cmd) { record_readback(cmd, *this, staging); });
   std::memcpy(out.data(), staging.mapped(), size_);
   return out;
+}
+
+VkDeviceSize storage_capacity(const Device& device, size_t element_size) {
+  if (element_size == 0) throw std::invalid_argument("storage_capacity: element_size 0");
+  const DeviceInfo& info = device.info();
+  VkDeviceSize most = ~VkDeviceSize{0};
+  for (VkDeviceSize limit : {info.max_storage_buffer_range, info.max_allocation_size, info.device_local_heap})
+    if (limit > 0) most = std::min(most, limit);
+  return most / element_size;
 }
 
 void check_storage_size(const Device& device, VkDeviceSize bytes, size_t element_size,

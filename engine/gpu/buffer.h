@@ -59,5 +59,8 @@ class Buffer {
 // (maxStorageBufferRange): at most 762600 birds".
 void check_storage_size(const Device& device, VkDeviceSize bytes, size_t element_size,
                         std::string_view what = "birds");
+// The most elements of `element_size` bytes that one storage buffer of the device holds, by the
+// same limits.
+VkDeviceSize storage_capacity(const Device& device, size_t element_size);
 
 }  // namespace aeroflock::gpu

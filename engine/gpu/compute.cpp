@@ -207,6 +207,16 @@ uint32_t group_count(uint64_t items, uint32_t local_size) {
   return static_cast<uint32_t>(groups);
 }
 
+void check_group_count(const Device& device, uint64_t items, uint32_t local_size, std::string_view what) {
+  const uint64_t most_groups = device.limits().maxComputeWorkGroupCount[0];
+  const uint64_t groups = (items + local_size - 1) / local_size;
+  if (groups <= most_groups) return;
+  throw Error(std::to_string(items) + " " + std::string(what) + " need " + std::to_string(groups) +
+              " work groups of " + std::to_string(local_size) + " in one dispatch; " + device.name() + " allows " +
+              std::to_string(most_groups) + " (maxComputeWorkGroupCount[0]): at most " +
+              std::to_string(most_groups * local_size) + " " + std::string(what));
+}
+
 // --- Barriers and copies --------------------------------------------------------------------
 
 namespace {

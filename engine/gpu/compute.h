@@ -6,6 +6,7 @@
 #include <functional>
 #include <initializer_list>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -80,6 +81,11 @@ class ComputePipeline {
 
 // Work groups of `local_size` needed for `items` invocations.
 uint32_t group_count(uint64_t items, uint32_t local_size);
+// Throws Error unless one dispatch of `items` invocations, `local_size` a work group, fits the
+// device's maxComputeWorkGroupCount[0]; the message names the most that fit, e.g. "5000000 birds
+// need 78125 work groups of 64 in one dispatch; llvmpipe (...) allows 65535
+// (maxComputeWorkGroupCount[0]): at most 4194240 birds".
+void check_group_count(const Device& device, uint64_t items, uint32_t local_size, std::string_view what = "birds");
 
 // Barriers (global memory barriers; every earlier compute or transfer write is covered):
 // earlier compute/transfer writes -> compute shader reads and writes (and earlier reads before

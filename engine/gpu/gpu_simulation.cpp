@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 #include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "gpu/shaders.h"
 #include "model/constants.h"
@@ -10,9 +13,11 @@
 namespace aeroflock::gpu {
 namespace {
 
-// A buffer holding `items` (at least one element, so that every binding is a valid buffer).
+// A buffer holding `items` (at least one element, so that every binding is a valid buffer), once
+// the device is known to hold that many (`what` they are, for the error).
 template <class T>
-Buffer buffer_with(const Device& device, const std::vector<T>& items, Memory memory) {
+Buffer buffer_with(const Device& device, const std::vector<T>& items, Memory memory, std::string_view what) {
+  check_storage_size(device, std::max<size_t>(items.size(), 1) * sizeof(T), sizeof(T), what);
   Buffer b(device, std::max<size_t>(items.size(), 1) * sizeof(T), memory);
   if (!items.empty()) b.upload(std::as_bytes(std::span<const T>(items)));
   return b;
@@ -24,34 +29,53 @@ std::vector<GpuSpecies> pack_species(const Scenario& s) {
   return out;
 }
 
+// The frames a submission records: kFramesPerSubmission, fewer where that many frames' targets
+// would not fit one storage buffer (a world of 10^5 targets on lavapipe); an error naming the
+// targets where one frame's do not.
+uint32_t frames_fitting(const Device& device, const World& world) {
+  const size_t frame_bytes = 2 * sizeof(GpuTarget);  // a target at a frame's start and the next's
+  check_storage_size(device, world.targets.size() * frame_bytes, frame_bytes, "targets");
+  if (world.targets.empty()) return kFramesPerSubmission;
+  return uint32_t(std::clamp<VkDeviceSize>(storage_capacity(device, frame_bytes) / world.targets.size(), 1,
+                                           kFramesPerSubmission));
+}
+
 // A frame's targets: where they are at its start, then at the next frame's start; for each frame
 // of a submission.
-Buffer targets_buffer(const Device& device, const World& world) {
-  return Buffer(device, std::max<size_t>(2 * world.targets.size() * kFramesPerSubmission, 1) * sizeof(GpuTarget),
-                Memory::host);
+Buffer targets_buffer(const Device& device, const World& world, uint32_t frames) {
+  return Buffer(device, std::max<size_t>(2 * world.targets.size() * frames, 1) * sizeof(GpuTarget), Memory::host);
+}
+
+// Throws Error unless `birds` fit the device: their states in one storage buffer, one invocation
+// each in one dispatch (maxComputeWorkGroupCount). The tighter limit is checked first, so that
+// the error's "at most" is the largest flock that fits.
+void check_flock_fits(const Device& device, uint64_t birds) {
+  const uint64_t by_groups = uint64_t(device.limits().maxComputeWorkGroupCount[0]) * kWorkgroupSize;
+  if (storage_capacity(device, sizeof(GpuBird)) > by_groups) check_group_count(device, birds, kWorkgroupSize);
+  check_storage_size(device, birds * sizeof(GpuBird), sizeof(GpuBird));
+  check_group_count(device, birds, kWorkgroupSize);
 }
 
 Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds) {
-  check_storage_size(device, birds.size() * sizeof(GpuBird), sizeof(GpuBird));
+  check_flock_fits(device, birds.size());
   std::vector<GpuBird> packed;
   packed.reserve(birds.size());
   for (const BirdState& b : birds) packed.push_back(pack(b));
-  return buffer_with(device, packed, Memory::device_local);
+  return buffer_with(device, packed, Memory::device_local, "birds");
 }
 
 // The scenario's birds, once the device is known to hold that many (before spawning them).
 std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scenario,
                                      uint32_t birds_override) {
-  check_storage_size(device, spawn_count(scenario, birds_override) * sizeof(GpuBird),
-                     sizeof(GpuBird));
+  check_flock_fits(device, spawn_count(scenario, birds_override));
   return spawn_birds(scenario, birds_override);
 }
 
 // Every bird's perception, none seen yet (one element when no flock flocks).
 Buffer perception_buffer(const Device& device, size_t birds, bool flocking) {
   const size_t n = flocking ? birds : 0;
-  check_storage_size(device, std::max<size_t>(n, 1) * sizeof(GpuPerception), sizeof(GpuPerception), "birds' perception");
-  return buffer_with(device, std::vector<GpuPerception>(n, pack(Perception{})), Memory::device_local);
+  return buffer_with(device, std::vector<GpuPerception>(n, pack(Perception{})), Memory::device_local,
+                     "birds' perception");
 }
 
 Buffer grid_buffer(const Device& device, size_t words, const char* what) {
@@ -97,7 +121,7 @@ double farthest_seen(const Scenario& scenario, const std::vector<BirdState>& bir
 
 Buffer search_buffer(const Device& device, const GridShape& shape, double radius) {
   const std::vector<glm::ivec4> order = grid_search_order(shape, radius, kSearchParts);
-  return buffer_with(device, order, Memory::device_local);
+  return buffer_with(device, order, Memory::device_local, "grid search offsets");
 }
 
 }  // namespace
@@ -151,25 +175,29 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       device_(device),
       count_(static_cast<uint32_t>(birds.size())),
       birds_(make_bird_buffer(device, birds)),
-      species_(buffer_with(device, pack_species(this->scenario()), Memory::device_local)),
-      routes_(buffer_with(device, pack(world()).routes, Memory::device_local)),
-      route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local)),
-      branches_(buffer_with(device, pack(world()).branches, Memory::device_local)),
+      species_(buffer_with(device, pack_species(this->scenario()), Memory::device_local, "species")),
+      routes_(buffer_with(device, pack(world()).routes, Memory::device_local, "routes")),
+      route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local, "routes' targets")),
+      branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
       step_(device, shader_spirv("step"),
             {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-             kBindingBranches, kBindingPerception},
+             kBindingBranches, kBindingPerception, kBindingStepsShort},
             sizeof(StepConstants), 2),
-      slots_{{targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)},
-             {targets_buffer(device, world()), Buffer(device, birds_.size(), Memory::host)}},
+      frames_per_submission_(frames_fitting(device, world())),
+      slots_{{targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+              Buffer(device, sizeof(uint32_t), Memory::host)},
+             {targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+              Buffer(device, sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
   if (any_flocking(this->scenario()))
     flocking_ = std::make_unique<Flocking>(device, this->scenario(), initial_);
   for (Slot& slot : slots_) {
+    std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
     slot.set = step_.make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_});
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, &slot.steps_short});
     if (!flocking_) continue;
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
@@ -219,21 +247,36 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes,
-                            kBindingRouteTargets, kBindingBranches, kBindingPerception, kBindingForces},
+      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
+                           kBindingBranches, kBindingPerception, kBindingForces, kBindingStepsShort},
       sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
     slot.forces_set = step_forces_->make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get()});
+        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get(),
+         &slot.steps_short});
   }
+}
+
+void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
+  if (steps < 1) throw std::invalid_argument("steps per dispatch: 0");
+  steps_per_dispatch_ = steps;
+}
+
+void GpuSimulation::check_steps_taken(const Slot& slot) const {
+  const uint32_t short_birds = *reinterpret_cast<const uint32_t*>(slot.steps_short.mapped());
+  if (short_birds == 0) return;
+  throw Error(device() + " ended the steps of " + std::to_string(short_birds) + " of " + std::to_string(count_) +
+              " birds early (a limit of the driver's on a shader's loops; dispatches of " +
+              std::to_string(steps_per_dispatch_) + " steps at most): frame " + std::to_string(slot.snapshot.frame) +
+              "'s state is wrong");
 }
 
 void GpuSimulation::step(uint32_t steps, bool record_forces) { submit_frames(1, steps, record_forces); }
 
 void GpuSimulation::step_frames(uint32_t frames) {
   while (frames > 0) {
-    const uint32_t n = std::min(frames, kFramesPerSubmission);
+    const uint32_t n = std::min(frames, frames_per_submission_);
     submit_frames(n, scenario().steps_per_frame, false);
     frames -= n;
   }
@@ -241,6 +284,12 @@ void GpuSimulation::step_frames(uint32_t frames) {
 
 void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_forces) {
   if (record_forces) prepare_forces();
+  if (last_ >= 0 && slots_[1 - last_].fence != VK_NULL_HANDLE) {  // the slot about to be reused
+    Slot& reused = slots_[1 - last_];
+    submitter_.wait(reused.fence);  // as begin() would
+    check_steps_taken(reused);     // before its count is cleared
+    std::memset(reused.steps_short.mapped(), 0, sizeof(uint32_t));
+  }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];
   auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
@@ -249,7 +298,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   StepConstants c{};  // what every frame of the submission shares; the loop sets the rest
   c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
   c.dt = float(scenario().dt);
-  c.steps = steps;
+  c.frame_steps = steps;
   c.bird_count = count_;
   c.turning = uint32_t(world().turning);
   c.ground_effect = world().ground_effect ? 1u : 0u;
@@ -278,10 +327,19 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     c.targets_base = f * per_frame;
     barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes
     if (flocking_) record_perception(cmd, slot, c);
-    if (record_forces)
-      step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
-    else
-      step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+    // The frame's steps, at most steps_per_dispatch_ a dispatch (kMaxStepsPerDispatch); a frame
+    // of 0 steps is one dispatch still (it retiles, it may record forces).
+    for (uint32_t first = 0;;) {
+      c.first_step = first;
+      c.steps = std::min(steps - first, steps_per_dispatch_);
+      if (first > 0) barrier_to_compute(cmd);  // after the part before
+      if (record_forces)
+        step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+      else
+        step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+      first += c.steps;
+      if (first == steps) break;
+    }
     end_frame(steps);
   }
   record_readback(cmd, birds_, slot.readback);
@@ -305,6 +363,7 @@ uint64_t GpuSimulation::ready_frame() const {
 Snapshot GpuSimulation::read(Slot& slot) {
   if (!slot.unpacked) {
     submitter_.wait(slot.fence);
+    check_steps_taken(slot);
     const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
     slot.birds.resize(count_);
     for (uint32_t i = 0; i < count_; ++i) slot.birds[i] = unpack(gpu[i]);

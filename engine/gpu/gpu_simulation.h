@@ -1,6 +1,6 @@
 // The flock stepped by the compute shader (step.comp): every bird one element of a storage
-// buffer, a frame's steps in one dispatch, the state read back double-buffered without stalling
-// the stepping.
+// buffer, a frame's steps in one dispatch (several for a long frame), the state read back
+// double-buffered without stalling the stepping.
 #pragma once
 
 #include <cstdint>
@@ -15,8 +15,19 @@
 
 namespace aeroflock::gpu {
 
-// The most frames step_frames() records in one command buffer (the targets' buffer holds theirs).
+// The most frames step_frames() records in one command buffer (the targets' buffer holds theirs;
+// fewer where so many targets would not fit one storage buffer: frames_per_submission()).
 inline constexpr uint32_t kFramesPerSubmission = 16;
+
+// The most steps one dispatch of step.comp takes: a longer frame is split into several (step.glsl),
+// which step exactly as one. Lavapipe ends every loop of a shader once its loops together have
+// come round 65,535 times (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one count for a group of
+// invocations run as one): the step loop and the landing curve's search (model.glsl:
+// landing_progress; run masked even where no bird lands) take 2 a step, so a frame's 32,769th
+// step and every one after were silently never taken; a bird's landing adds at most 128 turns
+// of the search. 4,096 steps (8,192 turns) leave room for dozens of landings a dispatch, and keep
+// a dispatch short for a driver that stops long ones (a watchdog).
+inline constexpr uint32_t kMaxStepsPerDispatch = 4096;
 
 class GpuSimulation final : public Simulation {
  public:
@@ -30,7 +41,8 @@ class GpuSimulation final : public Simulation {
   std::string backend() const override { return "vulkan"; }
   std::string device() const override;
   size_t bird_count() const override { return count_; }
-  // Records and submits one dispatch of `steps` steps; returns without waiting for it.
+  // Records and submits a frame of `steps` steps (one dispatch, or one per kMaxStepsPerDispatch);
+  // returns without waiting for it.
   void step(uint32_t steps, bool record_forces = false) override;
   void step_frames(uint32_t frames) override;
   Snapshot snapshot() override;
@@ -39,6 +51,12 @@ class GpuSimulation final : public Simulation {
   void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
+  // The most steps a dispatch takes (kMaxStepsPerDispatch unless set): tests split frames finer
+  // to compare the parts with the whole, or coarser to see a driver's limit caught.
+  void set_steps_per_dispatch(uint32_t steps);
+  uint32_t steps_per_dispatch() const { return steps_per_dispatch_; }
+  // The frames step_frames() records in one command buffer (at most kFramesPerSubmission).
+  uint32_t frames_per_submission() const { return frames_per_submission_; }
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
@@ -47,6 +65,7 @@ class GpuSimulation final : public Simulation {
   // What one frame in flight owns: its targets, its readback and its unpacked state.
   struct Slot {
     Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
+    Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)
     std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
     std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
     VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE, perceive_set = VK_NULL_HANDLE;
@@ -65,6 +84,8 @@ class GpuSimulation final : public Simulation {
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
   };
   Snapshot read(Slot& slot);
+  // Throws Error when the finished submission of `slot` had birds' steps cut short by the device.
+  void check_steps_taken(const Slot& slot) const;
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);
@@ -76,11 +97,13 @@ class GpuSimulation final : public Simulation {
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
   std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
   ComputePipeline step_;
+  uint32_t frames_per_submission_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.
   std::unique_ptr<ComputePipeline> step_forces_;
   std::unique_ptr<Buffer> forces_;
   Slot slots_[2];
   int last_ = -1;  // the slot of the last frame (-1: none yet)
+  uint32_t steps_per_dispatch_ = kMaxStepsPerDispatch;
   std::vector<BirdState> initial_;
   Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
 };

@@ -79,6 +79,8 @@ AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFloc
 AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
 AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
+// The birds whose steps a dispatch ended short of its steps (step.glsl): a driver's limit caught.
+AF_UINT(kBindingStepsShort, 23)
 
 // The parts of its cell along each axis for which the search has an order of its own (flock.h:
 // grid_search_order): a bird stops sooner the finer they are.
@@ -178,7 +180,7 @@ struct GpuPerception {
 struct StepConstants {
   AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
   float dt;
-  float time;             // at the start of the dispatch
+  float time;             // at the start of the frame
   uint steps;             // steps this dispatch (0: step_forces.comp records the forces only)
   uint bird_count;
   uint turning;           // TurningModel: 0 tail, 1 fixed-rate
@@ -194,6 +196,8 @@ struct StepConstants {
   float wind_exponent;    // of the power law
   float wind_roughness;   // z0 of the logarithmic profile, cm
   uint targets_base;      // where this frame's targets begin (several frames a submission)
+  uint first_step;        // the frame's steps before this dispatch (a long frame takes several)
+  uint frame_steps;       // the frame's steps: the dispatch that ends it retiles and records forces
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

@@ -1,5 +1,8 @@
-// One frame of the flock: each invocation steps one bird `steps` times with the fixed dt, its
-// state in registers throughout, and writes it back once. step.comp is this; step_forces.comp
+// One frame of the flock, or a part of a long one: each invocation steps one bird `steps` times
+// with the fixed dt, its state in registers throughout, and writes it back once. A frame longer
+// than kMaxStepsPerDispatch (gpu_simulation.h) is several dispatches: each takes the frame's
+// steps from first_step on, the last retiles and records the forces, so that the parts step
+// exactly as one would. step.comp is this; step_forces.comp
 // (RECORD_FORCES) also writes the forces of the step each bird takes next (the exporters' and the
 // cross-check's forces): a pipeline of its own, so that the plain step carries none of it.
 
@@ -8,6 +11,9 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };  // model.glsl reads pc
 layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perceptions { GpuPerception perception[]; };
+// Counts the birds whose loop ended before its steps were taken: a driver may end a shader's
+// loops (lavapipe after 65,535 turns); the host refuses the frame rather than show it.
+layout(std430, set = 0, binding = kBindingStepsShort) buffer StepsShort { uint steps_short; };
 #ifdef RECORD_FORCES
 layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuForces forces_out[]; };
 #endif
@@ -36,16 +42,23 @@ void main() {
   Leg leg = load_leg(b, pc.targets_base);
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
-  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
-  retile(b);
+  uint end = pc.first_step + pc.steps;
+  uint taken = 0u;  // counted apart from k, so that no compiler reads it off the loop's condition
+  for (uint k = pc.first_step; k < end; ++k) {
+    step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+    ++taken;
+  }
+  if (taken != pc.steps) atomicAdd(steps_short, 1u);
+  bool frame_ends = end == pc.frame_steps;
+  if (frame_ends) retile(b);
   birds[i] = b;
 #ifdef RECORD_FORCES
-  {
+  if (frame_ends) {
     // The step is taken again by the next frame, with the targets where it sees them: only its
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
-    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt, seen);
+    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(end) * pc.dt, pc.dt, seen);
   }
 #endif
 }
