@@ -233,8 +233,8 @@ std::string unique_name(const TableReader& r, io::Names& names) {
 void check_above_ground(const TableReader& r, std::string_view key, std::string_view what, double y,
                         const World& world, const Lengths& L, bool on = false) {
   if (!(y > world.ground_height || (on && y == world.ground_height)))
-    r.fail(key, std::string(what) + " (y " + L.text(y) + ") must be " + (on ? "on or " : "") +
-                    "above the ground (height " + L.text(world.ground_height) + ")");
+    r.fail(key, std::string(what) + ", y = " + L.text(y) + ", must be " + (on ? "on or " : "") +
+                    "above the ground at " + L.text(world.ground_height));
 }
 
 // A [[species]] table: a copy of `base` (a preset or an earlier species) with fields overridden.
@@ -330,7 +330,7 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
     r.fail("standing", "species '" + sp.name + "' has stand_height 0: its birds would stand in the ground");
   if (!f.standing)
     check_above_ground(r, r.find("centre") ? "centre" : "extent",
-                       "the lowest point of the spawn box, centre - extent,",
+                       "the spawn box's lowest point, centre - extent",
                        f.spawn_centre.y - spawn_extent(f, sp, f.count).y, s.world, L);
   return f;
 }

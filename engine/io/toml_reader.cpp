@@ -17,7 +17,8 @@ std::string join(std::span<const std::string_view> names) {
   return out;
 }
 
-std::string number_text(double v) {
+template <class Number>
+std::string number_text(Number v) {
   char text[32];
   return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
 }
