@@ -42,17 +42,19 @@ Checked check_number(const toml::node& node, const Range& range) {
   const double v = node.is_integer() ? static_cast<double>(node.as_integer()->get())
                                      : node.as_floating_point()->get();
   if (!std::isfinite(v)) return {v, "a finite number"};
-  // The device computes in float: below FLT_MIN a number is subnormal there (flushed to 0, or
-  // its digits lost), so a period or a direction that is not 0 would become one.
-  if (v != 0 && std::fabs(v) < std::numeric_limits<float>::min())
-    return {v, "0 or a number at least " + number_text(std::numeric_limits<float>::min()) +
-                   " in size (a smaller one is subnormal in the device's float)"};
   if (range.or_zero && v == 0) return {v, ""};
   if (v > range.max)
     return {v, range.why.empty() ? (range.or_zero ? "0 or " : "") + std::string("a number from ") +
                                        number_text(range.min) + " to " + number_text(range.max)
                                  : "at most " + number_text(range.max) + " (" + std::string(range.why) + ")"};
   if (v < range.min || (range.above_min && v == range.min)) return {v, range_phrase(range)};
+  // Within the range: the device computes in float, where below FLT_MIN a number is subnormal
+  // (flushed to 0, or its digits lost), so a direction or a parameter that is not 0 would be.
+  const bool zero_allowed = range.or_zero || (range.min < 0 || (range.min == 0 && !range.above_min));
+  if (v != 0 && std::fabs(v) < std::numeric_limits<float>::min())
+    return {v, (zero_allowed ? "0 or a number at least " : "a number at least ") +
+                   number_text(std::numeric_limits<float>::min()) +
+                   " in size (a smaller one is subnormal in the device's float)"};
   return {v, ""};
 }
 
