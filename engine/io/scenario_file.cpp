@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "io/species_fields.h"
@@ -29,8 +30,9 @@ constexpr Range kLength = io::positive(kWorldRadius, kWorldWhy);
 constexpr Range kVelocity = io::magnitude(kMaxSpeed, kSpeedWhy);
 constexpr Range kDt = io::between(kMinDt, kMaxDt, "the convergence study's range, docs/convergence.md");
 constexpr Range kDuration = io::positive(kMaxDuration, "11.6 days");
-// Directions are normalised on reading: any size will do.
-constexpr Range kDirection = io::magnitude(std::numeric_limits<double>::max());
+// Any finite number: a direction (normalised on reading), a species' field (validate() checks it
+// against species.def's range, reported at the field).
+constexpr Range kAnyFinite = io::magnitude(std::numeric_limits<double>::max());
 
 using Keys = std::span<const std::string_view>;
 
@@ -245,7 +247,7 @@ Species read_species(const TableReader& r, const std::vector<Species>& known, io
   s.name = unique_name(r, names);
   // Each field's range is species.def's, checked by validate() below.
   for (const io::SpeciesField& f : io::species_fields())
-    if (r.find(f.name)) s.*f.member = from_unit(r.number(f.name, 0.0, kDirection), f.unit);
+    if (r.find(f.name)) s.*f.member = from_unit(r.number(f.name, 0.0, kAnyFinite), f.unit);
   validate_species(r, s);
   return s;
 }
@@ -271,7 +273,7 @@ Branch read_branch(const TableReader& r, const Lengths& L, const World& world, i
   r.require("point");
   b.point = L.vec3(r, "point", b.point, kPosition);
   check_above_ground(r, "point", "a branch's point", b.point.y, world, L);
-  const glm::dvec3 d = r.vec3("direction", b.direction, kDirection);
+  const glm::dvec3 d = r.vec3("direction", b.direction, kAnyFinite);
   const double horizontal = std::hypot(d.x, d.z);
   // Horizontal-ish: at most about 6 degrees out of the horizontal plane.
   if (!(horizontal > 0) || std::abs(d.y) > 0.1 * horizontal)
