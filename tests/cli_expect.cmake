@@ -14,6 +14,9 @@ endif()
 if(CLEAN_DIR)
   file(REMOVE_RECURSE "${CLEAN_DIR}")
 endif()
+if(EXPECT_ABSENT)
+  file(REMOVE "${EXPECT_ABSENT}")  # a file left by an earlier run is not this run's
+endif()
 execute_process(COMMAND "${AEROFLOCK}" ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                 ERROR_VARIABLE err)
 message("rc: ${rc}\nstdout:\n${out}\nstderr:\n${err}")

@@ -62,6 +62,7 @@ branch = "oak"
 [[flocks]]
 species = "starling"
 route = "tour"
+centre = [0.0, 3000.0, 0.0]
 )",
                         "probe.toml");
 }

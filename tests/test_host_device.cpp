@@ -99,7 +99,7 @@ TEST(HostDevice, GpuBirdHasTheSameLayoutInTheShaders) {
 TEST(HostDevice, GpuSpeciesHasTheSameLayoutInTheShaders) {
   const SpirvLayouts step(shader_spirv("step"));
   const std::map<std::string, uint32_t> spirv = step.offsets("GpuSpecies");
-#define AF_SPECIES_PARAM(name, default_value, unit, rule) \
+#define AF_SPECIES_PARAM(name, default_value, unit, rule, max) \
   EXPECT_EQ(spirv.count(#name) ? spirv.at(#name) : ~0u, offsetof(GpuSpecies, name)) << #name;
 #include "model/species.def"
 #undef AF_SPECIES_PARAM

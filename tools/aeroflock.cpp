@@ -166,6 +166,35 @@ const CLI::Validator kPositive(
     },
     "> 0");
 
+// Numbers from `min` to `max` (`unit` after them in the message), e.g. --dt's "expected a number
+// from 1e-05 to 0.01 s (docs/convergence.md), got 2".
+CLI::Validator number_in(double min, double max, const std::string& unit, const std::string& why) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() && *end == '\0' && v >= min && v <= max) return "";
+        std::ostringstream message;
+        message << "expected a number from " << min << " to " << max << " " << unit << " (" << why << "), got " << text;
+        return message.str();
+      },
+      "");
+}
+// The time step and the flight a run may ask for (engine/model/scenario.h, docs/convergence.md).
+const CLI::Validator kStep = number_in(kMinDt, kMaxDt, "s", "docs/convergence.md");
+const CLI::Validator kStepMs = number_in(kMinDt * 1e3, kMaxDt * 1e3, "ms", "docs/convergence.md");
+// A positive duration, at most kMaxDuration (strtod: "1e-30" is positive, it flies one frame).
+const CLI::Validator kSeconds(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end != text.c_str() && *end == '\0' && v > 0 && v <= kMaxDuration) return "";
+      std::ostringstream message;
+      message << "expected a positive number of seconds, at most " << kMaxDuration << " (11.6 days), got " << text;
+      return message.str();
+    },
+    "");
+
 // "starlings 1000, eagles 20": each flock's birds, as --birds or --flock shared them.
 std::string flock_counts(const Scenario& scenario, const std::vector<BirdState>& birds) {
   std::vector<uint64_t> count(scenario.flocks.size(), 0);
@@ -250,8 +279,10 @@ int run(const RunOptions& opt) {
   require_birds(scenario, opt.flocks);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
-  // The small allowance keeps an exact multiple from gaining a frame to rounding.
-  const auto frames = static_cast<uint64_t>(std::ceil(seconds / frame_seconds - 1e-9));
+  // Whole frames, at least one: any positive duration flies. The small allowance keeps an exact
+  // multiple from gaining a frame to rounding. (seconds <= kMaxDuration and frame_seconds >=
+  // kMinDt: at most 10^11 frames, far inside uint64_t.)
+  const auto frames = static_cast<uint64_t>(std::max(1.0, std::ceil(seconds / frame_seconds - 1e-9)));
   const double total_seconds = double(frames) * frame_seconds;  // whole frames
 
   RunSummary summary;
@@ -400,8 +431,8 @@ void add_step_options(CLI::App* app, StepOption& step, const char* default_is) {
                 kPaperDt * 1e3, kFastDt * 1e3, default_is);
   CLI::Option* fidelity =
       app->add_option("--fidelity", step.fidelity, help)->check(CLI::IsMember({"paper", "fast"}));
-  app->add_option("--dt", step.dt, "The time step in seconds, instead of --fidelity's")
-      ->check(kPositive)
+  app->add_option("--dt", step.dt, "The time step in seconds, instead of --fidelity's (10 us to 10 ms)")
+      ->check(kStep)
       ->excludes(fidelity);
 }
 
@@ -540,8 +571,8 @@ int main(int argc, char** argv) {
       ->add_option("--flock", opt.flocks,
                    "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
       ->excludes(run_birds);
-  run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's)")
-      ->check(kPositive);
+  run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's; at most 1e6)")
+      ->check(kSeconds);
   add_step_options(run_cmd, opt.step, "the scenario's");
   run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")->check(kPath);
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
@@ -683,9 +714,9 @@ int main(int argc, char** argv) {
   converge_cmd->add_option("--dts", converge_dts_ms,
                            "Steps in ms, comma-separated, the smallest the reference (default 0.1,0.3,0.5,1,2,3,5,10)")
       ->delimiter(',')
-      ->check(kPositive);
+      ->check(kStepMs);
   converge_cmd->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
-      ->check(kPositive);
+      ->check(kSeconds);
   converge_cmd->add_option("--backend", converge_opt.backend, "cpu (reference, double) or vulkan")
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();

@@ -123,7 +123,7 @@ struct GpuBird {
 // A species (engine/model/species.def), then what the step derives from it, computed once on the
 // host (layout.cpp, pack(const Species&)).
 struct GpuSpecies {
-#define AF_SPECIES_PARAM(name, default_value, unit, rule) float name;
+#define AF_SPECIES_PARAM(name, default_value, unit, rule, max) float name;
 #include "model/species.def"
 #undef AF_SPECIES_PARAM
   float inv_inertia_x, inv_inertia_y, inv_inertia_z;  // eq. 12

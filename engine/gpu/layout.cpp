@@ -74,7 +74,7 @@ BirdState unpack(const GpuBird& g) {
 
 GpuSpecies pack(const Species& s) {
   GpuSpecies g{};
-#define AF_SPECIES_PARAM(name, default_value, unit, rule) g.name = to_gpu(s.name);
+#define AF_SPECIES_PARAM(name, default_value, unit, rule, max) g.name = to_gpu(s.name);
 #include "model/species.def"
 #undef AF_SPECIES_PARAM
   // What the step derives from the species (host_device.h lists them).

@@ -19,9 +19,15 @@ class ScenarioError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Reads a scenario file. The scenario's name defaults to the file stem.
+// The largest scenario text: 16 MiB, some 10^5 targets and more; a file past it (or /dev/zero) is
+// an error before it is read.
+inline constexpr size_t kMaxScenarioBytes = 16u << 20;
+
+// Reads a scenario file: a regular file of at most kMaxScenarioBytes. The scenario's name
+// defaults to the file stem.
 Scenario read_scenario_file(const std::filesystem::path& path);
-// Parses scenario text; `source_name` names it in errors and gives the default name (its stem).
+// Parses scenario text (at most kMaxScenarioBytes) in time linear in its size, with no state
+// outside the call; `source_name` names it in errors and gives the default name (its stem).
 Scenario parse_scenario(std::string_view text, std::string_view source_name);
 
 // The scenarios in scenarios/*.toml, embedded at build time.

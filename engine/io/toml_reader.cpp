@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,27 +17,45 @@ std::string join(std::span<const std::string_view> names) {
   return out;
 }
 
-std::string range_phrase(Range range) {
-  switch (range) {
-    case Range::positive:
-      return "a positive number";
-    case Range::non_negative:
-      return "a number >= 0";
-    case Range::any:
-      break;
-  }
-  return "a number";
+template <class Number>
+std::string number_text(Number v) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
 }
 
-// The node as a finite number in `range`, or nullopt with `expected` explaining why not.
-std::optional<double> as_number(const toml::node& node, Range range) {
-  if (!node.is_number()) return std::nullopt;
+// "a positive number", "a number from 1e-05 to 0.01", "0 or a number from 0.1 to 1e+06".
+std::string range_phrase(const Range& range) {
+  std::string phrase = range.min == 0 && range.above_min ? "a positive number"
+                       : range.min == 0                  ? "a number >= 0"
+                       : range.min == -range.max         ? "a number from " + number_text(-range.max) + " to " + number_text(range.max)
+                                                         : "a number from " + number_text(range.min) + " to " + number_text(range.max);
+  return range.or_zero ? "0 or " + phrase : phrase;
+}
+
+// The node as a number a scenario may give for `range`; otherwise what was expected.
+struct Checked {
+  double value = 0.0;
+  std::string expected;  // empty: `value` holds
+};
+Checked check_number(const toml::node& node, const Range& range) {
+  if (!node.is_number()) return {0.0, range_phrase(range)};
   const double v = node.is_integer() ? static_cast<double>(node.as_integer()->get())
                                      : node.as_floating_point()->get();
-  if (!std::isfinite(v)) return std::nullopt;
-  if (range == Range::positive && !(v > 0)) return std::nullopt;
-  if (range == Range::non_negative && !(v >= 0)) return std::nullopt;
-  return v;
+  if (!std::isfinite(v)) return {v, "a finite number"};
+  if (range.or_zero && v == 0) return {v, ""};
+  if (v > range.max)
+    return {v, range.why.empty() ? (range.or_zero ? "0 or " : "") + std::string("a number from ") +
+                                       number_text(range.min) + " to " + number_text(range.max)
+                                 : "at most " + number_text(range.max) + " (" + std::string(range.why) + ")"};
+  if (v < range.min || (range.above_min && v == range.min)) return {v, range_phrase(range)};
+  // Within the range: the device computes in float, where below FLT_MIN a number is subnormal
+  // (flushed to 0, or its digits lost), so a direction or a parameter that is not 0 would be.
+  const bool zero_allowed = range.or_zero || (range.min < 0 || (range.min == 0 && !range.above_min));
+  if (v != 0 && std::fabs(v) < std::numeric_limits<float>::min())
+    return {v, (zero_allowed ? "0 or a number at least " : "a number at least ") +
+                   number_text(std::numeric_limits<float>::min()) +
+                   " in size (a smaller one is subnormal in the device's float)"};
+  return {v, ""};
 }
 
 }  // namespace
@@ -113,10 +132,9 @@ void TableReader::require(std::string_view key) const {
 double TableReader::number(std::string_view key, double fallback, Range range) const {
   const toml::node* node = find(key);
   if (!node) return fallback;
-  if (auto v = as_number(*node, range)) return *v;
-  const std::string finite = node->is_number() && range == Range::any ? "a finite number" : "";
-  fail(key,
-       "expected " + (finite.empty() ? range_phrase(range) : finite) + ", got " + describe(*node));
+  const Checked c = check_number(*node, range);
+  if (!c.expected.empty()) fail(key, "expected " + c.expected + ", got " + describe(*node));
+  return c.value;
 }
 
 int64_t TableReader::integer(std::string_view key, int64_t fallback, int64_t min,
@@ -168,19 +186,15 @@ std::vector<LocatedString> TableReader::strings(std::string_view key) const {
 glm::dvec3 TableReader::vec3(std::string_view key, glm::dvec3 fallback, Range range) const {
   const toml::node* node = find(key);
   if (!node) return fallback;
-  const std::string expected = range == Range::positive ? "expected an array of 3 positive numbers"
-                               : range == Range::non_negative
-                                   ? "expected an array of 3 numbers >= 0"
-                                   : "expected an array of 3 numbers";
   const toml::array* array = node->as_array();
-  if (!array || array->size() != 3) fail(key, expected + ", got " + describe(*node));
+  if (!array || array->size() != 3) fail(key, "expected an array of 3 numbers, got " + describe(*node));
   glm::dvec3 out;
   for (int i = 0; i < 3; ++i) {
-    auto v = as_number((*array)[i], range);
-    if (!v)
+    const Checked c = check_number((*array)[i], range);
+    if (!c.expected.empty())
       io::fail({file_, (*array)[i].source(), key_path(key) + "[" + std::to_string(i) + "]"},
-               expected + ", got " + describe((*array)[i]));
-    out[i] = *v;
+               "expected " + c.expected + ", got " + describe((*array)[i]));
+    out[i] = c.value;
   }
   return out;
 }
@@ -209,6 +223,28 @@ std::vector<TableReader> TableReader::tables(std::string_view key,
     out.emplace_back(file_, *array[i].as_table(), path, keys);
   }
   return out;
+}
+
+void Names::add(const LocatedString& name) {
+  if (index_.contains(name.value))
+    fail(name.where, "duplicate " + what_ + " name \"" + name.value + "\"");
+  add(name.value);
+}
+
+void Names::add(const std::string& name) {
+  const auto [at, added] = index_.emplace(name, static_cast<uint32_t>(order_.size()));
+  if (added) order_.push_back(&at->first);
+}
+
+uint32_t Names::index(const LocatedString& ref) const {
+  if (const auto at = index_.find(ref.value); at != index_.end()) return at->second;
+  // The known names, the first few of many: a file of 10^5 targets gives a line, not a megabyte.
+  constexpr size_t kListed = 20;
+  std::string known;
+  for (size_t i = 0; i < order_.size() && i < kListed; ++i) known += (i ? ", " : "") + *order_[i];
+  if (order_.size() > kListed) known += " and " + std::to_string(order_.size() - kListed) + " more";
+  fail(ref.where, "unknown " + what_ + " \"" + ref.value + "\"" +
+                      (known.empty() ? " (none defined)" : " (known: " + known + ")"));
 }
 
 }  // namespace aeroflock::io

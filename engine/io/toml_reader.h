@@ -10,6 +10,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 namespace aeroflock::io {
@@ -35,11 +36,27 @@ struct LocatedString {
   Where where;
 };
 
-enum class Range { any, positive, non_negative };
+// What a number of a scenario file may be, besides finite and normal (every number is): within
+// [min, max], min itself excluded when `above_min`, and 0 besides when `or_zero` (a target's
+// period: 0 for none). `why` says what sets max, for the message ("the speed of sound").
+struct Range {
+  double min = 0.0;
+  double max = 0.0;
+  bool above_min = false;
+  bool or_zero = false;
+  std::string_view why = {};
+};
+constexpr Range positive(double max, std::string_view why = {}) { return {0.0, max, true, false, why}; }
+constexpr Range non_negative(double max, std::string_view why = {}) { return {0.0, max, false, false, why}; }
+// From -max to max.
+constexpr Range magnitude(double max, std::string_view why = {}) { return {-max, max, false, false, why}; }
+constexpr Range between(double min, double max, std::string_view why = {}) { return {min, max, false, false, why}; }
 
 // One TOML table. The constructor rejects keys not in `keys` (naming the valid ones). Getters
 // return the fallback when a key is absent and throw ScenarioError when it is present but of the
-// wrong type or out of range. `keys` must outlive the reader.
+// wrong type or out of range. Every number must be finite and normal in the device's float (0 or
+// at least FLT_MIN, 1.2e-38, in size: a smaller one is subnormal there, flushed to 0 or losing
+// its digits). `keys` must outlive the reader.
 class TableReader {
  public:
   TableReader(std::string_view file, const toml::table& table, std::string path,
@@ -53,14 +70,15 @@ class TableReader {
   // Fails with "missing key" when absent.
   void require(std::string_view key) const;
 
-  double number(std::string_view key, double fallback, Range range = Range::any) const;
+  double number(std::string_view key, double fallback, Range range) const;
   int64_t integer(std::string_view key, int64_t fallback, int64_t min,
                   int64_t max = std::numeric_limits<int64_t>::max()) const;
   bool boolean(std::string_view key, bool fallback) const;
   std::string string(std::string_view key, std::string fallback) const;
   std::optional<LocatedString> located_string(std::string_view key) const;
   std::vector<LocatedString> strings(std::string_view key) const;
-  glm::dvec3 vec3(std::string_view key, glm::dvec3 fallback, Range range = Range::any) const;
+  // Each of the three numbers in `range`.
+  glm::dvec3 vec3(std::string_view key, glm::dvec3 fallback, Range range) const;
 
   // [key] as a table, absent: nullopt.
   std::optional<TableReader> table(std::string_view key,
@@ -81,26 +99,25 @@ class TableReader {
   std::span<const std::string_view> keys_;
 };
 
-// The index of the item named `ref.value` in `items` (anything with a `name`), or a located
-// "unknown WHAT" error listing the known names.
-template <class T>
-uint32_t index_by_name(const std::vector<T>& items, const LocatedString& ref,
-                       std::string_view what) {
-  std::string known;
-  for (size_t i = 0; i < items.size(); ++i) {
-    if (items[i].name == ref.value) return static_cast<uint32_t>(i);
-    known += (i ? ", " : "") + items[i].name;
-  }
-  fail(ref.where, "unknown " + std::string(what) + " \"" + ref.value + "\"" +
-                      (known.empty() ? " (none defined)" : " (known: " + known + ")"));
-}
+// The names of a scenario's items of one kind (species, targets, ...), each with its index: a
+// look-up costs the same however many there are, so loading stays linear in the file's size.
+class Names {
+ public:
+  explicit Names(std::string_view what) : what_(what) {}
+  // Adds the next item's name (its index: the names added before it); a located "duplicate WHAT
+  // name" error when it is already there.
+  void add(const LocatedString& name);
+  // A name that is not in a file (the presets), unlocated.
+  void add(const std::string& name);
+  // The index of the item named `ref.value`, or a located "unknown WHAT" error naming the known
+  // ones (the first few of many).
+  uint32_t index(const LocatedString& ref) const;
+  size_t size() const { return order_.size(); }
 
-// Fails when `items` already holds an item named `name.value`.
-template <class T>
-void check_unique(const std::vector<T>& items, const LocatedString& name, std::string_view what) {
-  for (const T& item : items)
-    if (item.name == name.value)
-      fail(name.where, "duplicate " + std::string(what) + " name \"" + name.value + "\"");
-}
+ private:
+  std::string what_;
+  std::unordered_map<std::string, uint32_t> index_;
+  std::vector<const std::string*> order_;  // the keys of index_, in the order added
+};
 
 }  // namespace aeroflock::io

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -23,19 +24,42 @@ Fidelity parse_fidelity(const std::string& name) {
 }
 
 uint32_t steps_in(double seconds, double dt) {
-  return static_cast<uint32_t>(std::max(1.0, std::round(seconds / dt)));
+  // Clamped before the cast: a double beyond uint32_t's range does not convert.
+  return static_cast<uint32_t>(std::clamp(std::round(seconds / dt), 1.0, double(UINT32_MAX)));
+}
+
+namespace {
+std::string number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+}  // namespace
+
+void check_dt(double dt) {
+  if (!(dt >= kMinDt && dt <= kMaxDt))
+    throw std::invalid_argument("dt must be within [" + number(kMinDt) + ", " + number(kMaxDt) +
+                                "] s (docs/convergence.md), got " + number(dt) + " s");
 }
 
 void set_dt(Scenario& s, double dt) {
+  check_dt(dt);
+  const double steps = std::round(s.frame_seconds() / dt);
+  if (steps > kMaxStepsPerFrame)
+    throw std::invalid_argument("a frame of " + number(s.frame_seconds()) + " s takes " + number(steps) +
+                                " steps of " + number(dt) + " s; steps_per_frame must be <= " +
+                                std::to_string(kMaxStepsPerFrame));
   s.steps_per_frame = steps_in(s.frame_seconds(), dt);
   s.dt = dt;
 }
 
 void validate(const Scenario& s) {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
-  if (!(s.dt > 0.0) || !std::isfinite(s.dt)) fail("dt must be > 0");
-  if (s.steps_per_frame < 1) fail("steps_per_frame must be >= 1");
-  if (!(s.duration > 0.0) || !std::isfinite(s.duration)) fail("duration must be > 0");
+  check_dt(s.dt);
+  if (s.steps_per_frame < 1 || s.steps_per_frame > kMaxStepsPerFrame)
+    fail("steps_per_frame must be within [1, " + std::to_string(kMaxStepsPerFrame) + "]");
+  if (!(s.duration > 0.0 && s.duration <= kMaxDuration))
+    fail("duration must be within (0, " + number(kMaxDuration) + "] s");
   if (s.species.empty()) fail("no species");
   for (const Species& sp : s.species) validate(sp);
   const World& w = s.world;
@@ -48,12 +72,24 @@ void validate(const Scenario& s) {
     if (!(std::fabs(p.x) <= kWorldRadius && std::fabs(p.z) <= kWorldRadius))
       fail(what + " lies farther than 20,000 km from the origin");
   };
+  // Nothing starts under the ground (the birds would stay down there); a target may lie on it.
+  auto above_ground = [&](const glm::dvec3& p, const std::string& what, bool on = false) {
+    if (!(p.y > w.ground_height || (on && p.y == w.ground_height)))
+      fail(what + " is not above the ground (y " + number(p.y) + " cm, the ground " + number(w.ground_height) +
+           " cm)");
+  };
   for (const Target& t : w.targets) {
     if (!(t.radius > 0.0)) fail("target '" + t.name + "': radius must be > 0");
     within_world(t.centre, "target '" + t.name + "'");
+    above_ground(t.centre, "target '" + t.name + "'", true);  // Fig. 17's lies on the ground
   }
-  for (const Branch& b : w.branches) within_world(b.point, "branch '" + b.name + "'");
-  for (const Flock& f : s.flocks) within_world(f.spawn_centre, "flock '" + f.name + "'");
+  for (const Branch& b : w.branches) {
+    within_world(b.point, "branch '" + b.name + "'");
+    above_ground(b.point, "branch '" + b.name + "'");
+  }
+  for (const Flock& f : s.flocks) {
+    within_world(f.spawn_centre, "flock '" + f.name + "'");
+  }
   for (const Route& r : w.routes) {
     if (r.targets.empty() && r.branch < 0) fail("route '" + r.name + "' has no targets");
     if (r.loop && r.targets.size() < 2) fail("route '" + r.name + "' loops over fewer than 2 targets");
@@ -70,6 +106,14 @@ void validate(const Scenario& s) {
     if (f.species >= s.species.size()) fail("flock '" + f.name + "': species out of range");
     if (f.route >= w.routes.size()) fail("flock '" + f.name + "': route out of range");
     if (f.count < 1) fail("flock '" + f.name + "': count must be >= 1");
+    const Species& sp = s.species[f.species];
+    // A standing flock stands its birds' centres stand_height above the ground, whatever its
+    // box's height; a flying one starts anywhere in its box.
+    if (f.standing && !(sp.stand_height > 0.0))
+      fail("flock '" + f.name + "': its species '" + sp.name + "' stands at stand_height 0, on the ground");
+    if (!f.standing)
+      above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count).y, 0.0},
+                   "flock '" + f.name + "': the lowest point of its spawn box");
   }
 }
 
@@ -90,6 +134,13 @@ void resize_flock(Scenario& s, size_t index, uint32_t count) {
   }
   f.spawn_extent *= std::cbrt(static_cast<double>(count) / static_cast<double>(f.count));
   f.count = count;
+}
+
+glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count) {
+  if (count > 1 && f.spawn_extent == glm::dvec3{0.0})
+    return glm::dvec3{2.0 * sp.wing_length * std::cbrt(static_cast<double>(count))};
+  if (count == f.count) return f.spawn_extent;
+  return f.spawn_extent * std::cbrt(static_cast<double>(std::max(count, 1u)) / static_cast<double>(f.count));
 }
 
 bool any_flocking(const Scenario& s) {

@@ -33,12 +33,35 @@ struct Flock {
   bool flocking = false;         // its birds see one another and steer by it (MODEL.md "Flocking")
 };
 
+// How far out (x, z) a scenario may place anything: 20,000 km, in cm; no length of a scenario is
+// longer.
+inline constexpr double kWorldRadius = 2.0e9;
+
 // How finely a scenario is stepped: the paper's dt, or the largest dt at which every behaviour and
 // envelope case still holds and positions stay within 1 % of the flight (docs/convergence.md).
 enum class Fidelity { paper, fast };
 inline constexpr double kPaperDt = 0.0003;      // s (paper, section 6)
 inline constexpr double kFastDt = 0.002;        // s (docs/convergence.md)
 inline constexpr double kFrameSeconds = 0.03;   // s: a frame, whatever the dt
+
+// The steps a scenario may take, checked before any work (validate(), set_dt, the scenario files
+// and the command line's --dt): the convergence study measured 0.1 to 10 ms and found 2 ms the
+// largest at which everything holds (docs/convergence.md); below 10 us a second takes 10^5 steps
+// and the rounding of t + dt grows, above 10 ms the flight is not resolved (at 1 s a step the
+// birds go NaN).
+inline constexpr double kMinDt = 1.0e-5;        // s
+inline constexpr double kMaxDt = 0.01;          // s
+// Steps a frame: a frame of the slowest step (kMaxDt) is then at most 1,000 s.
+inline constexpr uint32_t kMaxStepsPerFrame = 100000;
+// The longest flight a run may ask for: 11.6 days, 10^11 steps at kMinDt, frame counts far from
+// any overflow.
+inline constexpr double kMaxDuration = 1.0e6;   // s
+// Speeds (flocks, wind, targets): below the speed of sound, as the model's incompressible air
+// (eq. 1's constant density) assumes.
+inline constexpr double kMaxSpeed = 34300.0;    // cm/s
+// A target's oscillation period: 0 (none) or from a tenth of a second, the frame's order (a target
+// moves between frames), to kMaxDuration.
+inline constexpr double kMinTargetPeriod = 0.1;  // s
 double dt_of(Fidelity f);
 // "paper", "fast", or "custom" for any other dt.
 const char* fidelity_name(double dt);
@@ -63,13 +86,18 @@ struct Scenario {
 uint32_t steps_in(double seconds, double dt);
 
 // Steps `s` by `dt`, its frames kept as long as they were (steps_per_frame rounded, at least 1).
+// Throws std::invalid_argument, `s` unchanged, for a dt outside [kMinDt, kMaxDt] or frames that
+// would take more than kMaxStepsPerFrame steps of it.
 void set_dt(Scenario& s, double dt);
 
-// Throws std::invalid_argument naming what is wrong (indices out of range, dt <= 0, ...).
+// Throws std::invalid_argument naming the bound for a dt outside [kMinDt, kMaxDt]: "dt must be
+// within [1e-05, 0.01] s (docs/convergence.md), got 2 s".
+void check_dt(double dt);
+
+// Throws std::invalid_argument naming what is wrong (indices out of range, a dt, steps_per_frame
+// or duration out of its range, a target, branch or spawn centre not above the ground, ...).
 void validate(const Scenario& s);
 
-// How far out (x, z) a scenario may place anything: 20,000 km, in cm.
-inline constexpr double kWorldRadius = 2.0e9;
 
 // The same scenario moved by `offset` (cm): targets, branches, spawn boxes and the ground.
 Scenario moved_by(Scenario s, const glm::dvec3& offset);
@@ -77,6 +105,11 @@ Scenario moved_by(Scenario s, const glm::dvec3& offset);
 // Gives flock `index` `count` birds, its spawn box scaled (cube root) to keep its density; a
 // count of 0 removes the flock. Throws std::out_of_range for a bad index.
 void resize_flock(Scenario& s, size_t index, uint32_t count);
+
+// The half-size of flock `f`'s spawn box for `count` birds of species `sp`: its own extent, grown
+// or shrunk (cube root) when `count` differs from its count; a box of many birds that has none
+// gets one, about a wing length between birds.
+glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count);
 
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);

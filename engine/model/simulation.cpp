@@ -60,12 +60,8 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
   for (size_t fi = 0; fi < s.flocks.size(); ++fi) {
     const Flock& f = s.flocks[fi];
     const Species& sp = s.species[f.species];
-    // A flock of many birds with no spawn box gets one: about a wing length between birds.
-    dvec3 extent = f.spawn_extent;
-    if (sizes[fi] > 1 && extent == dvec3{0.0})
-      extent = dvec3{2.0 * sp.wing_length * std::cbrt(static_cast<double>(sizes[fi]))};
-    else if (birds_override > 0)  // as dense as the scenario's flock: the box grows with the count
-      extent *= std::cbrt(static_cast<double>(std::max(sizes[fi], 1u)) / static_cast<double>(f.count));
+    // As dense as the scenario's flock: the box grows with the count.
+    const dvec3 extent = spawn_extent(f, sp, sizes[fi]);
     for (uint32_t k = 0; k < sizes[fi]; ++k) {
       BirdState b;
       b.species = f.species;

@@ -1,6 +1,7 @@
 #include "species.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -99,7 +100,8 @@ void validate(const Species& s) {
   auto fail = [&](const std::string& what) {
     throw std::invalid_argument("species '" + s.name + "': " + what);
   };
-  auto check = [&](double v, Rule rule, const char* key) {
+  // `max` in the file's `unit` (species.def); the message gives it so, e.g. "<= 180 degrees".
+  auto check = [&](double v, Rule rule, const char* key, double max, Unit unit) {
     const std::string k = key;
     switch (rule) {
       case Rule::positive:
@@ -121,8 +123,14 @@ void validate(const Species& s) {
         if (!std::isfinite(v)) fail(k + " must be a finite number");
         break;
     }
+    if (!(std::fabs(v) <= from_unit(max, unit))) {
+      std::ostringstream bound;
+      bound << max << (unit == Unit::degrees ? " degrees" : unit == Unit::degrees_per_second ? " deg/s" : "");
+      fail(k + (rule == Rule::any ? " must be within +-" : " must be <= ") + bound.str());
+    }
   };
-#define AF_SPECIES_PARAM(param, default_value, unit, rule) check(s.param, Rule::rule, #param);
+#define AF_SPECIES_PARAM(param, default_value, unit, rule, max) \
+  check(s.param, Rule::rule, #param, max, Unit::unit);
 #include "species.def"
 #undef AF_SPECIES_PARAM
   // Between parameters.

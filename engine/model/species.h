@@ -22,7 +22,7 @@ enum class Rule { positive, non_negative, fraction, within_90, bank, any };
 // The parameters, defaults and rules are listed once, in species.def.
 struct Species {
   std::string name;
-#define AF_SPECIES_PARAM(param, default_value, unit, rule) \
+#define AF_SPECIES_PARAM(param, default_value, unit, rule, max) \
   double param = from_unit(default_value, Unit::unit);
 #include "species.def"
 #undef AF_SPECIES_PARAM
