@@ -173,6 +173,35 @@ TEST(Spawn, MoreBirdsKeepTheScenarioDensity) {
   EXPECT_EQ(spawn_birds(resized).size(), 8000u);
 }
 
+// A flock grown so far that its box would reach the ground keeps the box's height and widens it
+// instead: every bird starts above the ground, as dense as the scenario's flock.
+TEST(Spawn, AFlockGrownPastTheGroundWidensInstead) {
+  Scenario s = load_scenario("default");
+  Flock& f = s.flocks[0];
+  f.spawn_centre.y = 1000.0;  // 10 m up, its box 3 m high: 100 times the birds would reach -4 m
+  const glm::dvec3 own = f.spawn_extent;
+  const double density = f.count / (own.x * own.y * own.z);
+  const uint32_t grown = 100 * f.count;
+  const glm::dvec3 e = spawn_extent(f, s.species[f.species], grown, s.world.ground_height);
+  EXPECT_DOUBLE_EQ(e.y, 900.0);  // 90 % of the centre's height above the ground
+  EXPECT_NEAR(grown / (e.x * e.y * e.z) / density, 1.0, 1e-9);
+  EXPECT_NEAR(e.x / e.z, own.x / own.z, 1e-9);
+
+  resize_flock(s, 0, grown);  // --flock starlings=100000
+  EXPECT_NO_THROW(validate(s));
+  uint32_t starlings = 0;
+  for (const BirdState& b : spawn_birds(s)) {
+    if (b.flock != 0) continue;
+    ++starlings;
+    ASSERT_GT(b.position.y, s.world.ground_height);
+  }
+  EXPECT_EQ(starlings, grown);
+  // --birds N the same way.
+  Scenario t = load_scenario("default");
+  t.flocks[0].spawn_centre.y = 1000.0;
+  for (const BirdState& b : spawn_birds(t, 100 * 1020)) ASSERT_GT(b.position.y, t.world.ground_height);
+}
+
 TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const Scenario scenario = load_scenario("default");
   CpuSimulation sim(scenario);

@@ -333,7 +333,7 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
   if (!f.standing)
     check_above_ground(r, r.find("centre") ? "centre" : "extent",
                        "the spawn box's lowest point, centre - extent",
-                       f.spawn_centre.y - spawn_extent(f, sp, f.count).y, s.world, L);
+                       f.spawn_centre.y - spawn_extent(f, sp, f.count, s.world.ground_height).y, s.world, L);
   return f;
 }
 

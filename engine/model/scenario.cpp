@@ -112,7 +112,7 @@ void validate(const Scenario& s) {
     if (f.standing && !(sp.stand_height > 0.0))
       fail("flock '" + f.name + "': its species '" + sp.name + "' stands at stand_height 0, on the ground");
     if (!f.standing)
-      above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count).y, 0.0},
+      above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count, w.ground_height).y, 0.0},
                    "flock '" + f.name + "': the lowest point of its spawn box");
   }
 }
@@ -132,15 +132,25 @@ void resize_flock(Scenario& s, size_t index, uint32_t count) {
     s.flocks.erase(s.flocks.begin() + static_cast<std::ptrdiff_t>(index));
     return;
   }
-  f.spawn_extent *= std::cbrt(static_cast<double>(count) / static_cast<double>(f.count));
+  if (f.spawn_extent != glm::dvec3{0.0})
+    f.spawn_extent = spawn_extent(f, s.species.at(f.species), count, s.world.ground_height);
   f.count = count;
 }
 
-glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count) {
-  if (count > 1 && f.spawn_extent == glm::dvec3{0.0})
-    return glm::dvec3{2.0 * sp.wing_length * std::cbrt(static_cast<double>(count))};
-  if (count == f.count) return f.spawn_extent;
-  return f.spawn_extent * std::cbrt(static_cast<double>(std::max(count, 1u)) / static_cast<double>(f.count));
+glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count, double ground_height) {
+  const bool own_box = f.spawn_extent != glm::dvec3{0.0};
+  if (count == f.count && (own_box || count <= 1)) return f.spawn_extent;
+  glm::dvec3 e = own_box ? f.spawn_extent * std::cbrt(static_cast<double>(std::max(count, 1u)) /
+                                                      static_cast<double>(f.count))
+                         : glm::dvec3{count > 1 ? 2.0 * sp.wing_length * std::cbrt(static_cast<double>(count)) : 0.0};
+  // A grown box keeps its lowest point above the ground (at most 90 % of the centre's height
+  // over it) and widens instead, as dense as before.
+  const double room = 0.9 * (f.spawn_centre.y - ground_height);
+  if (count != f.count && e.y > room && room > 0.0) {
+    const double widen = std::sqrt(e.y / room);
+    e = {e.x * widen, room, e.z * widen};
+  }
+  return e;
 }
 
 bool any_flocking(const Scenario& s) {

@@ -102,14 +102,15 @@ void validate(const Scenario& s);
 // The same scenario moved by `offset` (cm): targets, branches, spawn boxes and the ground.
 Scenario moved_by(Scenario s, const glm::dvec3& offset);
 
-// Gives flock `index` `count` birds, its spawn box scaled (cube root) to keep its density; a
-// count of 0 removes the flock. Throws std::out_of_range for a bad index.
+// Gives flock `index` `count` birds, its spawn box scaled (cube root) to keep its density, as
+// spawn_extent() grows it; a count of 0 removes the flock. Throws std::out_of_range for a bad index.
 void resize_flock(Scenario& s, size_t index, uint32_t count);
 
 // The half-size of flock `f`'s spawn box for `count` birds of species `sp`: its own extent, grown
 // or shrunk (cube root) when `count` differs from its count; a box of many birds that has none
-// gets one, about a wing length between birds.
-glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count);
+// gets one, about a wing length between birds. A box grown so far that it would reach the ground
+// keeps its height (90 % of its centre's height above `ground_height`) and widens instead.
+glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count, double ground_height);
 
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);

@@ -61,7 +61,7 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
     const Flock& f = s.flocks[fi];
     const Species& sp = s.species[f.species];
     // As dense as the scenario's flock: the box grows with the count.
-    const dvec3 extent = spawn_extent(f, sp, sizes[fi]);
+    const dvec3 extent = spawn_extent(f, sp, sizes[fi], s.world.ground_height);
     for (uint32_t k = 0; k < sizes[fi]; ++k) {
       BirdState b;
       b.species = f.species;
