@@ -286,6 +286,46 @@ TEST(SolidGround, ADivingBirdTouchesDownAndTakesOffAgain) {
   EXPECT_NEAR(took_off_at - touched_at, kRestAfterTouchdown, 2 * sim.scenario().dt);
 }
 
+// Issue 16: eq. 15's k G m / h has no bound as h -> 0; a bird spawned at the ground, or 1e-6 m
+// above it, was thrown up at 1.5 km/s or became NaN. Evaluated no nearer than the body's half
+// height (ground_effect_floor), the Fig. 17 starling spawned there flies the whole flight (every
+// step) finite, never below the ground, and never faster than it could: its fastest airspeed
+// command, its start speed, and what eq. 15 gives over its whole range from the floor,
+// integral of k G / h dh = k G ln(l / floor), as speed sqrt(2 k G ln(l / floor)).
+class GroundSpawn : public ::testing::TestWithParam<double> {};
+
+TEST_P(GroundSpawn, FliesFiniteNeverBelowTheGroundNorFasterThanItCould) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  Scenario s = load_scenario("fig17-ground-effect");
+  s.flocks[0].spawn_centre.y = s.world.ground_height + GetParam();
+  const auto flight = make_flight(s);
+  Simulation& sim = *flight;
+  const Species& sp = species_of(sim, sim.birds()[0]);
+  const double start_speed = glm::length(sim.birds()[0].velocity);
+  const double from_ground =
+      std::sqrt(2.0 * sp.ground_k * kGravity * std::log(sp.wing_length / ground_effect_floor(sp)));
+  const double bound = std::max(sp.max_speed, start_speed) + from_ground;
+  double lowest = 1e9, fastest = 0.0;
+  run_steps(sim, s.duration, [&](Simulation& x) {
+    const BirdState& now = x.birds()[0];
+    ASSERT_TRUE(finite(now)) << "at " << x.time() << " s";
+    lowest = std::min(lowest, now.position.y);
+    fastest = std::max(fastest, glm::length(now.velocity));
+  });
+  RecordProperty("lowest_cm", std::to_string(lowest));
+  RecordProperty("fastest_cm_s", std::to_string(fastest));
+  EXPECT_GE(lowest, s.world.ground_height);
+  EXPECT_LE(fastest, bound);
+  // Settled: it reached its target on the ground and flies on at its cruise height.
+  EXPECT_EQ(sim.birds()[0].targets_reached, 1u);
+  EXPECT_EQ(sim.birds()[0].mode, FlightMode::flying);
+}
+
+INSTANTIATE_TEST_SUITE_P(AtAndJustAbove, GroundSpawn, ::testing::Values(0.0, 1e-4),
+                         [](const ::testing::TestParamInfo<double>& i) {
+                           return i.param == 0.0 ? std::string("at_the_ground") : std::string("1e_6_m_above");
+                         });
+
 // --- 5. Take-off (Figs. 19, 20): higher at 0.3 s and 0.7 s with the leg force than without.
 struct Heights {
   double at_03 = 0, at_07 = 0;

@@ -30,9 +30,9 @@ vec4 facing(vec3 head) {
 }
 vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
 
-// eq. 15
+// eq. 15, h no less than the body box's half height (body.cpp: ground_effect_floor)
 float ground_effect_force(GpuSpecies s, float height) {
-  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / height : 0.0;
+  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b) : 0.0;
 }
 
 // --- Aerodynamics (eqs. 1, 2; aerodynamics.cpp) ---------------------------------------------
