@@ -70,6 +70,7 @@ struct RunOptions {
   std::string vtk_birds = "all";
   std::string vtk_compression = "lz4";
   std::string vtk_precision = "float";
+  bool strict = false;  // the first bird quarantined (NaN) is an error
 };
 
 // Ctrl-C: the run stops after the frame in progress, finishes its outputs and exits 130. A second
@@ -211,6 +212,24 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   if (interrupted) std::printf("interrupted      at t = %.3f s (Ctrl-C)\n", r.sim_seconds);
 }
 
+// NaN quarantine (step.cpp): each quarantined bird once on stderr, the first kShown by time.
+void report_quarantined(const std::vector<BirdState>& birds, const std::vector<QuarantinedBird>& listed) {
+  constexpr size_t kShown = 10;
+  for (size_t k = 0; k < listed.size() && k < kShown; ++k) {
+    const BirdState& b = listed[k].last;
+    std::fprintf(stderr,
+                 "aeroflock: bird %llu quarantined: its state became non-finite in the step at t = %.4f s; "
+                 "frozen at its last finite state, position (%.2f, %.2f, %.2f) m, velocity (%.2f, %.2f, %.2f) m/s\n",
+                 (unsigned long long)listed[k].bird, listed[k].time, b.position.x / 100, b.position.y / 100,
+                 b.position.z / 100, b.velocity.x / 100, b.velocity.y / 100, b.velocity.z / 100);
+  }
+  const auto all = static_cast<size_t>(
+      std::count_if(birds.begin(), birds.end(), [](const BirdState& b) { return b.mode == FlightMode::quarantined; }));
+  if (all > kShown)
+    std::fprintf(stderr, "aeroflock: %zu more birds quarantined (the summary lists the first %zu)\n", all - kShown,
+                 kQuarantinedListed);
+}
+
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
 void require_birds(const Scenario& scenario, const std::vector<std::string>& flock_sizes) {
   if (scenario.flocks.empty() && !flock_sizes.empty())
@@ -235,6 +254,8 @@ int run(const RunOptions& opt) {
   opt.step.apply(scenario);
   resize_flocks(scenario, opt.flocks);
   require_birds(scenario, opt.flocks);
+  // Tests of the NaN quarantine: that flock's birds turn non-finite near the ground.
+  if (const char* doomed = std::getenv("AEROFLOCK_TEST_NAN_FLOCK")) make_flock_non_finite(scenario, doomed);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // The small allowance keeps an exact multiple from gaining a frame to rounding.
@@ -299,6 +320,8 @@ int run(const RunOptions& opt) {
     if (images) images->frame(*sim, frame);
     if (vtk) vtk->offer_ready(*sim);
     frame += n;
+    // --strict: the first quarantined bird stops the run, its outputs closed as after Ctrl-C.
+    if (opt.strict && !quarantined_birds(*sim->ready_snapshot().birds, 1).empty()) break;
     if (progress.due()) {
       // What the device has finished, not merely what was submitted to it.
       const double done = double(sim->ready_frame()) * frame_seconds;
@@ -321,11 +344,19 @@ int run(const RunOptions& opt) {
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
+  summary.quarantined = quarantined_birds(sim->birds(), kQuarantinedListed);
   if (images) images->finish(*sim);
   if (vtk) vtk->finish();  // the writer's error, if any, is thrown here
   if (!opt.summary.empty()) write_summary(opt.summary, summary);
   print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, opt.summary,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
+  report_quarantined(sim->birds(), summary.quarantined);
+  if (opt.strict && !summary.quarantined.empty()) {
+    const QuarantinedBird& first = summary.quarantined.front();
+    std::fprintf(stderr, "aeroflock: error: --strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s\n",
+                 (unsigned long long)first.bird, first.time, summary.sim_seconds);
+    return 2;
+  }
   return interrupted ? kInterruptedStatus : 0;
 }
 
@@ -532,6 +563,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"float", "double"}))
       ->capture_default_str()
       ->needs(vtk_opt);
+  run_cmd->add_flag("--strict", opt.strict,
+                    "A bird whose state becomes non-finite (NaN) stops the run with an error (exit 2), its "
+                    "outputs closed; without it the bird is quarantined (frozen, reported) and the rest fly on");
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");

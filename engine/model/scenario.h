@@ -78,6 +78,12 @@ Scenario moved_by(Scenario s, const glm::dvec3& offset);
 // count of 0 removes the flock. Throws std::out_of_range for a bad index.
 void resize_flock(Scenario& s, size_t index, uint32_t count);
 
+// Test hook (NaN quarantine, issue 16): gives flock `name` a species of its own, its own but for a
+// NaN ground-effect coefficient k (eq. 15), which no scenario file may have: its birds' states
+// become non-finite once they fly within a wing length of the ground. Throws
+// std::invalid_argument for a flock the scenario does not have.
+void make_flock_non_finite(Scenario& s, const std::string& name);
+
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);
 

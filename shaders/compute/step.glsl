@@ -36,7 +36,29 @@ void main() {
   Leg leg = load_leg(b, pc.targets_base);
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
-  for (uint k = 0u; k < pc.steps; ++k) step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+  // NaN quarantine (step.cpp: step_bird): a step whose result is not finite is undone, the bird
+  // frozen at its last finite state. Rather than keep a copy of the state through every step, the
+  // frame's finite steps are taken again from its start (still in `birds`): the same code on the
+  // same numbers, the same result.
+  uint finite_steps = pc.steps;
+  bool again = false;
+  for (;;) {
+    for (uint k = 0u; k < finite_steps; ++k) {
+      step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+      if (!all_finite(b)) {
+        finite_steps = k;
+        break;
+      }
+    }
+    if (again || finite_steps == pc.steps) break;
+    b = birds[i];
+    leg = load_leg(b, pc.targets_base);
+    again = true;
+  }
+  if (again) {
+    b.mode = mode_quarantined;
+    b.quarantined_at = pc.time + float(finite_steps) * pc.dt;
+  }
   retile(b);
   birds[i] = b;
 #ifdef RECORD_FORCES
@@ -45,7 +67,8 @@ void main() {
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
-    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt, seen);
+    GpuForces f = step_bird(next, s, next_leg, pc.time + float(pc.steps) * pc.dt, pc.dt, seen);
+    forces_out[i] = all_finite(next) ? f : no_forces();  // a step that quarantines has none
   }
 #endif
 }
