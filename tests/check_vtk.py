@@ -39,7 +39,7 @@ FRAME_ARRAYS = {
 # Arrays that are not Float32 (the reals are, by default).
 NOT_FLOAT = {"bird_id": "unsigned int", "species": "int", "time": "double", "flight_state": "int",
              "target": "int", "neighbours": "int"}
-FLIGHT_STATES = ["flying", "standing", "taking_off", "landing", "perched"]
+FLIGHT_STATES = ["flying", "standing", "taking_off", "landing", "perched", "quarantined"]
 
 errors = []
 

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -284,6 +286,143 @@ TEST(SolidGround, ADivingBirdTouchesDownAndTakesOffAgain) {
   EXPECT_GE(lowest, s.world.ground_height + sp.stand_height - sp.crouch_depth - 1e-6);
   ASSERT_GT(touched_at, 0.0) << "never touched down";
   EXPECT_NEAR(took_off_at - touched_at, kRestAfterTouchdown, 2 * sim.scenario().dt);
+}
+
+// Issue 16: eq. 15's k G m / h has no bound as h -> 0; a bird spawned at the ground, or 1e-6 m
+// above it, was thrown up at 1.5 km/s or became NaN. Evaluated no nearer than the body's half
+// height (ground_effect_floor), the Fig. 17 starling spawned there flies the whole flight (every
+// step) finite, never below the ground, and never faster than it could: its fastest airspeed
+// command, its start speed, and what eq. 15 gives over its whole range from the floor,
+// integral of k G / h dh = k G ln(l / floor), as speed sqrt(2 k G ln(l / floor)).
+class GroundSpawn : public ::testing::TestWithParam<double> {};
+
+TEST_P(GroundSpawn, FliesFiniteNeverBelowTheGroundNorFasterThanItCould) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  Scenario s = load_scenario("fig17-ground-effect");
+  s.flocks[0].spawn_centre.y = s.world.ground_height + GetParam();
+  const auto flight = make_flight(s);
+  Simulation& sim = *flight;
+  const Species& sp = species_of(sim, sim.birds()[0]);
+  const double start_speed = glm::length(sim.birds()[0].velocity);
+  const double from_ground =
+      std::sqrt(2.0 * sp.ground_k * kGravity * std::log(sp.wing_length / ground_effect_floor(sp)));
+  const double bound = std::max(sp.max_speed, start_speed) + from_ground;
+  double lowest = 1e9, fastest = 0.0;
+  run_steps(sim, s.duration, [&](Simulation& x) {
+    const BirdState& now = x.birds()[0];
+    ASSERT_TRUE(finite(now)) << "at " << x.time() << " s";
+    lowest = std::min(lowest, now.position.y);
+    fastest = std::max(fastest, glm::length(now.velocity));
+  });
+  RecordProperty("lowest_cm", std::to_string(lowest));
+  RecordProperty("fastest_cm_s", std::to_string(fastest));
+  EXPECT_GE(lowest, s.world.ground_height);
+  EXPECT_LE(fastest, bound);
+  // Settled: it reached its target on the ground and flies on at its cruise height.
+  EXPECT_EQ(sim.birds()[0].targets_reached, 1u);
+  EXPECT_EQ(sim.birds()[0].mode, FlightMode::flying);
+}
+
+INSTANTIATE_TEST_SUITE_P(AtAndJustAbove, GroundSpawn, ::testing::Values(0.0, 1e-4),
+                         [](const ::testing::TestParamInfo<double>& i) {
+                           return i.param == 0.0 ? std::string("at_the_ground") : std::string("1e_6_m_above");
+                         });
+
+// --- NaN quarantine (issue 16): a bird whose step is not finite is frozen at its last finite
+// state, and the rest fly on as they would without it.
+
+// Every field of two states the same.
+bool same_state(const BirdState& a, const BirdState& b) {
+  return true
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&a.name == b.name
+#include "model/bird_state.def"
+#undef AF_BIRD_FIELD
+      ;
+}
+
+// Fig. 17's starling and a second one 10 m to its side whose species has a NaN ground-effect
+// coefficient (make_flock_non_finite): a wing length above the ground its step is not finite.
+Scenario doomed_descent() {
+  Scenario s = load_scenario("fig17-ground-effect");
+  s.duration = 8.0;
+  Flock doomed = s.flocks[0];
+  doomed.name = "doomed";
+  doomed.spawn_centre.z += 1000.0;
+  s.flocks.push_back(doomed);
+  make_flock_non_finite(s, "doomed");
+  return s;
+}
+
+TEST(NanQuarantine, FreezesTheBirdAtItsLastFiniteStateWhileTheOtherFliesOn) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const Scenario s = doomed_descent();
+  Scenario without = s;
+  without.flocks.pop_back();
+  const auto flight = make_flight(s);
+  const auto alone = make_flight(without);
+  Simulation& sim = *flight;
+  const Species& sp = species_of(sim, sim.birds()[1]);
+  BirdState last = sim.birds()[1];
+  double quarantined_in = -1.0;  // the start of the step that was not finite
+  run_steps(sim, s.duration, [&](Simulation& x) {
+    alone->step(1);
+    const BirdState& b = x.birds()[1];
+    ASSERT_TRUE(all_finite(b) && all_finite(x.birds()[0])) << "at " << x.time() << " s";
+    ASSERT_TRUE(same_state(x.birds()[0], alone->birds()[0])) << "the other bird, at " << x.time() << " s";
+    if (b.mode != FlightMode::quarantined) {
+      last = b;
+      return;
+    }
+    if (quarantined_in < 0.0) quarantined_in = x.time() - x.scenario().dt;
+    EXPECT_NEAR(b.quarantined_at, quarantined_in, 1e-5);  // the device's float time
+    BirdState frozen = last;
+    frozen.mode = FlightMode::quarantined;
+    frozen.quarantined_at = b.quarantined_at;
+    ASSERT_TRUE(same_state(b, frozen)) << "not frozen at its last finite state, at " << x.time() << " s";
+  });
+  RecordProperty("quarantined_at_s", std::to_string(quarantined_in));
+  RecordProperty("last_height_cm", std::to_string(last.position.y));
+  ASSERT_GT(quarantined_in, 1.0) << "never quarantined, or at once";
+  EXPECT_LT(last.position.y - s.world.ground_height, sp.wing_length);  // where eq. 15 acts
+  EXPECT_GT(sim.time() - quarantined_in, 2.0);  // and the flight went on well after
+}
+
+// A flock of 20 murmuration starlings, one of them (5) of a species with a NaN lift coefficient:
+// quarantined in its first step, frozen at its spawn state; its flock, which saw it for its first
+// reaction time, flies on finite.
+TEST(NanQuarantine, AFlockFliesOnFiniteAroundAQuarantinedBird) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  Scenario s = load_scenario("murmuration");
+  std::vector<BirdState> birds = spawn_birds(s, 20);
+  Species doomed = s.species[birds[5].species];
+  doomed.Cl_max = std::numeric_limits<double>::quiet_NaN();
+  birds[5].species = static_cast<uint32_t>(s.species.size());
+  s.species.push_back(doomed);
+  const auto flight = make_flight_with(s, birds);
+  Simulation& sim = *flight;
+  const BirdState spawned = sim.birds()[5];
+  std::optional<BirdState> frozen;  // as the backend keeps it (the device: in float)
+  uint32_t seen = 0;
+  run(sim, 10.0, [&](Simulation& x) {
+    for (size_t i = 0; i < x.birds().size(); ++i) {
+      const BirdState& b = x.birds()[i];
+      ASSERT_TRUE(all_finite(b)) << "bird " << i << " at " << x.time() << " s";
+      if (i != 5) ASSERT_NE(b.mode, FlightMode::quarantined) << "bird " << i << " at " << x.time() << " s";
+    }
+    const BirdState& b = x.birds()[5];
+    if (!frozen) {
+      ASSERT_EQ(b.mode, FlightMode::quarantined);
+      EXPECT_EQ(b.quarantined_at, 0.0);
+      EXPECT_LT(glm::distance(b.position, spawned.position), 1e-3);
+      EXPECT_LT(glm::distance(b.velocity, spawned.velocity), 1e-3);
+      EXPECT_EQ(float(b.phase), float(spawned.phase));  // not stepped (the device keeps floats)
+      frozen = b;
+    }
+    ASSERT_TRUE(same_state(b, *frozen)) << "at " << x.time() << " s";
+    if (const auto* p = x.snapshot().perception)
+      for (const Perception& q : *p) seen += q.neighbours;
+  });
+  EXPECT_GT(seen, 0u) << "the flock saw one another";
 }
 
 // --- 5. Take-off (Figs. 19, 20): higher at 0.3 s and 0.7 s with the leg force than without.

@@ -295,7 +295,15 @@ TEST(Body, GroundEffectInside) {
   const Species s = starling();
   expect_rel(ground_effect_force(s, 20.0), 245166.25);          // 10 * 980.665 * 500 / 20
   expect_rel(ground_effect_force(s, 39.9), 122890.35087719299); // 10 * 980.665 * 500 / 39.9
-  expect_rel(ground_effect_force(s, 1.0), 4903325.0);           // 10 * 980.665 * 500 / 1
+  expect_rel(ground_effect_force(s, 5.0), 980665.0);            // 10 * 980.665 * 500 / 5
+}
+
+// Nearer the ground than half the body's height (box_b / 2 = 5 cm) eq. 15 holds its value there:
+// no bound as h -> 0 threw a bird spawned at the ground up at hundreds of m/s.
+TEST(Body, GroundEffectFloor) {
+  const Species s = starling();
+  EXPECT_EQ(ground_effect_floor(s), 5.0);
+  for (double h : {4.999, 1.0, 1e-4, 1e-300}) expect_rel(ground_effect_force(s, h), 980665.0);
 }
 
 TEST(Body, GroundEffectOutside) {

@@ -68,6 +68,41 @@ TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
   EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
 }
 
+// NaN quarantine: a quarantined bird's state is finite (its last finite one) but it counts as a
+// NaN bird and is left out of the figures; the summary lists the quarantined, earliest first.
+TEST(FlockStatistics, QuarantinedBirdsAreCountedListedAndLeftOut) {
+  std::vector<BirdState> birds = {
+      bird({100, 0, 0}, {100, 0, 0}),
+      bird({900, 0, 0}, {900, 0, 0}, FlightMode::quarantined),
+      bird({300, 0, 0}, {300, 0, 0}),
+      bird({700, 0, 0}, {700, 0, 0}, FlightMode::quarantined),
+      bird({800, 0, 0}, {800, 0, 0}, FlightMode::quarantined),
+  };
+  birds[1].quarantined_at = 2.0;
+  birds[3].quarantined_at = 1.0;
+  birds[4].quarantined_at = 2.0;
+  const FlockStatistics s = flock_statistics(birds);
+  EXPECT_EQ(s.nan_birds, 3u);
+  EXPECT_EQ(s.flying, 2u);
+  EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
+  EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
+  const std::vector<QuarantinedBird> listed = quarantined_birds(birds, 2);
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(listed[0].bird, 3u);
+  EXPECT_EQ(listed[1].bird, 1u);  // of two at 2 s, the lower index
+  EXPECT_EQ(listed[1].time, 2.0);
+  EXPECT_EQ(listed[1].last.position.x, 900.0);
+  RunSummary r;
+  r.quarantined = listed;
+  const nlohmann::ordered_json j = summary_json(r)["quarantined"];
+  ASSERT_EQ(j.size(), 2u);
+  EXPECT_EQ(j[0]["bird"], 3);
+  EXPECT_EQ(j[0]["time"], 1.0);
+  EXPECT_EQ(j[0]["position"], nlohmann::json::array({700.0, 0.0, 0.0}));
+  EXPECT_EQ(j[0]["velocity"], nlohmann::json::array({700.0, 0.0, 0.0}));
+  EXPECT_EQ(j[0]["attitude"], nlohmann::json::array({1.0, 0.0, 0.0, 0.0}));
+}
+
 TEST(FlockExtent, CentreVelocityAndRadiiOfTheFiniteBirds) {
   EXPECT_EQ(flock_extent({}).finite, 0u);
   EXPECT_EQ(flock_extent({}).centre, glm::dvec3(0.0));
@@ -108,7 +143,7 @@ TEST(Summary, JsonHasEveryKey) {
   for (const char* key :
        {"backend", "device", "scenario", "birds", "steps", "dt", "steps_per_frame", "sim_seconds",
         "wall_seconds", "bird_steps_per_second", "nan_birds", "centroid", "mean_speed",
-        "targets_reached", "perched", "flying", "flocking", "signal", "error", "vtk_queue"})
+        "targets_reached", "perched", "flying", "flocking", "quarantined", "signal", "error", "vtk_queue"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["signal"].is_null());
   EXPECT_TRUE(j["error"].is_null());

@@ -388,7 +388,7 @@ TEST(VtkExport, FilesDescribeThemselves) {
     for (const Species& sp : scenario.species) names.push_back(sp.name);
     EXPECT_EQ(strings(data, "species_names"), names);
     EXPECT_EQ(strings(data, "flight_state_names"),
-              (std::vector<std::string>{"flying", "standing", "taking_off", "landing", "perched"}));
+              (std::vector<std::string>{"flying", "standing", "taking_off", "landing", "perched", "quarantined"}));
     EXPECT_EQ(strings(data, "scenario"), std::vector<std::string>{"fig21-moving-target"});
     EXPECT_EQ(strings(data, "scenario_hash"), std::vector<std::string>{scenario.hash});
     EXPECT_TRUE(scenario.hash.starts_with("fnv1a64:")) << scenario.hash;

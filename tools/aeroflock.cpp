@@ -71,6 +71,7 @@ struct RunOptions {
   std::string vtk_compression = "lz4";
   std::string vtk_precision = "float";
   bool overwrite = false;  // --overwrite: an earlier export in vtk_dir is replaced
+  bool strict = false;  // the first bird quarantined (NaN) is an error
 };
 
 // Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
@@ -249,6 +250,24 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   if (!r.error.empty()) std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
 }
 
+// NaN quarantine (step.cpp): each quarantined bird once on stderr, the first kShown by time.
+void report_quarantined(const std::vector<BirdState>& birds, const std::vector<QuarantinedBird>& listed) {
+  constexpr size_t kShown = 10;
+  for (size_t k = 0; k < listed.size() && k < kShown; ++k) {
+    const BirdState& b = listed[k].last;
+    std::fprintf(stderr,
+                 "aeroflock: bird %llu quarantined: its state became non-finite in the step at t = %.4f s; "
+                 "frozen at its last finite state, position (%.2f, %.2f, %.2f) m, velocity (%.2f, %.2f, %.2f) m/s\n",
+                 (unsigned long long)listed[k].bird, listed[k].time, b.position.x / 100, b.position.y / 100,
+                 b.position.z / 100, b.velocity.x / 100, b.velocity.y / 100, b.velocity.z / 100);
+  }
+  const auto all = static_cast<size_t>(
+      std::count_if(birds.begin(), birds.end(), [](const BirdState& b) { return b.mode == FlightMode::quarantined; }));
+  if (all > kShown)
+    std::fprintf(stderr, "aeroflock: %zu more birds quarantined (the summary lists the first %zu)\n", all - kShown,
+                 kQuarantinedListed);
+}
+
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
 void require_birds(const Scenario& scenario, const std::vector<std::string>& flock_sizes) {
   if (scenario.flocks.empty() && !flock_sizes.empty())
@@ -277,6 +296,8 @@ int run(const RunOptions& opt) {
   opt.step.apply(scenario);
   resize_flocks(scenario, opt.flocks);
   require_birds(scenario, opt.flocks);
+  // Tests of the NaN quarantine: that flock's birds turn non-finite near the ground.
+  if (const char* doomed = std::getenv("AEROFLOCK_TEST_NAN_FLOCK")) make_flock_non_finite(scenario, doomed);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // Whole frames, at least one: any positive duration flies. The small allowance keeps an exact
@@ -352,6 +373,8 @@ int run(const RunOptions& opt) {
     }
     if (vtk) vtk->offer_ready(*sim);
     frame += n;
+    // --strict: the first quarantined bird stops the run, its outputs closed as after Ctrl-C.
+    if (opt.strict && !quarantined_birds(*sim->ready_snapshot().birds, 1).empty()) break;
     if (progress.due()) {
       // What the device has finished, not merely what was submitted to it.
       const double done = double(sim->ready_frame()) * frame_seconds;
@@ -374,6 +397,14 @@ int run(const RunOptions& opt) {
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
+  summary.quarantined = quarantined_birds(sim->birds(), kQuarantinedListed);
+  if (opt.strict && !summary.quarantined.empty()) {
+    const QuarantinedBird& first = summary.quarantined.front();
+    char why[160];
+    std::snprintf(why, sizeof why, "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
+                  (unsigned long long)first.bird, first.time, summary.sim_seconds);
+    errors.push_back(why);
+  }
   // Every output closed valid, whatever stopped the run; the first error is the summary's.
   if (images) {
     try {
@@ -407,6 +438,7 @@ int run(const RunOptions& opt) {
   }
   print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, summary_written,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
+  report_quarantined(sim->birds(), summary.quarantined);
   if (!errors.empty()) {
     std::fflush(stdout);
     for (const std::string& e : errors) std::cerr << "aeroflock: error: " << e << "\n";
@@ -623,6 +655,9 @@ int main(int argc, char** argv) {
                  "With --vtk: replace an earlier run's export in DIR (its flock.pvd, trajectories.vtp "
                  "and frames/flock_*.vtp, no other file); without it such a DIR is an error")
       ->needs(vtk_opt);
+  run_cmd->add_flag("--strict", opt.strict,
+                    "A bird whose state becomes non-finite (NaN) stops the run with an error (exit 2), its "
+                    "outputs closed; without it the bird is quarantined (frozen, reported) and the rest fly on");
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");

@@ -1,5 +1,6 @@
 #include "io/summary.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -46,6 +47,15 @@ std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const st
   return out;
 }
 
+std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, size_t most) {
+  std::vector<QuarantinedBird> out;
+  for (uint64_t i = 0; i < birds.size(); ++i)
+    if (birds[i].mode == FlightMode::quarantined) out.push_back({i, birds[i].quarantined_at, birds[i]});
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
+  if (out.size() > most) out.resize(most);
+  return out;
+}
+
 nlohmann::ordered_json summary_json(const RunSummary& r) {
   const FlockStatistics& s = r.stats;
   const double bird_steps = static_cast<double>(s.birds) * static_cast<double>(r.steps);
@@ -57,6 +67,15 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                         {"too_close", f.metrics.too_close},
                         {"polarisation", f.metrics.polarisation},
                         {"largest_cluster", f.metrics.largest_cluster}});
+  nlohmann::ordered_json quarantined = nlohmann::ordered_json::array();
+  for (const QuarantinedBird& q : r.quarantined) {
+    const BirdState& b = q.last;
+    quarantined.push_back({{"bird", q.bird},
+                           {"time", q.time},
+                           {"position", {b.position.x, b.position.y, b.position.z}},
+                           {"velocity", {b.velocity.x, b.velocity.y, b.velocity.z}},
+                           {"attitude", {b.attitude.w, b.attitude.x, b.attitude.y, b.attitude.z}}});
+  }
   // The file's units (the printed summary's are m and m/s): every quantity named with its unit.
   const nlohmann::ordered_json units = {
       {"dt", "s"},
@@ -69,6 +88,10 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"flocking.too_close", "fraction of the flock's birds"},
       {"flocking.polarisation", "0 to 1"},
       {"flocking.largest_cluster", "fraction of the flock's birds"},
+      {"quarantined.time", "s"},
+      {"quarantined.position", "cm"},
+      {"quarantined.velocity", "cm/s"},
+      {"quarantined.attitude", "quaternion w, x, y, z, body to world"},
   };
   return {
       {"units", units},
@@ -91,6 +114,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"perched", s.perched},
       {"flying", s.flying},
       {"flocking", flocking},
+      {"quarantined", quarantined},
       {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
       {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},
       {"vtk_queue", r.vtk_queue_bound == 0 ? nlohmann::ordered_json()

@@ -16,7 +16,8 @@ namespace aeroflock {
 
 struct FlockStatistics {
   uint64_t birds = 0;
-  uint64_t nan_birds = 0;        // any non-finite position, velocity or attitude component
+  uint64_t nan_birds = 0;        // quarantined (their state became non-finite), or any non-finite
+                                 // position, velocity or attitude component
   glm::dvec3 centroid{0.0};      // mean position of the finite birds, cm
   double mean_speed = 0.0;       // mean |velocity| of the finite birds, cm/s
   uint64_t targets_reached = 0;  // summed over all birds
@@ -35,6 +36,18 @@ struct FlockingSummary {
 // Every flock of the scenario that flocks, from the birds' states.
 std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const std::vector<BirdState>& birds);
 
+// A bird quarantined (NaN quarantine, step.cpp): its state became non-finite in the step that
+// began at `time`; frozen at its last finite state since.
+struct QuarantinedBird {
+  uint64_t bird = 0;  // its index in the flock, as --vtk-birds and --camera-bird count
+  double time = 0.0;  // s
+  BirdState last;     // its last finite state (mode quarantined)
+};
+// The quarantined birds, the earliest first (then by index), at most `most` of them.
+std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, size_t most);
+// How many the summary lists (nan_birds counts them all).
+constexpr size_t kQuarantinedListed = 100;
+
 struct RunSummary {
   std::string backend;  // "cpu"
   std::string device;   // e.g. "cpu reference (8 threads, AMD EPYC ...)"
@@ -48,6 +61,7 @@ struct RunSummary {
   double wall_seconds = 0.0;
   FlockStatistics stats;
   std::vector<FlockingSummary> flocking;
+  std::vector<QuarantinedBird> quarantined;  // the first kQuarantinedListed
   std::string signal;  // the signal that stopped the run ("SIGINT", "SIGTERM"), or ""
   std::string error;   // the write error that stopped the run ("cannot write PATH: why"), or ""
   // With --vtk: the most frames (and bytes of bird data) that waited for the writer at once, and
@@ -58,7 +72,8 @@ struct RunSummary {
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
 // flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
-// too_close, polarisation, largest_cluster; `signal` and `error` (null when none) and, with
+// too_close, polarisation, largest_cluster; `quarantined`: bird, time, and its last finite
+// position, velocity and attitude (w, x, y, z); `signal` and `error` (null when none) and, with
 // --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null).
 nlohmann::ordered_json summary_json(const RunSummary& summary);
 

@@ -2,7 +2,9 @@
 // bird_state.def; the modes in flight_mode.def.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
@@ -30,5 +32,23 @@ struct BirdState {
 #include "bird_state.def"
 #undef AF_BIRD_FIELD
 };
+
+// Whether every number of a state is finite: a step whose result is not is undone and the bird
+// quarantined (step.cpp; model.glsl's all_finite is the same for the compute shaders).
+inline bool finite_number(double v) { return std::isfinite(v); }
+inline bool finite_number(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool finite_number(const glm::dquat& q) {
+  return std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+}
+template <class T>
+requires std::is_integral_v<T> || std::is_enum_v<T>
+constexpr bool finite_number(T) { return true; }
+inline bool all_finite(const BirdState& b) {
+  return true
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&finite_number(b.name)
+#include "bird_state.def"
+#undef AF_BIRD_FIELD
+      ;
+}
 
 }  // namespace aeroflock

@@ -21,8 +21,15 @@ dvec3 angular_acceleration(const Inertia& inertia, const dvec3& torque) {
   return {torque.x / inertia.x, torque.y / inertia.y, torque.z / inertia.z};
 }
 
+double ground_effect_floor(const Species& s) { return 0.5 * s.box_b; }
+
 double ground_effect_force(const Species& s, double height) {
-  if (height > 0.0 && height < s.wing_length) return s.ground_k * kGravity * s.mass / height;
+  // eq. 15 grows without bound as h -> 0: a bird spawned 1e-6 m above the ground was thrown up
+  // at 585 m/s. Its body box (eq. 12) is box_b tall, so its centre is never nearer the ground
+  // than box_b / 2 while the body is above it (the presets stand and crouch higher still): eq. 15
+  // is evaluated no nearer than that, at most k / (box_b / 2) times the weight.
+  if (height > 0.0 && height < s.wing_length)
+    return s.ground_k * kGravity * s.mass / std::max(height, ground_effect_floor(s));
   return 0.0;
 }
 

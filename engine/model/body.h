@@ -15,8 +15,11 @@ glm::dquat integrate_attitude(const glm::dquat& q, const glm::dvec3& omega_body,
 // eqs. 11, 12: angular acceleration of the box from a body-frame torque.
 glm::dvec3 angular_acceleration(const Inertia& inertia, const glm::dvec3& torque);
 
-// eq. 15: the upward ground-effect force k G m / h while 0 < h / l < 1, else 0. dyn.
+// eq. 15: the upward ground-effect force k G m / max(h, floor) while 0 < h / l < 1, else 0. dyn.
 double ground_effect_force(const Species& s, double height);
+// The least height eq. 15 is evaluated at: half the body box's height (box_b / 2), where the
+// body's underside meets the ground. cm.
+double ground_effect_floor(const Species& s);
 
 // Bank: the angle of the body's right axis below the horizon (right wing down > 0). Pitch: the
 // angle of the head direction above the horizon.

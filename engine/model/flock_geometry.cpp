@@ -67,7 +67,7 @@ uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
 
 bool is_finite(const BirdState& bird) {
   const glm::dquat& q = bird.attitude;
-  return is_finite(bird.position) && is_finite(bird.velocity) && std::isfinite(q.w) &&
+  return bird.mode != FlightMode::quarantined && is_finite(bird.position) && is_finite(bird.velocity) && std::isfinite(q.w) &&
          std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
 }
 

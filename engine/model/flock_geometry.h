@@ -1,5 +1,5 @@
 // Where the flock is, from the birds whose state is finite: a bird whose state has blown up (NaN
-// or infinity) is left out rather than spoiling the figures of the rest.
+// or infinity, or quarantined when it did) is left out rather than spoiling the figures of the rest.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +12,9 @@
 
 namespace aeroflock {
 
-// Whether the bird's position, velocity and attitude are all finite.
+// Whether the bird's position, velocity and attitude are all finite, and it is not quarantined: a
+// step that would have left them non-finite froze it at its last finite state (step.cpp), which is
+// no longer where it would be. Everything that counts NaN birds counts quarantined ones.
 bool is_finite(const BirdState& bird);
 
 struct FlockExtent {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <sstream>
 #include <string>
@@ -124,6 +125,19 @@ Scenario moved_by(Scenario s, const glm::dvec3& offset) {
   for (Flock& f : s.flocks) f.spawn_centre += offset;
   s.world.ground_height += offset.y;
   return s;
+}
+
+void make_flock_non_finite(Scenario& s, const std::string& name) {
+  for (Flock& f : s.flocks) {
+    if (f.name != name) continue;
+    Species doomed = s.species.at(f.species);
+    doomed.name += " (NaN ground effect)";
+    doomed.ground_k = std::numeric_limits<double>::quiet_NaN();
+    f.species = static_cast<uint32_t>(s.species.size());
+    s.species.push_back(doomed);
+    return;
+  }
+  throw std::invalid_argument("make_flock_non_finite: no flock " + name);
 }
 
 void resize_flock(Scenario& s, size_t index, uint32_t count) {

@@ -112,6 +112,12 @@ void resize_flock(Scenario& s, size_t index, uint32_t count);
 // keeps its height (90 % of its centre's height above `ground_height`) and widens instead.
 glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count, double ground_height);
 
+// Test hook (NaN quarantine, issue 16): gives flock `name` a species of its own, its own but for a
+// NaN ground-effect coefficient k (eq. 15), which no scenario file may have: its birds' states
+// become non-finite once they fly within a wing length of the ground. Throws
+// std::invalid_argument for a flock the scenario does not have.
+void make_flock_non_finite(Scenario& s, const std::string& name);
+
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);
 

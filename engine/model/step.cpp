@@ -175,11 +175,9 @@ void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
   b.omega = dvec3{0.0};
 }
 
-}  // namespace
-
-void step_bird(BirdState& b, const Species& sp, const World& w, double time, double dt,
-               StepForces* out, const Perception* seen) {
-  if (out) *out = StepForces{};
+// One step of a bird that is not quarantined (step_bird).
+void advance(BirdState& b, const Species& sp, const World& w, double time, double dt, StepForces* out,
+             const Perception* seen) {
   if (b.mode == FlightMode::perched ||
       (b.mode == FlightMode::standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
@@ -240,6 +238,24 @@ void step_bird(BirdState& b, const Species& sp, const World& w, double time, dou
     b.landing_stage = LandingStage::none;
   }
   if (out) *out = f;
+}
+
+}  // namespace
+
+void step_bird(BirdState& b, const Species& sp, const World& w, double time, double dt,
+               StepForces* out, const Perception* seen) {
+  if (out) *out = StepForces{};
+  if (b.mode == FlightMode::quarantined) return;
+  const BirdState before = b;
+  advance(b, sp, w, time, dt, out, seen);
+  if (all_finite(b)) return;
+  // NaN quarantine (issue 16): the step is undone and the bird frozen at its last finite state,
+  // marked with the step's start; it is never stepped again, and its flock no longer sees it
+  // (flocks_now). The compute shader does the same (step.glsl).
+  b = before;
+  b.mode = FlightMode::quarantined;
+  b.quarantined_at = time;
+  if (out) *out = StepForces{};
 }
 
 }  // namespace aeroflock

@@ -23,7 +23,9 @@ struct StepForces {
 };
 
 // Advances `bird` by dt. `time` is the simulation time at the start of the step. `seen`: the
-// bird's last perception (flocking), none for a bird that flies its route alone.
+// bird's last perception (flocking), none for a bird that flies its route alone. A step whose
+// result is not finite (all_finite) is undone: the bird is quarantined at `time` (FlightMode::
+// quarantined, quarantined_at), frozen at its last finite state with no forces from then on.
 void step_bird(BirdState& bird, const Species& species, const World& world, double time,
                double dt, StepForces* forces = nullptr, const Perception* seen = nullptr);
 

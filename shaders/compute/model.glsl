@@ -30,9 +30,9 @@ vec4 facing(vec3 head) {
 }
 vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
 
-// eq. 15
+// eq. 15, h no less than the body box's half height (body.cpp: ground_effect_floor)
 float ground_effect_force(GpuSpecies s, float height) {
-  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / height : 0.0;
+  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b) : 0.0;
 }
 
 // --- Aerodynamics (eqs. 1, 2; aerodynamics.cpp) ---------------------------------------------
@@ -645,9 +645,24 @@ GpuForces no_forces() {
 // Whether a bird takes part in its flock now (flock.cpp).
 bool flocks_now(GpuBird b) { return b.flocking != 0u && b.mode == mode_flying && b.landing_stage == stage_none; }
 
-// One step of dt from `time`; returns the step's forces (zero for a bird at rest). `seen`: its
-// last perception (none seen: it flies its route alone).
+// Whether every number of a bird's state is finite (bird.h: all_finite).
+bool finite_number(float v) { return !isnan(v) && !isinf(v); }
+bool finite_number(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+bool finite_number(vec4 v) { return !any(isnan(v)) && !any(isinf(v)); }
+bool finite_number(uint v) { return true; }
+bool all_finite(GpuBird b) {
+  return true
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) && finite_number(b.name)
+#include "model/bird_state.def"
+#undef AF_BIRD_FIELD
+  ;
+}
+
+// One step of dt from `time`; returns the step's forces (zero for a bird at rest or quarantined).
+// `seen`: its last perception (none seen: it flies its route alone). A step whose result is not
+// finite is undone by the caller (step.glsl), which quarantines the bird.
 GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt, GpuPerception seen) {
+  if (b.mode == mode_quarantined) return no_forces();
   if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
     return no_forces();

@@ -43,12 +43,32 @@ void main() {
   GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
   if (pc.flocking != 0u) seen = perception[i];
   uint end = pc.first_step + pc.steps;
+  // NaN quarantine (step.cpp: step_bird): a step whose result is not finite is undone, the bird
+  // frozen at its last finite state. Rather than keep a copy of the state through every step, the
+  // dispatch's finite steps are taken again from its start (still in `birds`): the same code on the
+  // same numbers, the same result.
+  uint finite_end = end;
+  bool again = false;
   uint taken = 0u;  // counted apart from k, so that no compiler reads it off the loop's condition
-  for (uint k = pc.first_step; k < end; ++k) {
-    step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
-    ++taken;
+  for (;;) {
+    for (uint k = pc.first_step; k < finite_end; ++k) {
+      step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+      ++taken;
+      if (!all_finite(b)) {
+        finite_end = k;
+        break;
+      }
+    }
+    if (again || finite_end == end) break;
+    b = birds[i];
+    leg = load_leg(b, pc.targets_base);
+    again = true;
   }
-  if (taken != pc.steps) atomicAdd(steps_short, 1u);
+  if (!again && taken != pc.steps) atomicAdd(steps_short, 1u);
+  if (again) {
+    b.mode = mode_quarantined;
+    b.quarantined_at = pc.time + float(finite_end) * pc.dt;
+  }
   bool frame_ends = end == pc.frame_steps;
   if (frame_ends) retile(b);
   birds[i] = b;
@@ -58,7 +78,8 @@ void main() {
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
-    forces_out[i] = step_bird(next, s, next_leg, pc.time + float(end) * pc.dt, pc.dt, seen);
+    GpuForces f = step_bird(next, s, next_leg, pc.time + float(end) * pc.dt, pc.dt, seen);
+    forces_out[i] = all_finite(next) ? f : no_forces();  // a step that quarantines has none
   }
 #endif
 }

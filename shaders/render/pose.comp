@@ -36,6 +36,7 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.bird_count) return;
   GpuBird b = birds[i];
+  if (b.mode == mode_quarantined) return;  // frozen where its state stopped being finite: not drawn
   GpuSpecies s = species[b.species];
   bool folded = b.mode == mode_perched || b.mode == mode_standing;
 

@@ -228,7 +228,7 @@ def parse_args(argv, prog, doc):
 
 
 # What both scripts' main() works out before drawing.
-FLIGHT_STATES = ["flying", "standing", "taking off", "landing", "perched"]
+FLIGHT_STATES = ["flying", "standing", "taking off", "landing", "perched", "quarantined"]
 
 
 def plan_run(args, read_polydata):
