@@ -238,7 +238,18 @@ int run(const RunOptions& opt) {
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // The small allowance keeps an exact multiple from gaining a frame to rounding.
-  const auto frames = static_cast<uint64_t>(std::ceil(seconds / frame_seconds - 1e-9));
+  const double whole_frames = std::ceil(seconds / frame_seconds - 1e-9);
+  // More frames than a double counts exactly (2^53, 8.5 million years of 30 ms frames) is refused
+  // rather than converted: past 2^64 the conversion is undefined (UBSan's float-cast-overflow).
+  constexpr double kMostFrames = 9007199254740992.0;
+  if (!(whole_frames <= kMostFrames)) {
+    char what[160];
+    std::snprintf(what, sizeof what, "%s %g s is %g frames of %g s; a run has at most %g",
+                  opt.seconds ? "--seconds" : "the scenario's duration", seconds, whole_frames,
+                  frame_seconds, kMostFrames);
+    throw std::runtime_error(what);
+  }
+  const auto frames = static_cast<uint64_t>(whole_frames);
   const double total_seconds = double(frames) * frame_seconds;  // whole frames
 
   RunSummary summary;
