@@ -14,6 +14,9 @@ packages=(
   libglfw3-dev libvtk9-dev python3 python3-vtk9 xvfb xauth
   # Plots of `aeroflock bench --plot`; videos of `run --video` (ffmpeg, ffprobe).
   gnuplot-nox ffmpeg
+  # The fuzz preset: clang, its libFuzzer and sanitizer runtimes (not pulled in without
+  # recommends) and its OpenMP runtime.
+  clang libclang-rt-14-dev libomp-dev
 )
 
 installed() {
