@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "test_files.h"
 #include "io/atomic_file.h"
 #include "io/paths.h"
 
@@ -19,19 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("aeroflock_test_atomic_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path fresh_dir(const std::string& name) { return testing::fresh_dir("atomic_" + name, true); }
+using testing::read_text;
 
 void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 

@@ -27,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "test_files.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
 #include "model/body.h"
@@ -40,18 +41,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("aeroflock_test_vtk_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path fresh_dir(const std::string& name) { return testing::fresh_dir("vtk_" + name, false); }
+using testing::read_text;
 
 struct PvdEntry {
   double time;
