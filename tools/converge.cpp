@@ -198,7 +198,7 @@ struct ScenarioStudy {
 struct EnvelopeStudy {
   std::string species;
   struct Row {
-    double dt;
+    double dt = 0.0;
     size_t cases = 0, reached = 0;
     std::map<std::string, int> failures;
     double wall = 0.0;
@@ -333,7 +333,8 @@ int run_converge(const ConvergeOptions& o) {
               progress.show(text);
             },
             dt);
-        EnvelopeStudy::Row row{dt};
+        EnvelopeStudy::Row row;
+        row.dt = dt;
         row.wall = std::chrono::duration<double>(Clock::now() - t0).count();
         row.cases = results.size();
         for (const EnvelopeResult& r : results) {
