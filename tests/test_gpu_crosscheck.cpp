@@ -354,15 +354,22 @@ INSTANTIATE_TEST_SUITE_P(Presets, GpuEnvelope, ::testing::Values(starling, eagle
 // the seventh nearest, and the flock's chaos grows it (31 cm in 2 s for the default starlings);
 // flocking's agreement is tested as MODEL.md asks, from one state and by the flock's metrics
 // (tests/test_flock_vulkan.cpp).
+// The start both backends fly from: up to 64 of the scenario's birds, flocking off (each flies
+// alone), their states rounded to the device's floats.
+std::vector<BirdState> solo_start(Scenario& scenario) {
+  for (Flock& f : scenario.flocks) f.flocking = false;
+  std::vector<BirdState> start =
+      spawn_birds(scenario, uint32_t(std::min<uint64_t>(64, spawn_count(scenario))));
+  for (BirdState& b : start) b = rounded(b);
+  return start;
+}
+
 class GpuTrajectory : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(GpuTrajectory, FirstTwoSecondsFollowTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   Scenario scenario = load_scenario(GetParam());
-  for (Flock& f : scenario.flocks) f.flocking = false;
-  std::vector<BirdState> start =
-      spawn_birds(scenario, std::min<uint32_t>(64, uint32_t(spawn_birds(scenario).size())));
-  for (BirdState& b : start) b = rounded(b);
+  const std::vector<BirdState> start = solo_start(scenario);
   CpuSimulation cpu(scenario, start);
   gpu::GpuSimulation gpu_sim(device, scenario, start);
   while (cpu.time() < 2.0 - 1e-9) {
@@ -467,10 +474,7 @@ TEST(GpuLongFrame, FortyThousandStepsInOneFrameFollowTheReference) {
     SCOPED_TRACE(name);
     Scenario scenario = load_scenario(name);
     set_dt(scenario, kPaperDt);
-    for (Flock& f : scenario.flocks) f.flocking = false;
-    std::vector<BirdState> start =
-        spawn_birds(scenario, std::min<uint32_t>(64, uint32_t(spawn_birds(scenario).size())));
-    for (BirdState& b : start) b = rounded(b);
+    const std::vector<BirdState> start = solo_start(scenario);
     CpuSimulation cpu(scenario, start);
     gpu::GpuSimulation gpu_sim(device, scenario, start);
     ASSERT_GT(kSteps, gpu_sim.steps_per_dispatch());  // more than one dispatch
