@@ -234,7 +234,7 @@ std::string unique_name(const TableReader& r, io::Names& names) {
 // Fails at `key` (a point of the world) unless `y` is above the ground, or on it where `on` allows.
 void check_above_ground(const TableReader& r, std::string_view key, std::string_view what, double y,
                         const World& world, const Lengths& L, bool on = false) {
-  if (!(y > world.ground_height || (on && y == world.ground_height)))
+  if (!above_ground(y, world, on))
     r.fail(key, std::string(what) + ", y = " + L.text(y) + ", must be " + (on ? "on or " : "") +
                     "above the ground at " + L.text(world.ground_height));
 }

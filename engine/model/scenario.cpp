@@ -74,19 +74,19 @@ void validate(const Scenario& s) {
       fail(what + " lies farther than 20,000 km from the origin");
   };
   // Nothing starts under the ground (the birds would stay down there); a target may lie on it.
-  auto above_ground = [&](const glm::dvec3& p, const std::string& what, bool on = false) {
-    if (!(p.y > w.ground_height || (on && p.y == w.ground_height)))
+  auto require_above_ground = [&](const glm::dvec3& p, const std::string& what, bool on = false) {
+    if (!above_ground(p.y, w, on))
       fail(what + " is not above the ground (y " + number(p.y) + " cm, the ground " + number(w.ground_height) +
            " cm)");
   };
   for (const Target& t : w.targets) {
     if (!(t.radius > 0.0)) fail("target '" + t.name + "': radius must be > 0");
     within_world(t.centre, "target '" + t.name + "'");
-    above_ground(t.centre, "target '" + t.name + "'", true);  // Fig. 17's lies on the ground
+    require_above_ground(t.centre, "target '" + t.name + "'", true);  // Fig. 17's lies on the ground
   }
   for (const Branch& b : w.branches) {
     within_world(b.point, "branch '" + b.name + "'");
-    above_ground(b.point, "branch '" + b.name + "'");
+    require_above_ground(b.point, "branch '" + b.name + "'");
   }
   for (const Flock& f : s.flocks) {
     within_world(f.spawn_centre, "flock '" + f.name + "'");
@@ -113,7 +113,7 @@ void validate(const Scenario& s) {
     if (f.standing && !(sp.stand_height > 0.0))
       fail("flock '" + f.name + "': its species '" + sp.name + "' stands at stand_height 0, on the ground");
     if (!f.standing)
-      above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count, w.ground_height).y, 0.0},
+      require_above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count, w.ground_height).y, 0.0},
                    "flock '" + f.name + "': the lowest point of its spawn box");
   }
 }

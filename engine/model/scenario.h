@@ -94,6 +94,12 @@ void set_dt(Scenario& s, double dt);
 // within [1e-05, 0.01] s (docs/convergence.md), got 2 s".
 void check_dt(double dt);
 
+// Whether height `y` (cm) lies above the world's ground, or on it where `on_allowed` (a target may
+// lie on it; nothing may start under it): validate() and the loader ask the same.
+inline bool above_ground(double y, const World& w, bool on_allowed = false) {
+  return y > w.ground_height || (on_allowed && y == w.ground_height);
+}
+
 // Throws std::invalid_argument naming what is wrong (indices out of range, a dt, steps_per_frame
 // or duration out of its range, a target, branch or spawn centre not above the ground, ...).
 void validate(const Scenario& s);
