@@ -8,6 +8,13 @@ usage: python3 tests/check_faults.py AEROFLOCK WORKDIR MODE [options]
                      --fake-disk-lib LIB, tests/fake_full_disk.cpp, fills at those sizes): exit 2, "aeroflock: error: cannot write PATH: No space left on
                      device", the .pvd listing exactly the frame files there, the trajectories
                      valid, no temporary, the summary written with the error where it fits.
+                     Then, at each size, the pictures (--png, --frames-dir, --video) and, where
+                     the disk is too small for them, the bench's --json and --plot: the same error,
+                     every file there whole (PNGs and the video read back), no temporary.
+  full-disk-calls    --fake-disk-lib LIB: each write, fsync, close and rename that a run with
+                     every output (and a bench with --json and --plot) makes under its directory
+                     failed in turn with ENOSPC: exit 2, the error naming the file whose call
+                     failed with "No space left on device", the files there whole, no temporary.
   signal             --signal INT|TERM --backend cpu|vulkan [--video]: the signal mid-run; exit
                      128 + its number, every output complete (.pvd, trajectories, video, summary).
   kill               --backend cpu|vulkan: SIGKILL mid-run; the files there are complete, a re-run
@@ -106,6 +113,65 @@ def report(cv_errors, what):
         errors.append(f"{what}: {e}")
 
 
+NO_SPACE = ": No space left on device"
+
+
+def first_line(text):
+    return text.splitlines()[0] if text else ""
+
+
+def temporaries(root):
+    return [f for _, _, fs in os.walk(root) for f in fs if f.endswith(".tmp")]
+
+
+def png_whole(path):
+    """A PNG's signature and its last chunk, IEND: a file written whole."""
+    with open(path, "rb") as f:
+        data = f.read()
+    return data.startswith(b"\x89PNG\r\n\x1a\n") and data.endswith(b"IEND\xaeB`\x82")
+
+
+def check_outputs_whole(root, what):
+    """Every PNG, video and JSON under `root` reads back whole; no temporary is left."""
+    check(not temporaries(root), f"{what}: temporaries left: {temporaries(root)}")
+    for d, _, files in os.walk(root):
+        for f in files:
+            path = os.path.join(d, f)
+            if f.endswith(".png"):
+                check(png_whole(path), f"{what}: {path} is not a whole PNG")
+            elif f.endswith(".mp4") and shutil.which("ffprobe"):
+                p = run(["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0", "-show_entries",
+                         "stream=nb_read_frames", "-of", "csv=p=0", path])
+                check(p.returncode == 0 and p.stdout.strip().isdigit(), f"{what}: {path}: ffprobe {p.stderr!r}")
+            elif f.endswith(".json"):
+                read_json(path)
+
+
+def pictures_run(opt, root, env):
+    """A run that draws into `root`: --png, --frames-dir, --video (where ffmpeg is), --summary."""
+    args = [opt.aeroflock, "run", "fig21-moving-target", "--backend", "cpu", "--birds", "20",
+            "--seconds", "2", "--size", "160x96", "--msaa", "1",
+            "--png", os.path.join(root, "last.png"), "--frames-dir", os.path.join(root, "frames"),
+            "--summary", os.path.join(root, "s.json")]
+    if shutil.which("ffmpeg"):
+        args += ["--video", os.path.join(root, "run.mp4")]
+    return run(args, env=env)
+
+
+def bench_run(opt, root, env):
+    return run([opt.aeroflock, "bench", "--quick", "--backends", "cpu", "--max-birds", "100", "--repetitions", "1",
+                "--json", os.path.join(root, "bench.json"), "--plot", os.path.join(root, "bench.png")], env=env)
+
+
+def check_no_space(r, root, what):
+    """Exit 2 and a first line saying that a file (or directory) under `root` had no space."""
+    first = first_line(r.stderr)
+    check(r.returncode == 2, f"{what}: exit {r.returncode}, expected 2\n{r.stderr}")
+    check(first.startswith("aeroflock: error: ") and first.endswith(NO_SPACE) and root in first,
+          f"{what}: stderr {r.stderr!r}")
+    return first
+
+
 def full_disk(opt):
     tmpfs = not opt.injected
     if tmpfs and os.geteuid() != 0 and not opt.in_namespace:
@@ -151,7 +217,7 @@ def full_disk(opt):
                 # Only when the disk could not take even the checks before the run.
                 check("cannot write there" in first, f"{what}: no flock.pvd after the run")
                 print(f"{what}: refused before the run: {first}")
-            leftovers = [f for _, _, fs in os.walk(mount) for f in fs if f.endswith(".tmp")]
+            leftovers = temporaries(mount)
             check(not leftovers, f"{what}: temporaries left: {leftovers}")
             if os.path.exists(summary):
                 s = read_json(summary)
@@ -159,9 +225,79 @@ def full_disk(opt):
             else:
                 check(summary.startswith(mount) and f"cannot write {summary}" in r.stderr,
                       f"{what}: no summary, and no error about it: {r.stderr!r}")
+            # The pictures, and (where the disk cannot take its plot) the bench, on the same disk.
+            for name, command in [("pictures", pictures_run)] + ([("bench", bench_run)] if kib <= 16 else []):
+                root = fresh(os.path.join(mount, name))
+                r = command(opt, root, env)
+                first = check_no_space(r, root, f"{what}, {name}")
+                check_outputs_whole(root, f"{what}, {name}")
+                print(f"{what}, {name}: {first}")
         finally:
             if env is None:
                 run(["umount", mount])
+
+
+def full_disk_calls(opt):
+    """Each write, fsync, close and rename under the directory failed in turn (the injected disk)."""
+    if not opt.fake_disk_lib:
+        print("SKIPPED: full-disk-calls needs --fake-disk-lib")
+        sys.exit(77)
+    cv = vtk_check()
+    counts_file = os.path.join(opt.workdir, "calls.txt")
+
+    def export_run(root, env):
+        return run([opt.aeroflock, "run", "fig21-moving-target", "--backend", "cpu", "--birds", "20",
+                    "--seconds", "0.1", "--vtk", os.path.join(root, "vtk"), "--summary", os.path.join(root, "s.json"),
+                    "--png", os.path.join(root, "last.png"), "--frames-dir", os.path.join(root, "frames"),
+                    "--size", "64x48", "--msaa", "1"]
+                   + (["--video", os.path.join(root, "run.mp4")] if shutil.which("ffmpeg") else []), env=env)
+
+    def injected(root, fail=None):
+        env = dict(os.environ, LD_PRELOAD=opt.fake_disk_lib, AEROFLOCK_FAKE_DISK=f"{root}:{1 << 40}",
+                   AEROFLOCK_FAKE_DISK_COUNT=counts_file,
+                   ASAN_OPTIONS="verify_asan_link_order=0:" + os.environ.get("ASAN_OPTIONS", ""))
+        if fail:
+            env["AEROFLOCK_FAKE_DISK_FAIL"] = fail
+        return env
+
+    def calls():
+        counts, failed = {}, None
+        for line in (text_of(counts_file) or "").splitlines():
+            word, rest = line.split(" ", 1)
+            if word == "failed":
+                failed = rest.split(" ", 1)[1]
+            else:
+                counts[word] = int(rest)
+        return counts, failed
+
+    total = 0
+    for name, command in [("run", export_run), ("bench", bench_run)]:
+        root = fresh(os.path.join(opt.workdir, name))
+        r = command(root, injected(root)) if name == "run" else command(opt, root, injected(root))
+        check(r.returncode == 0, f"{name}: exit {r.returncode} without a failure\n{r.stderr}")
+        counts, _ = calls()
+        print(f"{name}: {counts}")
+        for call in ["write", "fsync", "close", "rename"]:
+            check(counts.get(call, 0) >= 1, f"{name}: no {call} call under {root}")
+            for k in range(1, counts.get(call, 0) + 1):
+                root = fresh(os.path.join(opt.workdir, name))
+                env = injected(root, f"{call}:{k}")
+                r = command(root, env) if name == "run" else command(opt, root, env)
+                what = f"{name}, {call} {k} of {counts[call]}"
+                first = check_no_space(r, root, what)
+                _, failed = calls()
+                # The error names the file whose call failed (its temporary: the file it becomes).
+                output = re.sub(r"\.aeroflock-\d+-\d+\.tmp$", "", failed or "")
+                check(failed and (f" {output}:" in first or first.startswith(f"aeroflock: error: cannot write {output}")
+                                  or f"{os.path.dirname(output)}: cannot write there" in first),
+                      f"{what}: the failed call was on {failed}, the error says {first!r}")
+                check_outputs_whole(root, what)
+                vtk = os.path.join(root, "vtk")
+                if name == "run" and os.path.exists(os.path.join(vtk, "flock.pvd")):
+                    cv_errors, _, _ = cv.check_export(vtk, birds=20, min_frames=0, trajectories_prefix=True)
+                    report(cv_errors, what)
+                total += 1
+    print(f"{total} runs, each with one call failed: every one reported No space left on device")
 
 
 def signal_run(opt):
@@ -294,7 +430,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("aeroflock")
     parser.add_argument("workdir")
-    parser.add_argument("mode", choices=["full-disk", "signal", "kill", "rerun", "summary-tmp"])
+    parser.add_argument("mode", choices=["full-disk", "full-disk-calls", "signal", "kill", "rerun", "summary-tmp"])
     parser.add_argument("--signal", choices=["INT", "TERM"], default="TERM")
     parser.add_argument("--backend", choices=["cpu", "vulkan"], default="cpu")
     parser.add_argument("--video", action="store_true", help="signal: with --video (needs ffmpeg)")
@@ -305,7 +441,7 @@ def main():
     opt.aeroflock = os.path.abspath(opt.aeroflock)
     opt.workdir = os.path.realpath(opt.workdir)
     os.makedirs(opt.workdir, exist_ok=True)
-    {"full-disk": full_disk, "signal": signal_run, "kill": kill_run, "rerun": rerun,
+    {"full-disk": full_disk, "full-disk-calls": full_disk_calls, "signal": signal_run, "kill": kill_run, "rerun": rerun,
      "summary-tmp": summary_tmp}[opt.mode](opt)
     if errors:
         print("\n".join(errors))

@@ -1,6 +1,8 @@
 // Files written whole or not at all (engine/io/atomic_file.h): temporaries only this process
 // names and creates, only they removed; a killed run's temporaries cleared, no one else's.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <cstring>
 #include <string>
 
 #include "test_files.h"
@@ -41,8 +44,8 @@ long dead_pid() {
 
 TEST(AtomicFile, TemporariesAreNewNamesOfThisProcess) {
   const fs::path dir = fresh_dir("names");
-  const fs::path a = create_temporary(dir / "x.json");
-  const fs::path b = create_temporary(dir / "x.json");
+  AtomicFile file_a(dir / "x.json"), file_b(dir / "x.json");
+  const fs::path a = file_a.temporary(), b = file_b.temporary();
   EXPECT_NE(a, b);
   long pid = 0;
   ASSERT_TRUE(is_temporary_name(a.filename().string(), &pid)) << a;
@@ -63,21 +66,17 @@ TEST(AtomicFile, SomeoneElsesTmpSurvivesAWriteThatFailsAndOneThatSucceeds) {
   const fs::path path = dir / "x.json";
   write_text(dir / "x.json.tmp", "someone else's\n");
   write_text(path, "old\n");
-  // A write that fails: the old file stays, and nothing but its own temporary is removed.
-  EXPECT_THROW(write_file_atomically(path, [](const fs::path& tmp) {
-                 write_text(tmp, "half");
-                 throw std::runtime_error("No space left on device");
-               }),
-               std::runtime_error);
+  // A write given up (an exception before commit): the old file stays, and nothing but its own
+  // temporary is removed.
+  try {
+    AtomicFile file(path);
+    file.write("half");
+    throw std::runtime_error("the writer gave up");
+  } catch (const std::runtime_error&) {
+  }
   EXPECT_EQ(read_text(path), "old\n");
   EXPECT_EQ(read_text(dir / "x.json.tmp"), "someone else's\n");
   EXPECT_EQ(names_in(dir), (std::set<std::string>{"x.json", "x.json.tmp"}));
-  // The error names the file, not the temporary.
-  try {
-    write_file_atomically(path, [](const fs::path&) { throw std::runtime_error("No space left on device"); });
-  } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "cannot write " + path.string() + ": No space left on device");
-  }
   write_text_atomically(path, "new\n");
   EXPECT_EQ(read_text(path), "new\n");
   EXPECT_EQ(read_text(dir / "x.json.tmp"), "someone else's\n");
@@ -109,6 +108,89 @@ TEST(AtomicFile, AKilledRunsTemporariesAreRemovedNoOneElses) {
   check_output_path(dir / "x.json", "--summary", {".json"});
   EXPECT_FALSE(fs::exists(dir / stale));
   EXPECT_TRUE(fs::exists(dir / ("x.json.aeroflock-" + live + "-4.tmp")));
+}
+
+// A file size limit (RLIMIT_FSIZE) for the scope: a write past it fails with EFBIG, a real failure
+// of the system call, as a full disk's ENOSPC is (tests/fake_full_disk.cpp injects those).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &old_);
+    rlimit lower = old_;
+    lower.rlim_cur = bytes;
+    EXPECT_EQ(setrlimit(RLIMIT_FSIZE, &lower), 0);
+    old_handler_ = signal(SIGXFSZ, SIG_IGN);  // else the signal ends the process
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old_);
+    signal(SIGXFSZ, old_handler_);
+  }
+
+ private:
+  rlimit old_{};
+  sighandler_t old_handler_ = SIG_DFL;
+};
+
+TEST(AtomicFile, AFailedWriteIsReportedWithTheCallsReasonAndLeavesTheOldFile) {
+  const fs::path dir = fresh_dir("efbig");
+  const fs::path path = dir / "x.vtp";
+  write_text(path, "old\n");
+  const std::string expected = "cannot write " + path.string() + ": " + std::strerror(EFBIG);
+  const std::string big(4096, 'x');
+  {
+    FileSizeLimit limit(1000);
+    // More than the 1 MiB window at once: written through, the failing pwrite(2)'s reason at once.
+    try {
+      AtomicFile file(path);
+      file.write(std::string(2 << 20, 'x'));
+      ADD_FAILURE() << "a write past the limit did not throw";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+    // Less: held in the window, the failure met (and thrown) when it goes out, at commit().
+    try {
+      AtomicFile file(path);
+      file.write(big);
+      file.commit();
+      ADD_FAILURE() << "a commit past the limit did not throw";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+    // Through the stream (as VTK writes): nothing thrown there, the reason kept for commit().
+    try {
+      AtomicFile file(path);
+      for (int i = 0; i < 1000; ++i) file.stream() << big;
+      EXPECT_TRUE(file.stream().bad());
+      EXPECT_EQ(file.error(), std::strerror(EFBIG));
+      file.commit();
+      ADD_FAILURE() << "commit after a failed write did not throw";
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+  }
+  EXPECT_EQ(read_text(path), "old\n");
+  EXPECT_EQ(names_in(dir), (std::set<std::string>{"x.vtp"}));
+}
+
+TEST(AtomicFile, TheStreamSeeksBackAndForthAsVtkDoes) {
+  const fs::path dir = fresh_dir("seek");
+  const fs::path path = dir / "x.txt";
+  AtomicFile file(path);
+  std::ostream& os = file.stream();
+  os << "offset=" << std::string(9, ' ') << " ";  // room for the quoted offset, filled in below
+  const std::streampos end_of_header = os.tellp();
+  const std::string block(3 << 20, 'b');  // larger than the stream's window: written straight through
+  os << block;
+  const std::streampos end = os.tellp();
+  os.seekp(7);
+  os << "\"" << (end - end_of_header) << "\"";
+  os.seekp(end);
+  os << "|end";
+  file.write(std::string_view("|raw"));  // after the stream's bytes
+  file.commit();
+  EXPECT_EQ(read_text(path), "offset=\"3145728\" " + block + "|end|raw");
+  EXPECT_EQ(names_in(dir), (std::set<std::string>{"x.txt"}));
+  EXPECT_THROW(file.commit(), std::logic_error);
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 #include "frame_output.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -10,29 +9,15 @@
 #include "gpu/gpu_simulation.h"
 #include "gpu/layout.h"
 #include "host.h"
-#include "io/atomic_file.h"
 #include "io/image.h"
 #include "io/paths.h"
+#include "io/video.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
 namespace aeroflock {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// ffmpeg's name of the container a video's extension names (check_output_path allows these).
-std::string video_format(const fs::path& video) {
-  std::string ext = video.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".mkv") return "matroska";
-  if (ext == ".mov") return "mov";
-  if (ext == ".webm") return "webm";
-  return "mp4";
-}
-
-}  // namespace
 
 struct FrameOutput::Impl {
   ImageOptions options;
@@ -45,8 +30,7 @@ struct FrameOutput::Impl {
   std::unique_ptr<gpu::Submitter> submitter;
   std::optional<render::CameraControl> camera;  // from the first picture
   double camera_time = 0.0;                     // simulated time of its last update
-  FILE* video = nullptr;
-  fs::path video_tmp;  // ffmpeg writes here; renamed onto options.video when it has finished
+  std::unique_ptr<VideoWriter> video;
   double video_fps = 0.0;
   uint64_t dir_frames = 0;    // PNGs written to frames_dir
   bool png_written = false, video_written = false;
@@ -90,29 +74,8 @@ struct FrameOutput::Impl {
       char rate[64];
       if (options.fps) std::snprintf(rate, sizeof rate, "%.9g", *options.fps);
       else std::snprintf(rate, sizeof rate, "1000000/%.0f", frame_seconds * 1e6);
-      // To a temporary of the video's (whole or not at all, as every output), in the container
-      // its extension names. In a session of its own (setsid): a Ctrl-C at the terminal reaches
-      // the process group, and ffmpeg must not stop before the run has finished the video.
-      video_tmp = create_temporary(options.video);
-      const std::string command = std::string(has_program("setsid") ? "exec setsid " : "exec ") +
-                                  "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s " +
-                                  std::to_string(options.width) + "x" +
-                                  std::to_string(options.height) + " -r " + rate +
-                                  " -i - -pix_fmt yuv420p -f " + video_format(options.video) + " '" +
-                                  video_tmp.string() + "'";
-      video = popen(command.c_str(), "w");
-      if (!video) {
-        std::error_code ignored;
-        fs::remove(video_tmp, ignored);
-        throw std::runtime_error("--video: cannot start ffmpeg");
-      }
+      video = std::make_unique<VideoWriter>(options.video, options.width, options.height, rate);
     }
-  }
-
-  ~Impl() {
-    if (video) pclose(video);
-    std::error_code ignored;
-    if (!video_tmp.empty()) fs::remove(video_tmp, ignored);  // a video not finished
   }
 
   std::vector<uint8_t> render(Simulation& sim) {
@@ -169,9 +132,7 @@ void FrameOutput::frame(Simulation& sim, uint64_t index) {
     write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
     ++o.dir_frames;
   }
-  for (; due > 0; --due, ++o.video_frames)
-    if (std::fwrite(pixels.data(), 1, pixels.size(), o.video) != pixels.size())
-      throw std::runtime_error("--video: ffmpeg stopped taking frames");
+  for (; due > 0; --due, ++o.video_frames) o.video->frame(pixels);
 }
 
 void FrameOutput::finish(Simulation& sim) {
@@ -180,17 +141,10 @@ void FrameOutput::finish(Simulation& sim) {
     write_png(o.options.png, o.options.width, o.options.height, o.render(sim));
     o.png_written = true;
   }
+  if (o.video && o.video_frames == 0) o.video.reset();  // a run stopped before its first: no video
   if (o.video) {
-    const int status = pclose(o.video);
-    o.video = nullptr;
-    std::error_code ec;
-    if (status == 0) fs::rename(o.video_tmp, o.options.video, ec);
-    if (status != 0 || ec) {
-      fs::remove(o.video_tmp, ec);
-      o.video_tmp.clear();
-      throw std::runtime_error("--video: ffmpeg failed writing " + o.options.video);
-    }
-    o.video_tmp.clear();
+    o.video->finish();
+    o.video.reset();
     o.video_written = true;
   }
 }

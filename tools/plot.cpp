@@ -4,7 +4,9 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
+#include <string>
 
 #include "io/atomic_file.h"
 
@@ -52,14 +54,22 @@ void write_plot_png(const fs::path& png, const std::string& option, int width, i
     gp << "set output " << gnuplot_string(image.string()) << "\n";
     write(gp, dir.path);
   }
-  const std::string command = "gnuplot " + shell_string(script.string());
-  if (std::system(command.c_str()) != 0) throw std::runtime_error(option + ": gnuplot failed writing " + png.string());
+  // gnuplot's warnings (a range of one point, say) are its own business; its messages are shown
+  // only when it fails.
+  const fs::path log = dir.path / "gnuplot.log";
+  const std::string command = "gnuplot " + shell_string(script.string()) + " 2>" + shell_string(log.string());
+  if (std::system(command.c_str()) != 0) {
+    std::ifstream messages(log);
+    const std::string text((std::istreambuf_iterator<char>(messages)), std::istreambuf_iterator<char>());
+    throw std::runtime_error(option + ": gnuplot failed writing " + png.string() + (text.empty() ? "" : ":\n" + text));
+  }
+  // gnuplot draws into the scratch directory; the image reaches `png` through an AtomicFile, which
+  // reports a failure there as every output does.
+  std::ifstream in(image, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw std::runtime_error(option + ": cannot read gnuplot's image " + image.string());
   try {
-    write_file_atomically(png, [&](const fs::path& tmp) {
-      std::error_code ec;
-      fs::copy_file(image, tmp, fs::copy_options::overwrite_existing, ec);
-      if (ec) throw std::runtime_error(ec.message());
-    });
+    write_text_atomically(png, bytes);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(option + ": " + e.what());
   }

@@ -3,8 +3,6 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
-#include <cerrno>
-#include <cstring>
 #include <stdexcept>
 
 #include "io/atomic_file.h"
@@ -15,10 +13,15 @@ void write_png(const std::filesystem::path& path, uint32_t width, uint32_t heigh
                const std::vector<uint8_t>& rgba) {
   if (rgba.size() != size_t(width) * height * 4)
     throw std::invalid_argument("write_png: pixel count does not match the size");
-  write_file_atomically(path, [&](const std::filesystem::path& tmp) {
-    if (!stbi_write_png(tmp.c_str(), int(width), int(height), 4, rgba.data(), int(width * 4)))
-      throw std::runtime_error(std::strerror(errno));
-  });
+  AtomicFile file(path);
+  // stb hands the encoded bytes over in pieces; the first failure is kept and thrown by commit().
+  const auto put = [](void* context, void* data, int size) {
+    auto* out = static_cast<AtomicFile*>(context);
+    if (out->error().empty()) out->stream().write(static_cast<const char*>(data), size);
+  };
+  if (!stbi_write_png_to_func(put, &file, int(width), int(height), 4, rgba.data(), int(width * 4)))
+    throw std::runtime_error("cannot write " + path.string() + ": the PNG encoder failed");
+  file.commit();
 }
 
 Rgba read_png(const std::filesystem::path& path) {

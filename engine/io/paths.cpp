@@ -1,9 +1,6 @@
 #include "io/paths.h"
 
 #include <cctype>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "io/atomic_file.h"
@@ -20,21 +17,15 @@ namespace fs = std::filesystem;
 // Writes and removes a temporary of `file` (a new name of this program's: nothing that stands there
 // is touched); why it could not be written, or "" when it could.
 std::string probe(const fs::path& file) {
-  fs::path tmp;
   try {
-    tmp = create_temporary(file);
+    AtomicFile scratch(file);
+    scratch.write("probe\n");
+    scratch.close();  // fsync and close checked too: a disk reports some failures only there
   } catch (const std::exception& e) {
     const std::string text = e.what(), lead = "cannot write " + file.string() + ": ";
     return text.starts_with(lead) ? text.substr(lead.size()) : text;
   }
-  errno = 0;
-  std::ofstream out(tmp);
-  if (out) out << "probe\n";
-  out.close();
-  const int err = errno;
-  std::error_code ignored;
-  fs::remove(tmp, ignored);
-  return out ? std::string() : std::strerror(err ? err : EIO);
+  return "";
 }
 
 // The directory a path lies in ("." for a bare name; "out" for "out/vtk/").

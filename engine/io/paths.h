@@ -13,8 +13,8 @@ namespace aeroflock {
 // leave a tree of directories behind.
 
 // Makes sure a file can be written at `path`: not a directory, its directory existing, and a
-// scratch file written and removed beside it (a temporary of create_temporary's, as
-// write_file_atomically writes; a killed run's temporaries of PATH are removed). With
+// scratch file written and removed beside it (an AtomicFile's temporary, never committed; a
+// killed run's temporaries of PATH are removed). With
 // `extensions` (".png", ...; compared without case) the name must end in one of them. Throws
 // std::runtime_error "WHAT PATH: why" otherwise; `what` names the option or the output.
 void check_output_path(const std::filesystem::path& path, const std::string& what,

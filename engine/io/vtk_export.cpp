@@ -11,6 +11,7 @@
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkFieldData.h>
 #include <vtkPoints.h>
@@ -24,7 +25,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -99,54 +99,61 @@ bool is_frame_name(std::string_view name) {
          std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-// Writes `data` to `path` through a temporary file and a rename, turning VTK's errors into an
-// exception.
+// vtkXMLPolyDataWriter onto a stream of ours: VTK 9.1 has no public setter for the stream it
+// writes (vtkXMLWriter::Stream), and writing to its own file would leave the reason of a failure to
+// its clean-up (it reads errno after removing the file).
+class PolyDataStreamWriter : public vtkXMLPolyDataWriter {
+ public:
+  static PolyDataStreamWriter* New();
+  vtkTypeMacro(PolyDataStreamWriter, vtkXMLPolyDataWriter)
+  // For the next Write() (which rewinds it and forgets it at the end).
+  void SetOutputStream(std::ostream* stream) { this->Stream = stream; }
+};
+vtkStandardNewMacro(PolyDataStreamWriter)
+
+// Writes `data` to `path` through an AtomicFile: the reason of a failure is the failing system
+// call's; VTK's own message only when no call failed.
 void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
-  write_file_atomically(path, [&](const fs::path& tmp) {
-    std::string message;
-    vtkNew<vtkCallbackCommand> on_error;
-    on_error->SetClientData(&message);
-    on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
-      auto* text = static_cast<std::string*>(client);
-      if (text->empty() && call) *text = static_cast<const char*>(call);
-    });
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    writer->AddObserver(vtkCommand::ErrorEvent, on_error);
-    writer->AddObserver(vtkCommand::WarningEvent, on_error);
-    writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
-    writer->SetFileName(tmp.c_str());
-    writer->SetInputData(data);
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();  // raw binary, not base64
-    writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
-    switch (compression) {
-      case VtkOptions::Compression::none:
-        writer->SetCompressorTypeToNone();
-        break;
-      case VtkOptions::Compression::lz4:
-        writer->SetCompressorTypeToLZ4();
-        break;
-      case VtkOptions::Compression::zlib:
-        writer->SetCompressorTypeToZLib();
-        break;
-    }
-    errno = 0;
-    if (writer->Write() == 1 && writer->GetErrorCode() == 0) return;
-    // The system's reason when there is one: VTK's own text for a full disk is its internals
-    // ("FORWARD_DIRECTION: 0" and the like), of no use to the reader.
-    const int err = errno;
-    if (writer->GetErrorCode() == vtkErrorCode::OutOfDiskSpaceError)
-      throw std::runtime_error(std::strerror(err == EDQUOT || err == EFBIG || err == EIO ? err : ENOSPC));
-    if (err != 0) throw std::runtime_error(std::strerror(err));
-    // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-      message.pop_back();
-    if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
-    if (const size_t colon = message.find("): ");
-        message.starts_with("vtk") && colon != std::string::npos)
-      message.erase(0, colon + 3);
-    throw std::runtime_error(message.empty() ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()) : message);
+  AtomicFile file(path);
+  std::string message;
+  vtkNew<vtkCallbackCommand> on_error;
+  on_error->SetClientData(&message);
+  on_error->SetCallback([](vtkObject*, unsigned long, void* client, void* call) {
+    auto* text = static_cast<std::string*>(client);
+    if (text->empty() && call) *text = static_cast<const char*>(call);
   });
+  vtkNew<PolyDataStreamWriter> writer;
+  writer->AddObserver(vtkCommand::ErrorEvent, on_error);
+  writer->AddObserver(vtkCommand::WarningEvent, on_error);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
+  writer->SetOutputStream(&file.stream());
+  writer->SetInputData(data);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();  // raw binary, not base64
+  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB: large flocks do not fail
+  switch (compression) {
+    case VtkOptions::Compression::none:
+      writer->SetCompressorTypeToNone();
+      break;
+    case VtkOptions::Compression::lz4:
+      writer->SetCompressorTypeToLZ4();
+      break;
+    case VtkOptions::Compression::zlib:
+      writer->SetCompressorTypeToZLib();
+      break;
+  }
+  const bool written = writer->Write() == 1 && writer->GetErrorCode() == 0;
+  if (written || !file.error().empty()) {
+    file.commit();  // throws the failing call's reason, if one failed
+    return;
+  }
+  // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+  if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
+  if (const size_t colon = message.find("): "); message.starts_with("vtk") && colon != std::string::npos)
+    message.erase(0, colon + 3);
+  throw std::runtime_error("cannot write " + path.string() + ": " +
+                           (message.empty() ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()) : message));
 }
 
 template <typename Array>
