@@ -99,7 +99,7 @@ TEST(GpuDevice, AddsMillionFloats) {
   db.upload(bytes(b));
 
   gpu::ComputePipeline add(device, gpu::shader_spirv("selftest_add"), {0, 1, 2}, sizeof(uint32_t));
-  add.set_buffers({&da, &db, &sum});
+  add.set_buffers({{0, &da}, {1, &db}, {2, &sum}});
   {
     // Synchronous: record, submit, wait.
     gpu::Submitter submitter(device);

@@ -128,12 +128,23 @@ void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) co
   }
 }
 
-VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers) {
-  const uint32_t count = static_cast<uint32_t>(bindings_.size());
-  if (buffers.size() != count)
-    throw Error("compute pipeline: " + std::to_string(buffers.size()) + " buffers for " +
-                std::to_string(count) + " bindings");
-  for (uint32_t i = 0; i < count; ++i) check_range(bindings_[i], buffers[i]->size());
+VkDescriptorSet ComputePipeline::make_set(std::span<const Bound> bound) {
+  // Each of the pipeline's bindings' buffer, found by its number.
+  const size_t count = bindings_.size();
+  std::vector<const Buffer*> buffers(count, nullptr);
+  for (const Bound& b : bound) {
+    const auto it = std::find_if(bindings_.begin(), bindings_.end(),
+                                 [&](const Binding& binding) { return binding.number == b.binding; });
+    if (it == bindings_.end())
+      throw Error("compute pipeline: a buffer for binding " + std::to_string(b.binding) + ", which it does not have");
+    const Buffer*& slot = buffers[size_t(it - bindings_.begin())];
+    if (slot) throw Error("compute pipeline: binding " + std::to_string(b.binding) + " given twice");
+    slot = b.buffer;
+  }
+  for (size_t i = 0; i < count; ++i) {
+    if (!buffers[i]) throw Error("compute pipeline: no buffer for binding " + std::to_string(bindings_[i].number));
+    check_range(bindings_[i], buffers[i]->size());
+  }
 
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   alloc.descriptorPool = pool_;
@@ -146,7 +157,7 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
   std::vector<VkDescriptorBufferInfo> infos(count);
   std::vector<VkBufferView> views(count, VK_NULL_HANDLE);
   std::vector<VkWriteDescriptorSet> writes(count);
-  for (uint32_t i = 0; i < count; ++i) {
+  for (size_t i = 0; i < count; ++i) {
     writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
     writes[i].dstBinding = bindings_[i].number;
@@ -165,12 +176,8 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Buffer* const> buffers
       writes[i].pBufferInfo = &infos[i];
     }
   }
-  vkUpdateDescriptorSets(device_.handle(), count, writes.data(), 0, nullptr);
+  vkUpdateDescriptorSets(device_.handle(), uint32_t(count), writes.data(), 0, nullptr);
   return set;
-}
-
-VkDescriptorSet ComputePipeline::make_set(std::initializer_list<const Buffer*> buffers) {
-  return make_set(std::span<const Buffer* const>(buffers.begin(), buffers.size()));
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, uint32_t groups_x, const void* push,

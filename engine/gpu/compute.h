@@ -28,6 +28,12 @@ struct Binding {
   VkFormat texels = VK_FORMAT_UNDEFINED;  // of a texel buffer
 };
 
+// A buffer at a binding number (host_device.h's kBinding...): what a descriptor set is made of.
+struct Bound {
+  uint32_t binding;
+  const Buffer* buffer;
+};
+
 // A compute shader with the buffers at `bindings` and a push-constant block of `push_size` bytes
 // (0: none). Its pool holds `max_sets` descriptor sets. `constants[i]` specialises the shader's
 // 32-bit constant of constant_id i.
@@ -40,15 +46,16 @@ class ComputePipeline {
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
 
-  // A descriptor set with the i-th of the pipeline's bindings = the whole of buffers[i] (e.g. one
-  // set per frame slot). Lives as long as the pipeline, and so do its texel buffers' views.
-  VkDescriptorSet make_set(std::span<const Buffer* const> buffers);
-  VkDescriptorSet make_set(std::initializer_list<const Buffer*> buffers);
-  // make_set, and the set that dispatch() uses without one.
-  void set_buffers(std::span<const Buffer* const> buffers) { default_set_ = make_set(buffers); }
-  void set_buffers(std::initializer_list<const Buffer*> buffers) {
-    default_set_ = make_set(buffers);
+  // A descriptor set from each binding's buffer, named beside it: {kBindingBirds, &birds}, ...
+  // Every binding of the pipeline once, in any order (an error names the one missing, extra or
+  // twice given). Lives as long as the pipeline, and so do its texel buffers' views.
+  VkDescriptorSet make_set(std::span<const Bound> buffers);
+  VkDescriptorSet make_set(std::initializer_list<Bound> buffers) {
+    return make_set(std::span<const Bound>(buffers.begin(), buffers.size()));
   }
+  // make_set, and the set that dispatch() uses without one.
+  void set_buffers(std::span<const Bound> buffers) { default_set_ = make_set(buffers); }
+  void set_buffers(std::initializer_list<Bound> buffers) { default_set_ = make_set(buffers); }
 
   // Records bind + push constants + vkCmdDispatch(groups_x, 1, 1). `push_size` must be the
   // pipeline's. Error if groups_x exceeds maxComputeWorkGroupCount[0].

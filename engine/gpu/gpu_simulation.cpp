@@ -87,15 +87,21 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
 // a pass over the grid's slots takes several a workgroup beyond (grid_ranges.comp).
 constexpr uint32_t kMaxRowGroups = 65535;
 
+// The bindings of every pass that flies or sees birds: the birds, their species and their world
+// (GpuSimulation::world_buffers), and then the pass's own.
+std::vector<Binding> world_and(std::initializer_list<Binding> more) {
+  std::vector<Binding> all = {kBindingBirds,  kBindingSpecies,      kBindingTargets,
+                              kBindingRoutes, kBindingRouteTargets, kBindingBranches};
+  all.insert(all.end(), more);
+  return all;
+}
+
 // The search reads the grid as texels (compute.h: Binding).
-const std::vector<Binding> kPerceiveBindings = {
-    kBindingBirds,      kBindingSpecies,      kBindingTargets,
-    kBindingRoutes,     kBindingRouteTargets, kBindingBranches,
-    kBindingPerception,
-    {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
-    {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
-    {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
-    {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}};
+const std::vector<Binding> kPerceiveBindings = world_and({kBindingPerception,
+                                                          {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
+                                                          {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
+                                                          {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
+                                                          {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}});
 
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
 // 1), and whether each of them sees that many (kAllSeeKSeen).
@@ -138,8 +144,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
       ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
       search(search_buffer(device, shape, farthest_seen(scenario, birds))),
       count(device, shader_spirv("grid_count"),
-            {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets, kBindingBranches,
-             kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners, kBindingPerception},
+            world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners, kBindingPerception}),
             sizeof(StepConstants), 2),
       scan_blocks(device, shader_spirv("grid_scan_blocks"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
@@ -153,9 +158,12 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
                perceive_constants(scenario, birds)) {
-  scan_blocks.set_buffers({&counts, &starts, &blocks});
-  scan_totals.set_buffers({&counts, &starts, &blocks});
-  ranges_pass.set_buffers({&counts, &starts, &blocks, &ranges});
+  scan_blocks.set_buffers({{kBindingGridCounts, &counts}, {kBindingGridStarts, &starts}, {kBindingGridBlocks, &blocks}});
+  scan_totals.set_buffers({{kBindingGridCounts, &counts}, {kBindingGridStarts, &starts}, {kBindingGridBlocks, &blocks}});
+  ranges_pass.set_buffers({{kBindingGridCounts, &counts},
+                           {kBindingGridStarts, &starts},
+                           {kBindingGridBlocks, &blocks},
+                           {kBindingGridRanges, &ranges}});
 
   perceive.check_groups(group_count(birds.size(), kWorkgroupSize));
   scan_blocks.check_groups(shape.buckets / kScanBlock);
@@ -180,10 +188,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local, "routes' targets")),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
-      step_(device, shader_spirv("step"),
-            {kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-             kBindingBranches, kBindingPerception, kBindingStepsShort},
-            sizeof(StepConstants), 2),
+      step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingStepsShort}), sizeof(StepConstants), 2),
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
               Buffer(device, sizeof(uint32_t), Memory::host)},
@@ -197,18 +202,27 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
   for (Slot& slot : slots_) {
     std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
     slot.set = step_.make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, &slot.steps_short});
+        world_buffers(slot.targets, {{kBindingPerception, &perception_}, {kBindingStepsShort, &slot.steps_short}}));
     if (!flocking_) continue;
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
-    slot.perceive_set = f.perceive.make_set({&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_,
-                                             &perception_, &f.points, &f.keys, &f.ranges, &f.search});
+    slot.perceive_set = f.perceive.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
+                                                                         {kBindingGridPoints, &f.points},
+                                                                         {kBindingGridKeys, &f.keys},
+                                                                         {kBindingGridRanges, &f.ranges},
+                                                                         {kBindingGridSearch, &f.search}}));
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
-    f.count.set_buffers({&birds_, &species_, &slots_[0].targets, &routes_, &route_targets_, &branches_, &f.place,
-                         &f.counts, &f.keys, &f.owners, &perception_});
-    f.scatter.set_buffers({&birds_, &f.place, &f.ranges, &f.points});
+    f.count.set_buffers(world_buffers(slots_[0].targets, {{kBindingGridPlace, &f.place},
+                                                          {kBindingGridCounts, &f.counts},
+                                                          {kBindingGridKeys, &f.keys},
+                                                          {kBindingGridOwners, &f.owners},
+                                                          {kBindingPerception, &perception_}}));
+    f.scatter.set_buffers({{kBindingBirds, &birds_},
+                           {kBindingGridPlace, &f.place},
+                           {kBindingGridRanges, &f.ranges},
+                           {kBindingGridPoints, &f.points}});
   }
 }
 
@@ -236,6 +250,14 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
 }
 
+std::vector<Bound> GpuSimulation::world_buffers(const Buffer& targets, std::initializer_list<Bound> more) const {
+  std::vector<Bound> all = {{kBindingBirds, &birds_},   {kBindingSpecies, &species_},
+                            {kBindingTargets, &targets}, {kBindingRoutes, &routes_},
+                            {kBindingRouteTargets, &route_targets_}, {kBindingBranches, &branches_}};
+  all.insert(all.end(), more);
+  return all;
+}
+
 std::string GpuSimulation::device() const { return device_.name() + " (" + device_.driver() + ")"; }
 
 // The forces pipeline and buffers, made the first time a frame records forces (the buffers are
@@ -247,14 +269,13 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      std::vector<Binding>{kBindingBirds, kBindingSpecies, kBindingTargets, kBindingRoutes, kBindingRouteTargets,
-                           kBindingBranches, kBindingPerception, kBindingForces, kBindingStepsShort},
+      world_and({kBindingPerception, kBindingForces, kBindingStepsShort}),
       sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
-    slot.forces_set = step_forces_->make_set(
-        {&birds_, &species_, &slot.targets, &routes_, &route_targets_, &branches_, &perception_, forces_.get(),
-         &slot.steps_short});
+    slot.forces_set = step_forces_->make_set(world_buffers(
+        slot.targets,
+        {{kBindingPerception, &perception_}, {kBindingForces, forces_.get()}, {kBindingStepsShort, &slot.steps_short}}));
   }
 }
 

@@ -63,6 +63,9 @@ class GpuSimulation final : public Simulation {
 
  private:
   // What one frame in flight owns: its targets, its readback and its unpacked state.
+  // The buffers at world_and()'s bindings (gpu_simulation.cpp) with a slot's `targets`, then `more`.
+  std::vector<Bound> world_buffers(const Buffer& targets, std::initializer_list<Bound> more) const;
+
   struct Slot {
     Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
     Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)

@@ -110,12 +110,22 @@ struct Renderer::Impl {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   std::map<VkImageLayout, VkRenderPass> passes;  // by final layout
-  // sky, birds, branches, target rings, routes, posts, shadows
-  std::map<VkImageLayout, std::array<VkPipeline, 7>> pipelines;
+  // The draws' pipelines, one set of them per final layout of the image drawn.
+  struct Pipelines {
+    VkPipeline sky, birds, branches, rings, routes, posts, shadows;
+    std::array<VkPipeline, 7> all() const { return {sky, birds, branches, rings, routes, posts, shadows}; }
+  };
+  std::map<VkImageLayout, Pipelines> pipelines;
   VkSampleCountFlagBits samples;
   std::unique_ptr<gpu::Image> color;  // multisampled, resolved into the caller's image
   std::map<std::pair<VkImageView, VkImageLayout>, VkFramebuffer> framebuffers;
-  std::optional<std::array<VkDescriptorSet, 3>> sets;  // the draws' (draw_sets)
+  // The draws' descriptor sets, by the mesh they read (draw_sets): the bird's (sky, shadows and
+  // birds), the box's (branches and posts), and the box's again for the lines of routes and
+  // rings, which read no mesh.
+  struct DrawSets {
+    VkDescriptorSet birds, boxes, lines;
+  };
+  std::optional<DrawSets> sets;
 
   Impl(const gpu::Device& d, const Scenario& scenario, VkFormat f, VkExtent2D e, uint32_t msaa)
       : device(d),
@@ -161,7 +171,7 @@ struct Renderer::Impl {
     vkDeviceWaitIdle(dev);
     for (auto& [key, fb] : framebuffers) vkDestroyFramebuffer(dev, fb, nullptr);
     for (auto& [key, list] : pipelines)
-      for (VkPipeline p : list) vkDestroyPipeline(dev, p, nullptr);
+      for (VkPipeline p : list.all()) vkDestroyPipeline(dev, p, nullptr);
     for (auto& [key, pass] : passes) vkDestroyRenderPass(dev, pass, nullptr);
     vkDestroyDescriptorPool(dev, pool, nullptr);
     vkDestroyPipelineLayout(dev, layout, nullptr);
@@ -335,20 +345,19 @@ struct Renderer::Impl {
     return pipeline;
   }
 
-  const std::array<VkPipeline, 7>& pipelines_for(VkImageLayout final_layout) {
+  const Pipelines& pipelines_for(VkImageLayout final_layout) {
     if (auto it = pipelines.find(final_layout); it != pipelines.end()) return it->second;
     VkRenderPass rp = pass(final_layout);
     constexpr VkPrimitiveTopology kLines = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-    std::array<VkPipeline, 7> list = {
-        make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false}),
-        make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true, kLines}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true, kLines}),
-        make_pipeline(rp, {"solid_vert", "solid_frag", 3, true, VK_COMPARE_OP_LESS, false}),
-        // Shadows lie on the ground, under everything but the ground itself.
-        make_pipeline(rp, {"shadow_vert", "shadow_frag", 0, false, VK_COMPARE_OP_ALWAYS, true}),
-    };
+    Pipelines list;
+    list.sky = make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false});
+    list.birds = make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false});
+    list.branches = make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false});
+    list.rings = make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true, kLines});
+    list.routes = make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true, kLines});
+    list.posts = make_pipeline(rp, {"solid_vert", "solid_frag", 3, true, VK_COMPARE_OP_LESS, false});
+    // Shadows lie on the ground, under everything but the ground itself.
+    list.shadows = make_pipeline(rp, {"shadow_vert", "shadow_frag", 0, false, VK_COMPARE_OP_ALWAYS, true});
     return pipelines[final_layout] = list;
   }
 
@@ -384,36 +393,45 @@ struct Renderer::Impl {
   VkDescriptorSet pose_set_for(const Buffer& birds) {
     if (auto it = pose_sets.find(birds.handle()); it != pose_sets.end()) return it->second;
     return pose_sets[birds.handle()] =
-               pose_pipeline.make_set({&birds, &species, poses.get(), lists.get(), draws.get()});
+               pose_pipeline.make_set({{gpu::kBindingBirds, &birds},
+                                       {gpu::kBindingSpecies, &species},
+                                       {gpu::kBindingPoses, poses.get()},
+                                       {gpu::kBindingDrawLists, lists.get()},
+                                       {gpu::kBindingDraws, draws.get()}});
   }
 
-  // One set per mesh drawn (birds, boxes, and the lines of routes and rings, which read none).
-  const std::array<VkDescriptorSet, 3>& draw_sets() {
-    if (sets) return *sets;
-    std::array<VkDescriptorSet, 3> result{};
-    const std::array<const Buffer*, 3> meshes = {&bird_mesh, &box, &box};
-    for (size_t m = 0; m < meshes.size(); ++m) {
-      VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-      alloc.descriptorPool = pool;
-      alloc.descriptorSetCount = 1;
-      alloc.pSetLayouts = &set_layout;
-      check(vkAllocateDescriptorSets(device.handle(), &alloc, &result[m]), "vkAllocateDescriptorSets");
-      const std::array<const Buffer*, kDrawBindings.size()> buffers = {
-          &targets, &branches, poses.get(), lists.get(), meshes[m], &segments};
-      std::array<VkDescriptorBufferInfo, kDrawBindings.size()> infos{};
-      std::array<VkWriteDescriptorSet, kDrawBindings.size()> writes{};
-      for (uint32_t i = 0; i < kDrawBindings.size(); ++i) {
-        infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-        writes[i].dstSet = result[m];
-        writes[i].dstBinding = kDrawBindings[i];
-        writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
-      }
-      vkUpdateDescriptorSets(device.handle(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+  // A set of the draws' layout (kDrawBindings) reading `mesh`.
+  VkDescriptorSet draw_set(const Buffer& mesh) {
+    VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    alloc.descriptorPool = pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &set_layout;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    check(vkAllocateDescriptorSets(device.handle(), &alloc, &set), "vkAllocateDescriptorSets");
+    const std::array<gpu::Bound, kDrawBindings.size()> bound = {{{gpu::kBindingTargets, &targets},
+                                                                 {gpu::kBindingBranches, &branches},
+                                                                 {gpu::kBindingPoses, poses.get()},
+                                                                 {gpu::kBindingDrawLists, lists.get()},
+                                                                 {gpu::kBindingMesh, &mesh},
+                                                                 {gpu::kBindingSegments, &segments}}};
+    std::array<VkDescriptorBufferInfo, kDrawBindings.size()> infos{};
+    std::array<VkWriteDescriptorSet, kDrawBindings.size()> writes{};
+    for (size_t i = 0; i < bound.size(); ++i) {
+      infos[i] = {bound[i].buffer->handle(), 0, VK_WHOLE_SIZE};
+      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+      writes[i].dstSet = set;
+      writes[i].dstBinding = bound[i].binding;
+      writes[i].descriptorCount = 1;
+      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[i].pBufferInfo = &infos[i];
     }
-    return *(sets = result);
+    vkUpdateDescriptorSets(device.handle(), uint32_t(writes.size()), writes.data(), 0, nullptr);
+    return set;
+  }
+
+  const DrawSets& draw_sets() {
+    if (!sets) sets = DrawSets{draw_set(bird_mesh), draw_set(box), draw_set(box)};
+    return *sets;
   }
 };
 
@@ -521,16 +539,16 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &set, 0, nullptr);
     vkCmdDraw(cmd, vertices, instances, 0, 0);
   };
-  draw(pipelines[0], sets[0], 3, 1);                               // sky and ground
+  draw(pipelines.sky, sets.birds, 3, 1);  // sky and ground
   // The birds' shadows: of every bird, or of every shadow_stride-th.
   const uint32_t casters = view.shadow_casters > 0 ? view.shadow_casters : std::max(bird_count, 1u);
   frame.shadow_stride = std::max(1u, (bird_count + casters - 1) / casters);
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof frame, &frame);
-  draw(pipelines[6], sets[0], 6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
+  draw(pipelines.shadows, sets.birds, 6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
   // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
   if (bird_count > 0) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines[1]);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets[0], 0, nullptr);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.birds);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets.birds, 0, nullptr);
     for (uint32_t list = 0; list < 2; ++list) {
       frame.list_offset = list * r.pose_capacity;
       vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -538,11 +556,11 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
       vkCmdDrawIndirect(cmd, r.draws->handle(), list * sizeof(VkDrawIndirectCommand), 1, 0);
     }
   }
-  draw(pipelines[2], sets[1], r.box_vertices, r.branch_count);     // branches
-  draw(pipelines[5], sets[1], r.box_vertices, r.branch_count);     // the posts they are on
+  draw(pipelines.branches, sets.boxes, r.box_vertices, r.branch_count);
+  draw(pipelines.posts, sets.boxes, r.box_vertices, r.branch_count);  // the posts they are on
   if (view.show_targets) {
-    draw(pipelines[4], sets[2], 2, r.segment_count);  // routes
-    draw(pipelines[3], sets[2], kRingVertices, r.target_count);  // targets: a ring round each
+    draw(pipelines.routes, sets.lines, 2, r.segment_count);
+    draw(pipelines.rings, sets.lines, kRingVertices, r.target_count);  // a ring round each target
   }
   vkCmdEndRenderPass(cmd);
 }
