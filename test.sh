@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds and runs every test; then the sanitizers' subset of the tests
-# (the asan preset) and the scenario loader's fuzzer for 90 s (the fuzz preset): README "Sanitizers
-# and fuzzing".
+# (the asan preset) and the scenario loader's fuzzer for 90 s (the fuzz preset): docs/TESTING.md
+# "Sanitizers and fuzzing".
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 

@@ -466,9 +466,9 @@ TEST(TakeOff, CrouchesBeforeThePush) {
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
 
-// Issue 10: what turns the bird (README "What turns the bird"). The Fig. 16 eagle with its tail
+// Issue 10: what turns the bird (docs/MODEL.md "What we added, and why"). The Fig. 16 eagle with its tail
 // twist and without it (rot_max = 0): both circle, banked, at the same radius, so the bank turns
-// it; the figures (turn rate, sideslip, radius) go to the README.
+// it; the figures (turn rate, sideslip, radius) go to docs/MODEL.md.
 struct CircleFigures {
   uint32_t targets = 0;             // in 50 s after the first 10
   double r_lo = 1e9, r_hi = 0.0;    // cm

@@ -155,7 +155,7 @@ INSTANTIATE_TEST_SUITE_P(FastEnvelope, WholeGrid,
 // the starling under all six changes, the eagle under four (two more, 2.5 minutes each, would take
 // the suite past 30 minutes). One test per preset and change, so that ctest spreads them over the
 // cores. All twelve whole grids (1,692 cases a change) succeed, flown with `aeroflock envelope`
-// (README "Flight envelope"); the near, steep descents where the eagle failed last are mostly not
+// (docs/VALIDATION.md "Flight envelope"); the near, steep descents where the eagle failed last are mostly not
 // in this sample (AHeavyEagleGlidingDownBeatsInTimeToHoldTheTargetsHeight flies one). At the fast
 // fidelity's step they do not all succeed (docs/convergence.md: 11 of the 4,752 cases over-pitch,
 // under four of the twelve changes), so they are flown at the paper's.

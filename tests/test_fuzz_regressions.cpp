@@ -1,4 +1,4 @@
-// Every input the scenario loader's fuzzer found (tests/fuzz-regressions/, README "Fuzzing"):
+// Every input the scenario loader's fuzzer found (tests/fuzz-regressions/, docs/TESTING.md "Fuzz findings"):
 // each gives a clean ScenarioError naming the file, or a scenario that validates; never a crash,
 // a sanitizer report (the asan preset runs this too), a hang or another exception.
 #include <gtest/gtest.h>

@@ -180,7 +180,7 @@ struct ExportedBird {
 enum class Value { real, time, integer, unsigned_integer };
 
 // The point arrays of a frame file: name, kind, components, unit (in the file's array_units and
-// the README's "VTK export") and the bird's value. One line an array.
+// docs/VTK.md "Arrays") and the bird's value. One line an array.
 struct PointArray {
   const char* name;
   Value kind;

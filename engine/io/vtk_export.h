@@ -4,7 +4,7 @@
 //
 // DIR/frames/flock_000000.vtp, ...  one file per saved frame, the first at t = 0. Points: the
 //   birds' positions, cm, double. Point data, one tuple per bird: the arrays of kPointArrays in
-//   vtk_export.cpp (the README's "VTK export" lists them), float or double. Forces are the
+//   vtk_export.cpp (docs/VTK.md "Arrays" lists them), float or double. Forces are the
 //   backend's own: the step it takes next from the saved state (at t = 0 the CPU reference's).
 //   Field data: TimeValue, array_units ("name: unit"), species_names and flight_state_names
 //   (the codes' names), scenario, scenario_hash, dt, steps_per_frame.

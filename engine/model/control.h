@@ -98,7 +98,7 @@ double ground_bank(const Species& s, double height);
 // right > 0) and `speed`, at most bank_max: the bird banks into the turn to avoid skidding (3.4).
 double coordinated_bank(const Species& s, double turn_rate, double speed);
 
-// Airspeed, pitch and sweep (beyond the paper; README "Attitude, airspeed and height").
+// Airspeed, pitch and sweep (beyond the paper; docs/MODEL.md "Attitude, airspeed and height").
 // The airspeed the bird flies: its command within [min_speed, max_speed]; without one (<= 0),
 // the crab aim's (`aim_speed`, Steering's) within [cruise_speed, max_speed]. Once its branch is
 // the goal (`to_branch`) the crab aim's within [min_speed, max_speed], whatever its command: it

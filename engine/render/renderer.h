@@ -1,6 +1,7 @@
 // Draws the flock straight from the simulation's bird buffer (instanced: one instance a bird,
-// posed in the vertex shader from its state), with the ground, the sky, the branches and, when
-// asked, the target spheres. Records into a caller's command buffer and colour image, so that a
+// posed once a frame by the pose pass, pose.comp, from its state; the vertex shader only places the
+// mesh by that pose), with the ground, the sky, the branches and, when asked, the target rings and
+// routes. Records into a caller's command buffer and colour image, so that a
 // window (swapchain images) and headless rendering (an offscreen image) share it.
 #pragma once
 

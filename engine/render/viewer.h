@@ -16,7 +16,7 @@ struct ViewerOptions {
   uint32_t width = 1280;
   uint32_t height = 720;
   CameraOptions camera;
-  bool targets = true;  // the target spheres and routes (T toggles)
+  bool targets = true;  // the target rings and routes (T toggles)
   uint32_t msaa = 0;    // samples a pixel (0: default_msaa)
 };
 

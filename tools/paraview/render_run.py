@@ -36,8 +36,8 @@ Which ParaView: any 5.10 or later whose Python works (`pvbatch` can `from paravi
 ParaView's own binaries from paraview.org (kitware tarball: bin/pvbatch), or Debian's `paraview`
 together with its Python modules. On Debian 12 those are in python3-paraview, which conflicts with
 python3-vtk9 (and so with libvtk9-dev, which aeroflock's build needs); Debian's pvbatch without
-them stops with "ModuleNotFoundError: No module named 'paraview'". See the README (Analysis: ParaView,
-pvpython and Python) for the way round that (the modules unpacked into a directory of their own).
+them stops with "ModuleNotFoundError: No module named 'paraview'". See docs/ANALYSIS.md ("ParaView's
+Python next to python3-vtk9") for the way round that (the modules unpacked into a directory of their own).
 
 Debian's ParaView draws through X (GLX). With no DISPLAY the script re-runs itself under
 `xvfb-run -a` (package xvfb) when ParaView cannot render headless (EGL or OSMesa builds can).
@@ -77,7 +77,7 @@ TEXT_COLOR = (0.92, 0.92, 0.92)
 # Category colours that read well on the dark background (species, flight states).
 PALETTE = [(1.00, 0.60, 0.10), (0.35, 0.75, 1.00), (0.45, 0.85, 0.35), (0.95, 0.35, 0.40),
            (0.75, 0.55, 0.95), (0.95, 0.90, 0.40), (0.95, 0.55, 0.80), (0.60, 0.95, 0.90)]
-# flight_state codes as the README documents them, for files without flight_state_names.
+# flight_state codes as docs/VTK.md documents them, for files without flight_state_names.
 
 
 # ----------------------------------------------------------------------------- input

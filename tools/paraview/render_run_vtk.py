@@ -79,7 +79,7 @@ COOL_TO_WARM = [(0.0, 0.231373, 0.298039, 0.752941), (0.5, 0.865003, 0.865003, 0
 # Category colours that read well on the dark background (species, flight states).
 PALETTE = [(1.00, 0.60, 0.10), (0.35, 0.75, 1.00), (0.45, 0.85, 0.35), (0.95, 0.35, 0.40),
            (0.75, 0.55, 0.95), (0.95, 0.90, 0.40), (0.95, 0.55, 0.80), (0.60, 0.95, 0.90)]
-# flight_state codes as the README documents them, for files without flight_state_names.
+# flight_state codes as docs/VTK.md documents them, for files without flight_state_names.
 
 
 # ----------------------------------------------------------------------------- input
