@@ -2,10 +2,12 @@
 // chosen call (tests/check_faults.py full-disk --injected, full-disk-calls). A test hook only:
 // nothing in the program knows of it. Under LD_PRELOAD=libfake_full_disk.so:
 //
-//   AEROFLOCK_FAKE_DISK=DIR:BYTES   every write(), writev() and pwrite() to a file under DIR fails with ENOSPC
+//   AEROFLOCK_FAKE_DISK=DIR:BYTES   every write(), writev() and pwrite() to a file under DIR fails
+//   with ENOSPC
 //       once the regular files under DIR would hold more than BYTES. Writes that do not grow a file
 //       (VTK patching its offsets) succeed; removing a file frees its bytes, as on a real disk.
-//   AEROFLOCK_FAKE_DISK_FAIL=CALL:K the K-th call (from 1) of CALL (write: any of the three; fsync, close or rename)
+//   AEROFLOCK_FAKE_DISK_FAIL=CALL:K the K-th call (from 1) of CALL (write: any of the three; fsync,
+//   close or rename)
 //       on a file under DIR fails with ENOSPC, as a full disk (or NFS reporting a deferred write)
 //       makes it fail. close() still releases the descriptor, as Linux's does.
 //   AEROFLOCK_FAKE_DISK_COUNT=FILE  at exit, "CALL N" lines to FILE: the calls of each kind made on
@@ -63,8 +65,9 @@ bool fd_under_dir(int fd, char* target) {
 // An absolute path for `path` (relative ones from the working directory).
 void absolute(const char* path, char* out, size_t size) {
   char cwd[PATH_MAX];
-  const int n = path[0] == '/' || !getcwd(cwd, sizeof cwd) ? snprintf(out, size, "%s", path)
-                                                           : snprintf(out, size, "%s/%s", cwd, path);
+  const int n = path[0] == '/' || !getcwd(cwd, sizeof cwd)
+                    ? snprintf(out, size, "%s", path)
+                    : snprintf(out, size, "%s/%s", cwd, path);
   if (n < 0 || size_t(n) >= size) out[0] = '\0';  // too long: under no DIR
 }
 
@@ -152,7 +155,9 @@ ssize_t pwrite(int fd, const void* buf, size_t n, off_t offset) {
   return real_pwrite(fd, buf, n, offset);
 }
 
-ssize_t pwrite64(int fd, const void* buf, size_t n, off_t offset) { return pwrite(fd, buf, n, offset); }
+ssize_t pwrite64(int fd, const void* buf, size_t n, off_t offset) {
+  return pwrite(fd, buf, n, offset);
+}
 
 int fsync(int fd) {
   static const auto real_fsync = real<int (*)(int)>("fsync");

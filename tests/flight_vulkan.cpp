@@ -28,12 +28,12 @@ bool backend_available() {
 }
 const char* backend_name() { return "vulkan"; }
 std::unique_ptr<Simulation> make_flight_with(Scenario scenario, std::vector<BirdState> birds) {
-  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, flight_step(std::move(scenario)),
-                                              std::move(birds));
+  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device,
+                                              flight_step(std::move(scenario)), std::move(birds));
 }
 std::unique_ptr<Simulation> make_flight(Scenario scenario, uint32_t birds) {
-  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device, flight_step(std::move(scenario)),
-                                              birds);
+  return std::make_unique<gpu::GpuSimulation>(*testing::test_device().device,
+                                              flight_step(std::move(scenario)), birds);
 }
 
 }  // namespace aeroflock

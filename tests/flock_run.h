@@ -1,5 +1,5 @@
-// Flies a flock and measures it every frame as MODEL.md's "What a flock must show" asks, on any
-// backend (tests/test_flock.cpp, tests/test_flock_vulkan.cpp).
+// Flies a flock and measures it every frame as docs/MODEL.md's "What a flock must show" asks, on
+// any backend (tests/test_flock.cpp, tests/test_flock_vulkan.cpp).
 #pragma once
 
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <limits>
 #include <vector>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include <cstdio>
 
@@ -21,20 +21,24 @@ namespace aeroflock::testing {
 
 struct FlockRun {
   // Over the frames from `from` s on:
-  double median_nearest_low = std::numeric_limits<double>::infinity(), median_nearest_high = 0.0;  // cm
+  double median_nearest_low = std::numeric_limits<double>::infinity(),
+         median_nearest_high = 0.0;  // cm
   double worst_too_close = 0.0;
-  double lowest_straight_polarisation = 1.0;  // frames whose flock heading turned < 5 deg in the last second
+  double lowest_straight_polarisation =
+      1.0;  // frames whose flock heading turned < 5 deg in the last second
   size_t straight_frames = 0;
   double smallest_largest_cluster = 1.0;
   // Means over those frames (the backends are compared by them).
-  double mean_median_nearest = 0.0, mean_polarisation = 0.0, mean_largest_cluster = 0.0, mean_too_close = 0.0;
+  double mean_median_nearest = 0.0, mean_polarisation = 0.0, mean_largest_cluster = 0.0,
+         mean_too_close = 0.0;
   // Over the whole flight: the centroid's closest approach to each target of the flock's route.
   std::vector<double> closest_to_target, target_radius;
   size_t non_finite = 0;  // birds not finite at the end
 };
 
 // A bird of flock `flock` that flocks, flying at `velocity` (cm/s), its head along it.
-inline BirdState flocking_bird(const glm::dvec3& position, const glm::dvec3& velocity, uint32_t flock = 0) {
+inline BirdState flocking_bird(const glm::dvec3& position, const glm::dvec3& velocity,
+                               uint32_t flock = 0) {
   BirdState b;
   b.position = position;
   b.velocity = velocity;
@@ -66,7 +70,8 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
     }();
     for (size_t t = 0; t < route.targets.size(); ++t)
       run.closest_to_target[t] =
-          std::min(run.closest_to_target[t], glm::distance(extent.centre, sc.world.target_now[route.targets[t]]));
+          std::min(run.closest_to_target[t],
+                   glm::distance(extent.centre, sc.world.target_now[route.targets[t]]));
     headings.push_back(std::atan2(extent.mean_velocity.z, extent.mean_velocity.x));
     if (sim.time() < from) continue;
     const FlockMetrics m = flock_metrics(birds, sc.species, members);
@@ -78,7 +83,8 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
       double turned = std::fabs(headings.back() - headings[headings.size() - 1 - per_second]);
       turned = std::min(turned, 2.0 * M_PI - turned);
       if (turned < 5.0 * M_PI / 180.0) {
-        run.lowest_straight_polarisation = std::min(run.lowest_straight_polarisation, m.polarisation);
+        run.lowest_straight_polarisation =
+            std::min(run.lowest_straight_polarisation, m.polarisation);
         ++run.straight_frames;
       }
     }
@@ -99,7 +105,7 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
   return run;
 }
 
-// MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN.
+// docs/MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN.
 inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario, uint32_t flock) {
   const double span = scenario.species[scenario.flocks[flock].species].box_c;
   EXPECT_GE(run.median_nearest_low, 1.0 * span);
@@ -114,10 +120,12 @@ inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario,
     EXPECT_LE(run.closest_to_target[t], kMissedTargetRadii * run.target_radius[t])
         << "the flock's centroid missed target " << t;
   EXPECT_EQ(run.non_finite, 0u);
-  std::printf("median nearest %.1f-%.1f cm, worst too close %.4f, lowest straight polarisation %.4f (%zu frames), "
-              "smallest largest cluster %.4f, closest to the targets",
-              run.median_nearest_low, run.median_nearest_high, run.worst_too_close, run.lowest_straight_polarisation,
-              run.straight_frames, run.smallest_largest_cluster);
+  std::printf(
+      "median nearest %.1f-%.1f cm, worst too close %.4f, lowest straight polarisation %.4f (%zu "
+      "frames), "
+      "smallest largest cluster %.4f, closest to the targets",
+      run.median_nearest_low, run.median_nearest_high, run.worst_too_close,
+      run.lowest_straight_polarisation, run.straight_frames, run.smallest_largest_cluster);
   for (double d : run.closest_to_target) std::printf(" %.0f", d);
   std::printf(" cm\n");
 }

@@ -23,8 +23,8 @@ struct Image {
 };
 
 // Renders the birds of `sim` as they are, seen by `camera` (the targets and routes too: `targets`).
-inline Image render(const gpu::Device& device, gpu::GpuSimulation& sim, const render::Camera& camera,
-                    VkExtent2D size, bool targets = false) {
+inline Image render(const gpu::Device& device, gpu::GpuSimulation& sim,
+                    const render::Camera& camera, VkExtent2D size, bool targets = false) {
   render::Renderer renderer(device, sim.scenario(), render::Offscreen::kFormat, size);
   render::Offscreen target(device, size);
   gpu::Submitter submitter(device, 1);

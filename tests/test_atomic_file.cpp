@@ -6,17 +6,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <cstring>
 #include <string>
 
-#include "test_files.h"
 #include "io/atomic_file.h"
 #include "io/paths.h"
+#include "test_files.h"
 
 namespace aeroflock {
 namespace {
@@ -50,14 +50,16 @@ TEST(AtomicFile, TemporariesAreNewNamesOfThisProcess) {
   long pid = 0;
   ASSERT_TRUE(is_temporary_name(a.filename().string(), &pid)) << a;
   EXPECT_EQ(pid, long(getpid()));
-  EXPECT_TRUE(a.filename().string().starts_with("x.json.aeroflock-" + std::to_string(getpid()) + "-")) << a;
+  EXPECT_TRUE(
+      a.filename().string().starts_with("x.json.aeroflock-" + std::to_string(getpid()) + "-"))
+      << a;
   EXPECT_TRUE(fs::is_regular_file(a));
   EXPECT_EQ(fs::file_size(a), 0u);
 
   EXPECT_TRUE(is_temporary_name("flock.pvd.aeroflock-12-3.tmp"));
-  for (const char* other : {"x.json.tmp", "x.aeroflock-12.tmp", ".aeroflock-12-3.tmp", "x.aeroflock--3.tmp",
-                            "x.aeroflock-12-.tmp", "x.aeroflock-0-3.tmp", "x.aeroflock-1a-3.tmp",
-                            "x.aeroflock-12-3.tmp.bak", "x.aeroflock-12-3"})
+  for (const char* other : {"x.json.tmp", "x.aeroflock-12.tmp", ".aeroflock-12-3.tmp",
+                            "x.aeroflock--3.tmp", "x.aeroflock-12-.tmp", "x.aeroflock-0-3.tmp",
+                            "x.aeroflock-1a-3.tmp", "x.aeroflock-12-3.tmp.bak", "x.aeroflock-12-3"})
     EXPECT_FALSE(is_temporary_name(other)) << other;
 }
 
@@ -179,7 +181,8 @@ TEST(AtomicFile, TheStreamSeeksBackAndForthAsVtkDoes) {
   std::ostream& os = file.stream();
   os << "offset=" << std::string(9, ' ') << " ";  // room for the quoted offset, filled in below
   const std::streampos end_of_header = os.tellp();
-  const std::string block(3 << 20, 'b');  // larger than the stream's window: written straight through
+  const std::string block(3 << 20,
+                          'b');  // larger than the stream's window: written straight through
   os << block;
   const std::streampos end = os.tellp();
   os.seekp(7);

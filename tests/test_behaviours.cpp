@@ -1,4 +1,4 @@
-// MODEL.md's behaviours 1-8, each with its quantitative criterion, on one backend: built with
+// docs/MODEL.md's behaviours 1-8, each with its quantitative criterion, on one backend: built with
 // flight_cpu.cpp (the CPU reference) and with flight_vulkan.cpp (the compute shaders). The
 // paper's figures are the built-in scenarios (scenarios/fig*.toml), so what users run is what is
 // tested; cruise, climb and descent are small scenarios written here.
@@ -15,13 +15,13 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "flight.h"
 #include "io/scenario_file.h"
 #include "model/body.h"
-#include "model/route.h"
 #include "model/constants.h"
 #include "model/control.h"
+#include "model/route.h"
 #include "model/simulation.h"
-#include "flight.h"
 #include "model/tail.h"
 
 namespace aeroflock {
@@ -46,7 +46,9 @@ void run_steps(Simulation& sim, double seconds, const std::function<void(Simulat
 }
 
 bool finite(const BirdState& b) {
-  auto ok = [](const dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto ok = [](const dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   return ok(b.position) && ok(b.velocity) && ok(b.omega) && std::isfinite(b.attitude.w) &&
          std::isfinite(b.attitude.x) && std::isfinite(b.attitude.y) && std::isfinite(b.attitude.z);
 }
@@ -59,7 +61,8 @@ Scenario straight_flight(const std::string& species, double ahead, double above)
 duration = 30.0
 [[targets]]
 name = "goal"
-centre = [)" + std::to_string(ahead) + ", " + std::to_string(3000.0 + above) + R"(, 0.0]
+centre = [)" + std::to_string(ahead) +
+                           ", " + std::to_string(3000.0 + above) + R"(, 0.0]
 radius = 200.0
 [[routes]]
 name = "r"
@@ -100,7 +103,8 @@ TEST_P(Cruise, HoldsHeightWithFrequencyAndAmplitudeInside) {
     ++frames;
     if (tail_opening(sp, b.tail_bend, b.tail_twist) == sp.tail_min) ++closed;
   });
-  RecordProperty("height_range_cm", std::to_string(y_lo - 3000) + ".." + std::to_string(y_hi - 3000));
+  RecordProperty("height_range_cm",
+                 std::to_string(y_lo - 3000) + ".." + std::to_string(y_hi - 3000));
   RecordProperty("frequency_range", std::to_string(f_lo) + ".." + std::to_string(f_hi));
   RecordProperty("amplitude_range", std::to_string(a_lo) + ".." + std::to_string(a_hi));
   RecordProperty("tail_closed_fraction", std::to_string(double(closed) / frames));
@@ -119,7 +123,9 @@ struct VerticalCase {
   std::string species;
   double above;
 };
-void PrintTo(const VerticalCase& c, std::ostream* os) { *os << c.species << " to " << c.above << " cm"; }
+void PrintTo(const VerticalCase& c, std::ostream* os) {
+  *os << c.species << " to " << c.above << " cm";
+}
 class ClimbDescent : public ::testing::TestWithParam<VerticalCase> {};
 
 TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5) {
@@ -135,14 +141,18 @@ TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5)
   run(sim, 20.0, [&](Simulation& s) {
     const BirdState& b = s.birds()[0];
     if (s.time() <= 0.5) at_half_second = b;
-    if (reached_at < 0 && glm::distance(b.position, goal.centre) <= goal.radius) reached_at = s.time();
+    if (reached_at < 0 && glm::distance(b.position, goal.centre) <= goal.radius)
+      reached_at = s.time();
   });
   RecordProperty("reached_at_s", std::to_string(reached_at));
   EXPECT_GT(reached_at, 0.0) << "the sphere " << c.above << " cm above is not entered";
   const double sign = c.above > 0 ? 1.0 : -1.0;
   const double t = at_half_second.mode_time;  // flying since t = 0
-  EXPECT_NEAR(at_half_second.frequency, std::clamp(start.frequency + sign * sp.K_f * t, sp.f_min, sp.f_max), 0.05 * sp.K_f);
-  EXPECT_NEAR(at_half_second.amplitude, std::clamp(start.amplitude + sign * sp.K_a * t, sp.amp_min, sp.amp_max), 0.05 * sp.K_a);
+  EXPECT_NEAR(at_half_second.frequency,
+              std::clamp(start.frequency + sign * sp.K_f * t, sp.f_min, sp.f_max), 0.05 * sp.K_f);
+  EXPECT_NEAR(at_half_second.amplitude,
+              std::clamp(start.amplitude + sign * sp.K_a * t, sp.amp_min, sp.amp_max),
+              0.05 * sp.K_a);
 }
 
 // --- 3. Circular flight (Fig. 16): keeps circling the 30 m circle, banked into the turn, the
@@ -169,12 +179,14 @@ TEST_P(Circling, KeepsCirclingBankedWithTheTailTwistedAndOpen) {
     r_lo = std::min(r_lo, r), r_hi = std::max(r_hi, r);
     y_lo = std::min(y_lo, b.position.y), y_hi = std::max(y_hi, b.position.y);
     // The centre's side of the flight direction: right (+1) or left (-1).
-    const double centre_side = (b.velocity.z * b.position.x - b.velocity.x * b.position.z) > 0 ? 1.0 : -1.0;
+    const double centre_side =
+        (b.velocity.z * b.position.x - b.velocity.x * b.position.z) > 0 ? 1.0 : -1.0;
     ++frames;
     if (bank_angle(b.attitude) * centre_side > 0) ++banked_in;
     const Route& route = s.world().routes[b.route];
     const dvec3 goal = s.world().target_now[route.targets[b.target % route.targets.size()]];
-    const Steering st = steer_towards(sp, b.attitude, b.position, b.velocity, goal, s.world().wind, sp.cruise_speed, false);
+    const Steering st = steer_towards(sp, b.attitude, b.position, b.velocity, goal, s.world().wind,
+                                      sp.cruise_speed, false);
     if (std::fabs(st.heading_error) > sp.dead_band) {
       ++turning;
       if (b.tail_twist * centre_side > 0) ++twisted_in;
@@ -227,7 +239,7 @@ TEST(FixedRateTurning, HeadingTurnsAtTheStandardRate) {
 // it with k = 10 (it never touches down); without ground effect it meets the ground and touches
 // down. The ground is solid: the body centre is never below it.
 struct GroundPass {
-  double lowest = 1e9;     // cm, body centre, every step
+  double lowest = 1e9;  // cm, body centre, every step
   bool touched_down = false;
 };
 GroundPass ground_pass(const std::string& scenario) {
@@ -279,7 +291,8 @@ TEST(SolidGround, ADivingBirdTouchesDownAndTakesOffAgain) {
     ASSERT_TRUE(std::isfinite(now.position.y));
     lowest = std::min(lowest, now.position.y);
     if (touched_at < 0 && now.mode == FlightMode::standing) touched_at = x.time();
-    if (touched_at >= 0 && took_off_at < 0 && now.mode == FlightMode::taking_off) took_off_at = x.time();
+    if (touched_at >= 0 && took_off_at < 0 && now.mode == FlightMode::taking_off)
+      took_off_at = x.time();
   });
   RecordProperty("touched_down_s", std::to_string(touched_at));
   RecordProperty("took_off_s", std::to_string(took_off_at));
@@ -325,7 +338,8 @@ TEST_P(GroundSpawn, FliesFiniteNeverBelowTheGroundNorFasterThanItCould) {
 
 INSTANTIATE_TEST_SUITE_P(AtAndJustAbove, GroundSpawn, ::testing::Values(0.0, 1e-4),
                          [](const ::testing::TestParamInfo<double>& i) {
-                           return i.param == 0.0 ? std::string("at_the_ground") : std::string("1e_6_m_above");
+                           return i.param == 0.0 ? std::string("at_the_ground")
+                                                 : std::string("1e_6_m_above");
                          });
 
 // --- NaN quarantine (issue 16): a bird whose step is not finite is frozen at its last finite
@@ -368,7 +382,8 @@ TEST(NanQuarantine, FreezesTheBirdAtItsLastFiniteStateWhileTheOtherFliesOn) {
     alone->step(1);
     const BirdState& b = x.birds()[1];
     ASSERT_TRUE(all_finite(b) && all_finite(x.birds()[0])) << "at " << x.time() << " s";
-    ASSERT_TRUE(same_state(x.birds()[0], alone->birds()[0])) << "the other bird, at " << x.time() << " s";
+    ASSERT_TRUE(same_state(x.birds()[0], alone->birds()[0]))
+        << "the other bird, at " << x.time() << " s";
     if (b.mode != FlightMode::quarantined) {
       last = b;
       return;
@@ -378,7 +393,8 @@ TEST(NanQuarantine, FreezesTheBirdAtItsLastFiniteStateWhileTheOtherFliesOn) {
     BirdState frozen = last;
     frozen.mode = FlightMode::quarantined;
     frozen.quarantined_at = b.quarantined_at;
-    ASSERT_TRUE(same_state(b, frozen)) << "not frozen at its last finite state, at " << x.time() << " s";
+    ASSERT_TRUE(same_state(b, frozen))
+        << "not frozen at its last finite state, at " << x.time() << " s";
   });
   RecordProperty("quarantined_at_s", std::to_string(quarantined_in));
   RecordProperty("last_height_cm", std::to_string(last.position.y));
@@ -407,7 +423,9 @@ TEST(NanQuarantine, AFlockFliesOnFiniteAroundAQuarantinedBird) {
     for (size_t i = 0; i < x.birds().size(); ++i) {
       const BirdState& b = x.birds()[i];
       ASSERT_TRUE(all_finite(b)) << "bird " << i << " at " << x.time() << " s";
-      if (i != 5) ASSERT_NE(b.mode, FlightMode::quarantined) << "bird " << i << " at " << x.time() << " s";
+      if (i != 5) {
+        ASSERT_NE(b.mode, FlightMode::quarantined) << "bird " << i << " at " << x.time() << " s";
+      }
     }
     const BirdState& b = x.birds()[5];
     if (!frozen) {
@@ -462,18 +480,19 @@ TEST(TakeOff, CrouchesBeforeThePush) {
   const double dt = sim.scenario().dt;
   const double crouched = std::min((sim.time() - dt) / sp.crouch_time, 1.0);
   EXPECT_GE(crouched, 0.8);  // late in the crouch, at any step the study flies
-  EXPECT_NEAR(sim.birds()[0].position.y, standing - crouched * sp.crouch_depth, 0.01 * sp.crouch_depth);
+  EXPECT_NEAR(sim.birds()[0].position.y, standing - crouched * sp.crouch_depth,
+              0.01 * sp.crouch_depth);
   EXPECT_EQ(sim.birds()[0].mode, FlightMode::taking_off);
 }
 
-// Issue 10: what turns the bird (docs/MODEL.md "What we added, and why"). The Fig. 16 eagle with its tail
-// twist and without it (rot_max = 0): both circle, banked, at the same radius, so the bank turns
-// it; the figures (turn rate, sideslip, radius) go to docs/MODEL.md.
+// Issue 10: what turns the bird (docs/MODEL.md "What we added, and why"). The Fig. 16 eagle with
+// its tail twist and without it (rot_max = 0): both circle, banked, at the same radius, so the bank
+// turns it; the figures (turn rate, sideslip, radius) go to docs/MODEL.md.
 struct CircleFigures {
-  uint32_t targets = 0;             // in 50 s after the first 10
-  double r_lo = 1e9, r_hi = 0.0;    // cm
-  double turn_rate = 0.0;           // mean heading rate, rad/s
-  double sideslip = 0.0;            // mean |angle from the head to the air velocity|, rad
+  uint32_t targets = 0;           // in 50 s after the first 10
+  double r_lo = 1e9, r_hi = 0.0;  // cm
+  double turn_rate = 0.0;         // mean heading rate, rad/s
+  double sideslip = 0.0;          // mean |angle from the head to the air velocity|, rad
 };
 CircleFigures circle_figures(double rot_max) {
   Scenario scenario = load_scenario("fig16-circling-eagle");
@@ -494,8 +513,10 @@ CircleFigures circle_figures(double rot_max) {
     }
     const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
     const dvec3 air = b.velocity - s.world().wind;
-    f.sideslip += std::fabs(std::atan2(-head.z * air.x + head.x * air.z, head.x * air.x + head.z * air.z));
-    f.turn_rate += std::remainder(heading - last_heading, 2.0 * kPi) / (s.scenario().dt * s.scenario().steps_per_frame);
+    f.sideslip +=
+        std::fabs(std::atan2(-head.z * air.x + head.x * air.z, head.x * air.x + head.z * air.z));
+    f.turn_rate += std::remainder(heading - last_heading, 2.0 * kPi) /
+                   (s.scenario().dt * s.scenario().steps_per_frame);
     last_heading = heading;
     const double r = std::hypot(b.position.x, b.position.z);
     f.r_lo = std::min(f.r_lo, r);
@@ -510,11 +531,14 @@ CircleFigures circle_figures(double rot_max) {
 
 TEST(TurnAblation, TheBankTurnsTheBirdWithOrWithoutTheTailTwist) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
-  const CircleFigures with = circle_figures(load_scenario("fig16-circling-eagle").species[0].rot_max);
+  const CircleFigures with =
+      circle_figures(load_scenario("fig16-circling-eagle").species[0].rot_max);
   const CircleFigures without = circle_figures(0.0);
-  for (const auto& [name, f] : {std::pair{"with_twist", with}, std::pair{"without_twist", without}}) {
+  for (const auto& [name, f] :
+       {std::pair{"with_twist", with}, std::pair{"without_twist", without}}) {
     RecordProperty(std::string(name) + "_targets_in_50s", std::to_string(f.targets));
-    RecordProperty(std::string(name) + "_radius_cm", std::to_string(f.r_lo) + ".." + std::to_string(f.r_hi));
+    RecordProperty(std::string(name) + "_radius_cm",
+                   std::to_string(f.r_lo) + ".." + std::to_string(f.r_hi));
     RecordProperty(std::string(name) + "_turn_rate_deg_s", std::to_string(degrees(f.turn_rate)));
     RecordProperty(std::string(name) + "_sideslip_deg", std::to_string(degrees(f.sideslip)));
   }
@@ -523,11 +547,13 @@ TEST(TurnAblation, TheBankTurnsTheBirdWithOrWithoutTheTailTwist) {
     EXPECT_GT(f.r_lo, 2500.0);
     EXPECT_LT(f.r_hi, 3500.0);
   }
-  EXPECT_NEAR(without.turn_rate, with.turn_rate, 0.1 * std::fabs(with.turn_rate)) << "the same turn";
+  EXPECT_NEAR(without.turn_rate, with.turn_rate, 0.1 * std::fabs(with.turn_rate))
+      << "the same turn";
   // Both turns are coordinated: the head within a few degrees of the airflow. Which has less
   // sideslip is not a property of the model: it turns on the step (docs/convergence.md: with the
   // twist 4.2-4.8 degrees, without it 4.1-5.3, over the steps of 0.5 to 10 ms).
-  for (const CircleFigures& f : {with, without}) EXPECT_LT(degrees(f.sideslip), 8.0) << "a coordinated turn";
+  for (const CircleFigures& f : {with, without})
+    EXPECT_LT(degrees(f.sideslip), 8.0) << "a coordinated turn";
 }
 
 // Issue 10: the take-off climbs out to its route. Followed for 5 s: never below the ground, never
@@ -580,20 +606,23 @@ TEST(TakeOff, FacesTheWindAndClimbsOut) {
       steepest = std::max(steepest, std::fabs(pitch_angle(b.attitude)));
       if (facing_off < 0.0 && b.mode == FlightMode::taking_off) {
         const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
-        facing_off = std::acos(std::clamp(glm::dot(glm::normalize(head), -wind / glm::length(wind)), -1.0, 1.0));
+        facing_off = std::acos(
+            std::clamp(glm::dot(glm::normalize(head), -wind / glm::length(wind)), -1.0, 1.0));
       }
     });
     const BirdState& b = sim.birds()[0];
     const std::string from = wind.x > 0.0 ? "behind" : "the side";
-    RecordProperty("wind_from_" + std::string(wind.x > 0.0 ? "behind" : "side") + "_steepest_pitch_deg",
-                   std::to_string(degrees(steepest)));
+    RecordProperty(
+        "wind_from_" + std::string(wind.x > 0.0 ? "behind" : "side") + "_steepest_pitch_deg",
+        std::to_string(degrees(steepest)));
     EXPECT_TRUE(all_finite) << from;
     EXPECT_GE(facing_off, 0.0) << from << ": never took off";
     EXPECT_LT(facing_off, radians(1.0)) << from << ": head off the wind's opposite at take-off";
     EXPECT_GE(lowest, sp.stand_height - sp.crouch_depth - 1e-3) << from;
     EXPECT_LT(steepest, radians(60.0)) << from;
     EXPECT_EQ(b.mode, FlightMode::flying) << from;
-    EXPECT_GT(b.position.y - sim.world().ground_height, 300.0) << from << ": clear of the ground after 5 s";
+    EXPECT_GT(b.position.y - sim.world().ground_height, 300.0)
+        << from << ": clear of the ground after 5 s";
   }
 }
 
@@ -643,7 +672,9 @@ TEST(Turning, NeverBanksPastBankMax) {
   Simulation& sim = *flight;
   const Species& sp = species_of(sim, sim.birds()[0]);
   double deepest = 0.0;
-  run(sim, 30.0, [&](Simulation& s) { deepest = std::max(deepest, std::fabs(bank_angle(s.birds()[0].attitude))); });
+  run(sim, 30.0, [&](Simulation& s) {
+    deepest = std::max(deepest, std::fabs(bank_angle(s.birds()[0].attitude)));
+  });
   RecordProperty("deepest_bank_deg", std::to_string(degrees(deepest)));
   EXPECT_GT(deepest, sp.bank_max - radians(1.0)) << "it turns at full bank";
   EXPECT_LE(deepest, sp.bank_max + radians(0.5));
@@ -661,7 +692,8 @@ centre = [20000.0, 3000.0, 0.0]
 radius = 300.0
 [[targets]]
 name = "next"
-centre = [20000.0, 3000.0, )" + std::to_string(next_distance) + R"(]
+centre = [20000.0, 3000.0, )" +
+                           std::to_string(next_distance) + R"(]
 radius = 300.0
 [[routes]]
 name = "r"
@@ -729,7 +761,8 @@ Landing land(const Scenario& scenario) {
 }
 
 // A starling at `start` flying along `heading` (degrees) to land on the Fig. 18 branch.
-Scenario landing_from(const dvec3& start, double heading, const std::string& scenario = "fig18-branch-path-control") {
+Scenario landing_from(const dvec3& start, double heading,
+                      const std::string& scenario = "fig18-branch-path-control") {
   Scenario s = load_scenario(scenario);
   s.flocks[0].spawn_centre = start;
   s.flocks[0].heading = radians(heading);
@@ -739,14 +772,16 @@ Scenario landing_from(const dvec3& start, double heading, const std::string& sce
 TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const Landing controlled = land(load_scenario("fig18-branch-path-control"));
-  RecordProperty("path_control_off_perpendicular_deg", std::to_string(controlled.approach_off_perpendicular));
+  RecordProperty("path_control_off_perpendicular_deg",
+                 std::to_string(controlled.approach_off_perpendicular));
   EXPECT_TRUE(controlled.perched);
   EXPECT_LT(controlled.approach_off_perpendicular, 20.0);
   // The direct method keeps the angle it comes from: from a start whose straight line to the
   // branch is 59 degrees off its perpendicular (the Fig. 18 start's is 8 degrees off, which a bird
   // turning onto its goal flies in along whatever the method).
   const Landing direct = land(landing_from(dvec3{0.0, 800.0, 4000.0}, 0.0, "fig18-branch-direct"));
-  RecordProperty("direct_59_off_perpendicular_deg", std::to_string(direct.approach_off_perpendicular));
+  RecordProperty("direct_59_off_perpendicular_deg",
+                 std::to_string(direct.approach_off_perpendicular));
   EXPECT_TRUE(direct.perched);
   EXPECT_GT(direct.approach_off_perpendicular, 20.0) << "the direct method keeps its angle";
 }
@@ -754,7 +789,8 @@ TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
 TEST(BranchLanding, LinedUpBirdFliesStraightIn) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   // On the branch's perpendicular (through (4000, 500, 3000) along (1, 0, 1)), heading in.
-  const auto flight = make_flight(landing_from(dvec3{4000.0 - 2500.0, 600.0, 3000.0 - 2500.0}, 45.0));
+  const auto flight =
+      make_flight(landing_from(dvec3{4000.0 - 2500.0, 600.0, 3000.0 - 2500.0}, 45.0));
   Simulation& sim = *flight;
   LandingStage stage = LandingStage::none;
   double lowest_x = 1e9;
@@ -778,7 +814,8 @@ TEST(BranchLanding, OvershootingBirdsGoRoundAndPerch) {
   for (double dx : {-300.0, 0.0, 300.0})
     for (double dz : {-300.0, 0.0, 300.0})
       for (double heading : {30.0, 45.0, 60.0})
-        birds.push_back(CpuSimulation(landing_from(dvec3{6000.0 + dx, 800.0, 5000.0 + dz}, heading)).state()[0]);
+        birds.push_back(CpuSimulation(landing_from(dvec3{6000.0 + dx, 800.0, 5000.0 + dz}, heading))
+                            .state()[0]);
   const auto flight = make_flight_with(scenario, birds);
   Simulation& sim = *flight;
   std::vector<bool> went_to_gate(birds.size(), false);
@@ -790,9 +827,11 @@ TEST(BranchLanding, OvershootingBirdsGoRoundAndPerch) {
       if (perched_at[i] < 0.0 && b.mode == FlightMode::perched) perched_at[i] = s.time();
     }
   });
-  const size_t perched = static_cast<size_t>(std::count_if(perched_at.begin(), perched_at.end(), [](double t) { return t > 0.0; }));
+  const size_t perched = static_cast<size_t>(
+      std::count_if(perched_at.begin(), perched_at.end(), [](double t) { return t > 0.0; }));
   RecordProperty("perched_of_27_in_120s", std::to_string(perched));
-  EXPECT_TRUE(went_to_gate[13]) << "the middle start, heading straight away, comes round through the gate";
+  EXPECT_TRUE(went_to_gate[13])
+      << "the middle start, heading straight away, comes round through the gate";
   EXPECT_GE(perched, 20u) << "of 27 in 120 s";
 }
 
@@ -838,18 +877,25 @@ TEST(BranchLanding, LandsIntoTheWind) {
     });
     const BirdState& b = sim.birds()[0];
     const dvec3 head = b.attitude * dvec3{1.0, 0.0, 0.0};
-    const double into_wind = degrees(std::acos(std::clamp(-glm::dot(glm::normalize(dvec3{head.x, 0.0, head.z}), across), -1.0, 1.0)));
-    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_perched_at_s", std::to_string(perched_at));
-    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_head_off_wind_deg", std::to_string(into_wind));
-    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_speed_frame_before_grip_cm_s", std::to_string(slowest_grip));
-    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_go_rounds", std::to_string(go_rounds));
+    const double into_wind = degrees(std::acos(
+        std::clamp(-glm::dot(glm::normalize(dvec3{head.x, 0.0, head.z}), across), -1.0, 1.0)));
+    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_perched_at_s",
+                   std::to_string(perched_at));
+    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_head_off_wind_deg",
+                   std::to_string(into_wind));
+    RecordProperty(
+        "wind_" + std::to_string(int(wind_speed / 100.0)) + "_speed_frame_before_grip_cm_s",
+        std::to_string(slowest_grip));
+    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_go_rounds",
+                   std::to_string(go_rounds));
     EXPECT_TRUE(finite);
     EXPECT_GT(perched_at, 0.0) << wind_speed << " cm/s: perched within 60 s";
     EXPECT_LT(into_wind, 45.0) << wind_speed << " cm/s: perched facing into the wind";
     EXPECT_LT(perched_at, 30.0) << wind_speed << " cm/s: round to the downwind side first, then in";
     EXPECT_GE(lowest, 0.0);
     EXPECT_FALSE(touched_down) << wind_speed << " cm/s: never down on the ground on the way";
-    EXPECT_LE(slowest_grip, scenario.species[0].touchdown_speed) << "a frame (0.03 s) before the grip it is already slow";
+    EXPECT_LE(slowest_grip, scenario.species[0].touchdown_speed)
+        << "a frame (0.03 s) before the grip it is already slow";
     EXPECT_LT(degrees(worst_pitch), 60.0);
   }
 }
@@ -934,8 +980,10 @@ TEST_P(BuiltinScenario, FliesWithoutNaN) {
   Scenario scenario = load_scenario(GetParam());
   // The whole flight, of at most 200 birds for a minute's worth (a longer flight, fewer birds, as
   // densely placed: migration-flock's 520 s fly 23).
-  const uint32_t most = static_cast<uint32_t>(std::clamp(200.0 * 60.0 / scenario.duration, 1.0, 200.0));
-  const auto flight = make_flight(scenario, std::min(most, static_cast<uint32_t>(spawn_birds(scenario).size())));
+  const uint32_t most =
+      static_cast<uint32_t>(std::clamp(200.0 * 60.0 / scenario.duration, 1.0, 200.0));
+  const auto flight =
+      make_flight(scenario, std::min(most, static_cast<uint32_t>(spawn_birds(scenario).size())));
   Simulation& sim = *flight;
   run(sim, scenario.duration, [](Simulation&) {});
   for (const BirdState& b : sim.birds()) ASSERT_TRUE(finite(b));
@@ -954,21 +1002,26 @@ std::string name_of(const ::testing::TestParamInfo<std::string>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Species, Cruise, ::testing::Values("starling", "eagle"), name_of);
-INSTANTIATE_TEST_SUITE_P(Species, ClimbDescent,
-                         ::testing::Values(VerticalCase{"starling", 1000}, VerticalCase{"starling", -1000},
-                                           VerticalCase{"eagle", 1000}, VerticalCase{"eagle", -1000}),
-                         [](const auto& info) {
-                           return info.param.species + (info.param.above > 0 ? "_climb" : "_descent");
-                         });
-INSTANTIATE_TEST_SUITE_P(Fig16, Circling, ::testing::Values("fig16-circling-eagle", "fig16-fixed-rate"), name_of);
-INSTANTIATE_TEST_SUITE_P(Figs19And20, ClimbOut, ::testing::Values("fig19-takeoff-no-legs", "fig20-takeoff-legs"), name_of);
-INSTANTIATE_TEST_SUITE_P(Commands, AirspeedHold,
-                         ::testing::Values(AirspeedCase{"starling", 600.0}, AirspeedCase{"starling", 1000.0},
-                                           AirspeedCase{"starling", 1600.0}, AirspeedCase{"eagle", 800.0},
-                                           AirspeedCase{"eagle", 1000.0}, AirspeedCase{"eagle", 1300.0}),
-                         [](const ::testing::TestParamInfo<AirspeedCase>& i) {
-                           return std::string(i.param.species) + "_" + std::to_string(int(i.param.airspeed / 100)) + "m_s";
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Species, ClimbDescent,
+    ::testing::Values(VerticalCase{"starling", 1000}, VerticalCase{"starling", -1000},
+                      VerticalCase{"eagle", 1000}, VerticalCase{"eagle", -1000}),
+    [](const auto& info) {
+      return info.param.species + (info.param.above > 0 ? "_climb" : "_descent");
+    });
+INSTANTIATE_TEST_SUITE_P(Fig16, Circling,
+                         ::testing::Values("fig16-circling-eagle", "fig16-fixed-rate"), name_of);
+INSTANTIATE_TEST_SUITE_P(Figs19And20, ClimbOut,
+                         ::testing::Values("fig19-takeoff-no-legs", "fig20-takeoff-legs"), name_of);
+INSTANTIATE_TEST_SUITE_P(
+    Commands, AirspeedHold,
+    ::testing::Values(AirspeedCase{"starling", 600.0}, AirspeedCase{"starling", 1000.0},
+                      AirspeedCase{"starling", 1600.0}, AirspeedCase{"eagle", 800.0},
+                      AirspeedCase{"eagle", 1000.0}, AirspeedCase{"eagle", 1300.0}),
+    [](const ::testing::TestParamInfo<AirspeedCase>& i) {
+      return std::string(i.param.species) + "_" + std::to_string(int(i.param.airspeed / 100)) +
+             "m_s";
+    });
 INSTANTIATE_TEST_SUITE_P(All, BuiltinScenario, ::testing::ValuesIn(builtin_names()), name_of);
 
 }  // namespace

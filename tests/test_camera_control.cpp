@@ -102,7 +102,8 @@ TEST(CameraControl, FixedLooksFromWhereItIsPut) {
   EXPECT_EQ(c.mode(), Mode::free);
   const Camera& cam = c.update(1.0f, flock_at({0.0, 3000.0, 0.0}, 1000.0f), 1.0);
   EXPECT_NEAR(glm::distance(cam.eye_world(), *options.eye), 0.0, 1e-3);
-  EXPECT_NEAR(glm::dot(glm::normalize(cam.target - cam.eye), glm::vec3(1.0f, 0.0f, 0.0f)), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(glm::normalize(cam.target - cam.eye), glm::vec3(1.0f, 0.0f, 0.0f)), 1.0f,
+              1e-6f);
 }
 
 TEST(CameraControl, FollowSettlesBehindAndAboveTheBird) {

@@ -19,7 +19,9 @@ SimulationFactory cpu() {
   };
 }
 
-EnvelopeResult fly_one(const Species& s, const EnvelopeCase& c) { return fly_envelope(s, {c}, cpu())[0]; }
+EnvelopeResult fly_one(const Species& s, const EnvelopeCase& c) {
+  return fly_envelope(s, {c}, cpu())[0];
+}
 
 TEST(Envelope, GridCoversTheIssuesRanges) {
   const std::vector<EnvelopeCase> cases = envelope_cases();
@@ -68,8 +70,12 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
 TEST(Envelope, AnEagleDoesNotCircleItsTargetForEver) {
   Species light = eagle();
   light.mass *= 0.7;
-  const EnvelopeResult r = fly_one(light, {.speed = 500.0, .pitch = radians(-30.0), .bank = radians(-60.0),
-                                           .rise = 5000.0, .bearing = radians(90.0), .distance = 5000.0});
+  const EnvelopeResult r = fly_one(light, {.speed = 500.0,
+                                           .pitch = radians(-30.0),
+                                           .bank = radians(-60.0),
+                                           .rise = 5000.0,
+                                           .bearing = radians(90.0),
+                                           .distance = 5000.0});
   EXPECT_EQ(r.outcome, Outcome::reached) << name(r.outcome) << " at " << r.time << " s";
 }
 
@@ -79,8 +85,11 @@ TEST(Envelope, AnEagleDoesNotCircleItsTargetForEver) {
 TEST(Envelope, AHeavyEagleSpiralsDownOntoATargetBeneathIt) {
   Species heavy = eagle();
   heavy.mass *= 1.3;
-  const EnvelopeResult r = fly_one(heavy, {.speed = 2000.0, .pitch = radians(-30.0), .rise = -15000.0,
-                                           .bearing = radians(90.0), .distance = 5000.0});
+  const EnvelopeResult r = fly_one(heavy, {.speed = 2000.0,
+                                           .pitch = radians(-30.0),
+                                           .rise = -15000.0,
+                                           .bearing = radians(90.0),
+                                           .distance = 5000.0});
   EXPECT_EQ(r.outcome, Outcome::reached) << name(r.outcome) << " at " << r.time << " s";
   EXPECT_LT(degrees(r.worst_pitch), 50.0);
 }
@@ -93,8 +102,12 @@ TEST(Envelope, AHeavyEagleSpiralsDownOntoATargetBeneathIt) {
 TEST(Envelope, AHeavyEagleGlidingDownBeatsInTimeToHoldTheTargetsHeight) {
   Species heavy = eagle();
   heavy.mass *= 1.3;
-  const EnvelopeResult r = fly_one(heavy, {.speed = 2000.0, .pitch = radians(-30.0), .bank = radians(-60.0),
-                                           .rise = -5000.0, .bearing = radians(90.0), .distance = 5000.0});
+  const EnvelopeResult r = fly_one(heavy, {.speed = 2000.0,
+                                           .pitch = radians(-30.0),
+                                           .bank = radians(-60.0),
+                                           .rise = -5000.0,
+                                           .bearing = radians(90.0),
+                                           .distance = 5000.0});
   EXPECT_EQ(r.outcome, Outcome::reached) << name(r.outcome) << " at " << r.time << " s";
   EXPECT_LT(r.time, 15.0);
   EXPECT_GT(r.lowest, 20000.0 - 5000.0 - 300.0) << "sank under the target's sphere (3 m)";
@@ -135,7 +148,8 @@ TEST_P(WholeGrid, EveryCaseSucceeds) {
 }
 
 std::string grid_part_name(const ::testing::TestParamInfo<GridPart>& info) {
-  return info.param.preset().name + "_wind_" + std::to_string(int(info.param.crosswind / 100.0)) + "_m_s";
+  return info.param.preset().name + "_wind_" + std::to_string(int(info.param.crosswind / 100.0)) +
+         "_m_s";
 }
 INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid,
                          ::testing::Values(GridPart{starling, 0.0}, GridPart{starling, 500.0},
@@ -143,11 +157,12 @@ INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid,
                                            GridPart{eagle, 500.0}, GridPart{eagle, 800.0}),
                          grid_part_name);
 // Issue 13: the whole grid at the fast fidelity's step too (docs/convergence.md).
-INSTANTIATE_TEST_SUITE_P(FastEnvelope, WholeGrid,
-                         ::testing::Values(GridPart{starling, 0.0, kFastDt}, GridPart{starling, 500.0, kFastDt},
-                                           GridPart{starling, 800.0, kFastDt}, GridPart{eagle, 0.0, kFastDt},
-                                           GridPart{eagle, 500.0, kFastDt}, GridPart{eagle, 800.0, kFastDt}),
-                         grid_part_name);
+INSTANTIATE_TEST_SUITE_P(
+    FastEnvelope, WholeGrid,
+    ::testing::Values(GridPart{starling, 0.0, kFastDt}, GridPart{starling, 500.0, kFastDt},
+                      GridPart{starling, 800.0, kFastDt}, GridPart{eagle, 0.0, kFastDt},
+                      GridPart{eagle, 500.0, kFastDt}, GridPart{eagle, 800.0, kFastDt}),
+    grid_part_name);
 
 // Issue 10: the envelope does not rest on single calibrated values. Every fifth flight of the
 // grid (324) and every take-off and landing (72) still succeed with the shoulder 2 cm further
@@ -155,16 +170,18 @@ INSTANTIATE_TEST_SUITE_P(FastEnvelope, WholeGrid,
 // the starling under all six changes, the eagle under four (two more, 2.5 minutes each, would take
 // the suite past 30 minutes). One test per preset and change, so that ctest spreads them over the
 // cores. All twelve whole grids (1,692 cases a change) succeed, flown with `aeroflock envelope`
-// (docs/VALIDATION.md "Flight envelope"); the near, steep descents where the eagle failed last are mostly not
-// in this sample (AHeavyEagleGlidingDownBeatsInTimeToHoldTheTargetsHeight flies one). At the fast
-// fidelity's step they do not all succeed (docs/convergence.md: 11 of the 4,752 cases over-pitch,
-// under four of the twelve changes), so they are flown at the paper's.
+// (docs/VALIDATION.md "Flight envelope"); the near, steep descents where the eagle failed last are
+// mostly not in this sample (AHeavyEagleGlidingDownBeatsInTimeToHoldTheTargetsHeight flies one). At
+// the fast fidelity's step they do not all succeed (docs/convergence.md: 11 of the 4,752 cases
+// over-pitch, under four of the twelve changes), so they are flown at the paper's.
 struct MovedCalibration {
   Species (*preset)();
   const char* what;
   void (*apply)(Species&);
 };
-void PrintTo(const MovedCalibration& m, std::ostream* os) { *os << m.preset().name << " " << m.what; }
+void PrintTo(const MovedCalibration& m, std::ostream* os) {
+  *os << m.preset().name << " " << m.what;
+}
 
 class MovedCalibrations : public ::testing::TestWithParam<MovedCalibration> {};
 
@@ -174,7 +191,8 @@ TEST_P(MovedCalibrations, StillFliesTheGrid) {
   Species s = GetParam().preset();
   GetParam().apply(s);
   for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
-    EXPECT_EQ(r.outcome, Outcome::reached) << GetParam().what << ": " << r.c.describe() << ": " << name(r.outcome);
+    EXPECT_EQ(r.outcome, Outcome::reached)
+        << GetParam().what << ": " << r.c.describe() << ": " << name(r.outcome);
 }
 
 void shoulder_forward(Species& s) { s.shoulder_x += 2.0; }
@@ -184,18 +202,19 @@ void lighter(Species& s) { s.mass *= 0.7; }
 void more_leadlag(Species& s) { s.C_leadlag += radians(3.0); }
 void less_leadlag(Species& s) { s.C_leadlag -= radians(3.0); }
 
-INSTANTIATE_TEST_SUITE_P(Envelope, MovedCalibrations,
-                         ::testing::Values(MovedCalibration{starling, "shoulder_plus_2_cm", shoulder_forward},
-                                           MovedCalibration{starling, "shoulder_minus_2_cm", shoulder_back},
-                                           MovedCalibration{starling, "mass_plus_30_percent", heavier},
-                                           MovedCalibration{starling, "mass_minus_30_percent", lighter},
-                                           MovedCalibration{starling, "leadlag_plus_3_deg", more_leadlag},
-                                           MovedCalibration{starling, "leadlag_minus_3_deg", less_leadlag},
-                                           MovedCalibration{eagle, "shoulder_plus_2_cm", shoulder_forward},
-                                           MovedCalibration{eagle, "mass_minus_30_percent", lighter},
-                                           MovedCalibration{eagle, "leadlag_plus_3_deg", more_leadlag},
-                                           MovedCalibration{eagle, "leadlag_minus_3_deg", less_leadlag}),
-                         [](const auto& info) { return info.param.preset().name + "_" + info.param.what; });
+INSTANTIATE_TEST_SUITE_P(
+    Envelope, MovedCalibrations,
+    ::testing::Values(MovedCalibration{starling, "shoulder_plus_2_cm", shoulder_forward},
+                      MovedCalibration{starling, "shoulder_minus_2_cm", shoulder_back},
+                      MovedCalibration{starling, "mass_plus_30_percent", heavier},
+                      MovedCalibration{starling, "mass_minus_30_percent", lighter},
+                      MovedCalibration{starling, "leadlag_plus_3_deg", more_leadlag},
+                      MovedCalibration{starling, "leadlag_minus_3_deg", less_leadlag},
+                      MovedCalibration{eagle, "shoulder_plus_2_cm", shoulder_forward},
+                      MovedCalibration{eagle, "mass_minus_30_percent", lighter},
+                      MovedCalibration{eagle, "leadlag_plus_3_deg", more_leadlag},
+                      MovedCalibration{eagle, "leadlag_minus_3_deg", less_leadlag}),
+    [](const auto& info) { return info.param.preset().name + "_" + info.param.what; });
 
 }  // namespace
 }  // namespace aeroflock

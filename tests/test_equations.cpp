@@ -1,5 +1,6 @@
 // Each equation of the model on its own, against values worked out by hand (the arithmetic is in
-// the comments). Paper: zhu2005-bird-flight-aerodynamics.md; gaps: MODEL.md. CGS units, radians.
+// the comments). Paper: Zhu et al. (2005), cited by equation; its gaps: docs/MODEL.md. CGS units,
+// radians.
 //
 // Where a test depends on a parameter the lead engineer calibrates (kinematics, leads, shoulder
 // position), the test sets that parameter itself, so the hand arithmetic stays valid. Table 1's
@@ -10,10 +11,10 @@
 #include <ostream>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
-#include <gtest/gtest.h>
 
 #include "model/aerodynamics.h"
 #include "model/body.h"
@@ -32,8 +33,8 @@ namespace {
 using glm::dquat;
 using glm::dvec3;
 
-constexpr double kRel = 1e-9;  // relative tolerance for pure formulas
-constexpr double kAbs = 1e-12; // absolute tolerance where the expected value is zero
+constexpr double kRel = 1e-9;   // relative tolerance for pure formulas
+constexpr double kAbs = 1e-12;  // absolute tolerance where the expected value is zero
 
 // |actual - expected| <= rel |expected|, or <= kAbs when expected is 0.
 void expect_rel(double actual, double expected, double rel = kRel) {
@@ -51,7 +52,7 @@ void expect_vec_rel(const dvec3& actual, const dvec3& expected, double rel = kRe
   expect_vec_near(actual, expected, std::max(rel * glm::length(expected), kAbs));
 }
 
-// The starling of Table 1 with MODEL.md's default kinematics ("reasonable starting values"),
+// The starling of Table 1 with docs/MODEL.md's default kinematics ("reasonable starting values"),
 // fixed here so that the hand-computed wingbeat values do not follow the calibration.
 Species starling_with_default_kinematics() {
   Species s = starling();
@@ -141,8 +142,8 @@ TEST(Aerodynamics, FlappedUpWingOnBothSides) {
   const dvec3 air = air_at_angle(1000.0, 0.1);
   const dvec3 normal{0.0, std::cos(t), -std::sin(t)};
   const dvec3 span{0.0, std::sin(t), std::cos(t)};
-  const dvec3 in_plane_dir = (-995.0041652780258 * kChord + 86.45827496274946 * normal) /
-                             std::sqrt(997508.3222301552);
+  const dvec3 in_plane_dir =
+      (-995.0041652780258 * kChord + 86.45827496274946 * normal) / std::sqrt(997508.3222301552);
   const dvec3 lift_dir = std::sin(alpha) * kChord + std::cos(alpha) * normal;
   const dvec3 right = aerodynamic_force(s, air, kChord, normal, 100.0);
   expect_rel(glm::dot(right, lift_dir), 12645.872525471217);
@@ -254,10 +255,11 @@ TEST(Body, LevelAttitudeFacesWhereTheHeadPoints) {
         const glm::dquat level = level_attitude(q);
         const glm::dquat expected = heading_attitude(radians(heading));
         // q and -q are the same attitude.
-        const double d = std::min(glm::length(glm::dvec4(level.x - expected.x, level.y - expected.y,
-                                                         level.z - expected.z, level.w - expected.w)),
-                                  glm::length(glm::dvec4(level.x + expected.x, level.y + expected.y,
-                                                         level.z + expected.z, level.w + expected.w)));
+        const double d =
+            std::min(glm::length(glm::dvec4(level.x - expected.x, level.y - expected.y,
+                                            level.z - expected.z, level.w - expected.w)),
+                     glm::length(glm::dvec4(level.x + expected.x, level.y + expected.y,
+                                            level.z + expected.z, level.w + expected.w)));
         EXPECT_LT(d, 1e-12) << heading << " " << pitch << " " << bank;
       }
   const glm::dquat up = glm::angleAxis(radians(90.0), dvec3{0, 0, 1});
@@ -269,16 +271,16 @@ TEST(Body, LevelAttitudeFacesWhereTheHeadPoints) {
 
 TEST(Body, InertiaEagle) {
   const Inertia i = box_inertia(eagle());  // m 2000, a 80, b 20, c 220
-  expect_rel(i.x, 8133333.333333333);  // 2000 (20^2 + 220^2) / 12 = 2000 * 48800 / 12
-  expect_rel(i.y, 9133333.333333334);  // 2000 (220^2 + 80^2) / 12 = 2000 * 54800 / 12
-  expect_rel(i.z, 1133333.3333333333); // 2000 (80^2 + 20^2) / 12 = 2000 * 6800 / 12
+  expect_rel(i.x, 8133333.333333333);      // 2000 (20^2 + 220^2) / 12 = 2000 * 48800 / 12
+  expect_rel(i.y, 9133333.333333334);      // 2000 (220^2 + 80^2) / 12 = 2000 * 54800 / 12
+  expect_rel(i.z, 1133333.3333333333);     // 2000 (80^2 + 20^2) / 12 = 2000 * 6800 / 12
 }
 
 TEST(Body, InertiaStarling) {
   const Inertia i = box_inertia(starling());  // m 500, a 40, b 10, c 100
-  expect_rel(i.x, 420833.3333333333);  // 500 (10^2 + 100^2) / 12 = 500 * 10100 / 12
-  expect_rel(i.y, 483333.3333333333);  // 500 (100^2 + 40^2) / 12 = 500 * 11600 / 12
-  expect_rel(i.z, 70833.33333333333);  // 500 (40^2 + 10^2) / 12 = 500 * 1700 / 12
+  expect_rel(i.x, 420833.3333333333);         // 500 (10^2 + 100^2) / 12 = 500 * 10100 / 12
+  expect_rel(i.y, 483333.3333333333);         // 500 (100^2 + 40^2) / 12 = 500 * 11600 / 12
+  expect_rel(i.z, 70833.33333333333);         // 500 (40^2 + 10^2) / 12 = 500 * 1700 / 12
 }
 
 TEST(Body, AngularAccelerationIsTorqueOverInertia) {
@@ -293,9 +295,9 @@ TEST(Body, AngularAccelerationIsTorqueOverInertia) {
 
 TEST(Body, GroundEffectInside) {
   const Species s = starling();
-  expect_rel(ground_effect_force(s, 20.0), 245166.25);          // 10 * 980.665 * 500 / 20
-  expect_rel(ground_effect_force(s, 39.9), 122890.35087719299); // 10 * 980.665 * 500 / 39.9
-  expect_rel(ground_effect_force(s, 5.0), 980665.0);            // 10 * 980.665 * 500 / 5
+  expect_rel(ground_effect_force(s, 20.0), 245166.25);           // 10 * 980.665 * 500 / 20
+  expect_rel(ground_effect_force(s, 39.9), 122890.35087719299);  // 10 * 980.665 * 500 / 39.9
+  expect_rel(ground_effect_force(s, 5.0), 980665.0);             // 10 * 980.665 * 500 / 5
 }
 
 // Nearer the ground than half the body's height (box_b / 2 = 5 cm) eq. 15 holds its value there:
@@ -375,7 +377,8 @@ Steering steer_level(Species s, const dvec3& goal, double vy = 0.0, double bank 
   s.heading_lead = 0.5;
   s.height_lead = 1.5;
   const dquat attitude = heading_attitude(0.0) * glm::angleAxis(bank, dvec3{1, 0, 0});
-  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal, dvec3{0.0}, s.cruise_speed, false);
+  return steer_towards(s, attitude, dvec3{0.0}, {1000.0, vy, 0.0}, goal, dvec3{0.0}, s.cruise_speed,
+                       false);
 }
 
 TEST(Steering, HeadingErrorSign) {
@@ -424,12 +427,14 @@ TEST(Steering, AGoalInsideTheFullBankCircleIsNotCircled) {
   expect_rel(radius, kWideTurn * v * v / (kGravity * std::tan(s.bank_max)));
   const double abeam = radians(90.0), near = 0.9 * circle, calm = 0.0;
   EXPECT_TRUE(circles_goal(abeam, near, radius, v, 0.0, calm)) << "inside";
-  EXPECT_TRUE(circles_goal(-abeam, near, radius, v, 0.19 * near, calm)) << "either side, a little above";
+  EXPECT_TRUE(circles_goal(-abeam, near, radius, v, 0.19 * near, calm))
+      << "either side, a little above";
   EXPECT_FALSE(circles_goal(abeam, 1.1 * circle, radius, v, 0.0, calm)) << "outside: turns in";
   EXPECT_FALSE(circles_goal(abeam, near, radius, v, -0.21 * near, calm)) << "below: spirals down";
   EXPECT_FALSE(circles_goal(abeam, near, radius, v, 0.21 * near, calm)) << "above: spirals up";
   EXPECT_TRUE(circles_goal(abeam, near, radius, v, 0.0, 0.99 * v / (2.0 * kPi))) << "a breeze";
-  EXPECT_FALSE(circles_goal(abeam, near, radius, v, 0.0, 1.01 * v / (2.0 * kPi))) << "a wind drifts the circle";
+  EXPECT_FALSE(circles_goal(abeam, near, radius, v, 0.0, 1.01 * v / (2.0 * kPi)))
+      << "a wind drifts the circle";
   // Behind (179 degrees off) the goal is outside the circle however near: the bird turns round.
   EXPECT_FALSE(circles_goal(radians(179.0), 0.1 * radius, radius, v, 0.0, calm));
   EXPECT_EQ(heading_bank(s, radians(179.0), 0.1 * radius, v), s.bank_max);
@@ -452,15 +457,17 @@ TEST(Steering, AGoalBehindIsTurnedToTheWayTheBirdBanks) {
   };
   expect_rel(turned(-behind, banked), 2.0 * kPi - behind);  // the long way round, to the right
   expect_rel(turned(behind, -banked), behind - 2.0 * kPi);
-  EXPECT_GT(heading_bank(s, turned(-behind, banked), 1000.0, 1000.0), 0.0) << "banks on the way it turns";
-  expect_rel(turned(behind, banked), behind);                   // already turning towards it
-  expect_rel(turned(-behind, 0.4 * s.bank_max), -behind);       // hardly banked: the short way
+  EXPECT_GT(heading_bank(s, turned(-behind, banked), 1000.0, 1000.0), 0.0)
+      << "banks on the way it turns";
+  expect_rel(turned(behind, banked), behind);                    // already turning towards it
+  expect_rel(turned(-behind, 0.4 * s.bank_max), -behind);        // hardly banked: the short way
   expect_rel(turned(-radians(110.0), banked), -radians(110.0));  // abeam: the short way
 }
 
 // The bank allowed falls from bank_max to none as the pitch goes from kSteepPitch / 2 to
 // kSteepPitch, the descent through the air from kSteepDescent / 2 to kSteepDescent, or the
-// airspeed from kDiveSpeed - 0.5 to kDiveSpeed times max_speed (issue 10: a heavy eagle's spiral dive).
+// airspeed from kDiveSpeed - 0.5 to kDiveSpeed times max_speed (issue 10: a heavy eagle's spiral
+// dive).
 TEST(Steering, RecoveryBankLevelsTheWingsWhenSteepOrFast) {
   const Species s = starling();
   const double cruise = s.cruise_speed, fast = (kDiveSpeed - 0.5) * s.max_speed;
@@ -468,8 +475,10 @@ TEST(Steering, RecoveryBankLevelsTheWingsWhenSteepOrFast) {
   EXPECT_EQ(recovery_bank(s, -kSteepPitch / 2.0, kSteepDescent / 2.0, fast), s.bank_max);
   EXPECT_NEAR(recovery_bank(s, 0.75 * kSteepPitch, 0.0, cruise), 0.5 * s.bank_max, 1e-12);
   EXPECT_NEAR(recovery_bank(s, 0.0, 0.75 * kSteepDescent, cruise), 0.5 * s.bank_max, 1e-12);
-  EXPECT_NEAR(recovery_bank(s, 0.0, 0.0, (kDiveSpeed - 0.25) * s.max_speed), 0.5 * s.bank_max, 1e-12);
-  EXPECT_NEAR(recovery_bank(s, -0.75 * kSteepPitch, 0.875 * kSteepDescent, cruise), 0.25 * s.bank_max, 1e-12)
+  EXPECT_NEAR(recovery_bank(s, 0.0, 0.0, (kDiveSpeed - 0.25) * s.max_speed), 0.5 * s.bank_max,
+              1e-12);
+  EXPECT_NEAR(recovery_bank(s, -0.75 * kSteepPitch, 0.875 * kSteepDescent, cruise),
+              0.25 * s.bank_max, 1e-12)
       << "the steeper of the two counts";
   EXPECT_EQ(recovery_bank(s, 0.0, kSteepDescent, cruise), 0.0);
   EXPECT_EQ(recovery_bank(s, kSteepPitch, 0.0, cruise), 0.0);
@@ -500,12 +509,12 @@ TEST_P(RateStep, UpDownClampAndHold) {
   const double dt = 0.0003;
   expect_rel(c.step(s, c.mid, 50.0, dt), c.mid + c.rate * dt);   // goal above: up by K dt
   expect_rel(c.step(s, c.mid, -50.0, dt), c.mid - c.rate * dt);  // goal below: down by K dt
-  EXPECT_EQ(c.step(s, c.mid, 0.0, dt), c.mid);                    // dy == 0: unchanged
-  EXPECT_EQ(c.step(s, c.hi, 50.0, dt), c.hi);                     // clamped at the top
+  EXPECT_EQ(c.step(s, c.mid, 0.0, dt), c.mid);                   // dy == 0: unchanged
+  EXPECT_EQ(c.step(s, c.hi, 50.0, dt), c.hi);                    // clamped at the top
   EXPECT_EQ(c.step(s, c.hi - 1e-5, 50.0, dt), c.hi);
-  EXPECT_EQ(c.step(s, c.lo, -50.0, dt), c.lo);                    // clamped at the bottom
+  EXPECT_EQ(c.step(s, c.lo, -50.0, dt), c.lo);  // clamped at the bottom
   EXPECT_EQ(c.step(s, c.lo + 1e-5, -50.0, dt), c.lo);
-  EXPECT_EQ(c.step(s, c.hi + 1.0, -50.0, dt), c.hi);              // out of range: back inside
+  EXPECT_EQ(c.step(s, c.hi + 1.0, -50.0, dt), c.hi);  // out of range: back inside
   EXPECT_EQ(c.step(s, c.lo - 1.0, 50.0, dt), c.lo);
 }
 
@@ -528,7 +537,8 @@ TEST(Landing, PerchAirspeedMakesHalfTouchdownSpeedTowardsThePerch) {
   // A 5 m/s headwind along the way: 100 + 500 cm/s through the air.
   EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-300.0, 0.0, -400.0}), 600.0, 1e-9);
   // A 5 m/s crosswind: the air velocity (60, 0, 80) - (-400, 0, 300).
-  EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-400.0, 0.0, 300.0}), std::hypot(460.0, 220.0), 1e-9);
+  EXPECT_NEAR(perch_airspeed(s, to_perch, dvec3{-400.0, 0.0, 300.0}), std::hypot(460.0, 220.0),
+              1e-9);
 }
 
 // The energy errors (control.h): the total is the height error plus the kinetic-energy deficit
@@ -550,7 +560,8 @@ TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
     EXPECT_NEAR(e.balance, -deficit(v), 1e-9) << v << ": the height does not count";
   }
   const double between = 0.5 * (slow + s.min_speed);  // half the height's share
-  EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance, -0.5 * s.balance_band - deficit(between), 1e-9);
+  EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance,
+              -0.5 * s.balance_band - deficit(between), 1e-9);
 }
 
 // What a bird sinking at 3 m/s still sinks while its wingbeat rises to full amplitude at K_a: half
@@ -581,11 +592,11 @@ TEST(Energy, PitchedPastTheOverrunTheWingbeatStopsFeedingThePitch) {
   struct Case {
     double pitch;  // rad
     uint32_t route;
-    double sign;   // of the wingbeat's change
+    double sign;  // of the wingbeat's change
   };
   const double past = kPitchOverrun + radians(2.0);
-  for (const Case k : {Case{s.pitch_max + past, 0, 0.0}, Case{s.pitch_max, 0, 1.0}, Case{s.pitch_min - past, 1, 1.0},
-                       Case{s.pitch_min, 1, -1.0}}) {
+  for (const Case k : {Case{s.pitch_max + past, 0, 0.0}, Case{s.pitch_max, 0, 1.0},
+                       Case{s.pitch_min - past, 1, 1.0}, Case{s.pitch_min, 1, -1.0}}) {
     BirdState b;
     b.route = k.route;
     b.position = dvec3{0.0, 1e4, 0.0};
@@ -633,7 +644,8 @@ TEST(Landing, FlareShareIsTheDecelerationNeededOverFlareDecel) {
   // (600^2 - 100^2) / (2 (400 - 50)) = 500 cm/s^2 needed: more than flare_decel (450), full flare.
   EXPECT_EQ(flare_share(s, 600.0, 100.0, 400.0), 1.0);
   // (300^2 - 100^2) / (2 (400 - 50)) = 114.29 cm/s^2: a quarter of flare_decel.
-  EXPECT_NEAR(flare_share(s, 300.0, 100.0, 400.0), (300.0 * 300.0 - 100.0 * 100.0) / 700.0 / s.flare_decel, 1e-12);
+  EXPECT_NEAR(flare_share(s, 300.0, 100.0, 400.0),
+              (300.0 * 300.0 - 100.0 * 100.0) / 700.0 / s.flare_decel, 1e-12);
   EXPECT_EQ(flare_share(s, 100.0, 100.0, 400.0), 0.0);
   EXPECT_EQ(flare_share(s, 50.0, 100.0, 400.0), 0.0) << "slower than it brakes to: no flare";
   // The flare pitch goes from the trim (share 0) to brake_pitch (share 1).
@@ -677,20 +689,23 @@ TEST(Landing, NearlyLinedUpFliesStraightIn) {
   const dvec3 branch{10, 0, 10};
   // Within 2 degrees of the perpendicular (here the z axis): lined up, however far off to the
   // side; the crossing would be 290 (1.5 degrees) and 570 (1 degree) ahead.
-  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(1.5)), 0, std::cos(radians(1.5))}, branch, {1, 0, 0}),
+  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(1.5)), 0, std::cos(radians(1.5))}, branch,
+                          {1, 0, 0}),
             branch);
   // 3 degrees off: the crossing 191 ahead is more than 4 times the 14.1 to the branch.
-  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(3.0)), 0, std::cos(radians(3.0))}, branch, {1, 0, 0}),
+  EXPECT_EQ(landing_point({0, 0, 0}, {std::sin(radians(3.0)), 0, std::cos(radians(3.0))}, branch,
+                          {1, 0, 0}),
             branch);
   // 10 degrees off from (9, 0, 0): the crossing 5.8 ahead is within 4 times the 10.0 to the
   // branch, so the curve goes through it.
   const dvec3 h{std::sin(radians(10.0)), 0, std::cos(radians(10.0))};
   const dvec3 q3 = dvec3{9, 0, 0} + h * (1.0 / h.x);
-  expect_vec_rel(landing_point({9, 0, 0}, h, branch, {1, 0, 0}), 0.25 * dvec3{9, 0, 0} + 0.5 * q3 + 0.25 * branch);
+  expect_vec_rel(landing_point({9, 0, 0}, h, branch, {1, 0, 0}),
+                 0.25 * dvec3{9, 0, 0} + 0.5 * q3 + 0.25 * branch);
 }
 
 // ------------------------------------------------------------------------------------------------
-// Wingbeat kinematics (MODEL.md, replaces Fig. 6).
+// Wingbeat kinematics (docs/MODEL.md, replaces Fig. 6).
 
 void expect_angles(const WingbeatAngles& a, const WingbeatAngles& e) {
   expect_rel(a.flap_arm, e.flap_arm);
@@ -722,7 +737,8 @@ TEST(Wingbeat, BrakingIncidenceRaisesTheArmsLeadingEdge) {
   // 15 deg of added incidence: feather arm 10 sin 90 - 3 - 15 = -8 (leading edge up); the rest
   // as at the quarter phase.
   const WingbeatAngles a = wingbeat_angles(s, kPi / 2, 0.7, 0.0, radians(15));
-  expect_angles(a, {radians(10), radians(7), radians(-8), radians(21.650635094610966), radians(10)});
+  expect_angles(a,
+                {radians(10), radians(7), radians(-8), radians(21.650635094610966), radians(10)});
 }
 
 TEST(Wingbeat, PointsSitAtTheMiddleOfArmAndHand) {
@@ -789,15 +805,15 @@ TEST(Wingbeat, PointVelocityMatchesFiniteDifference) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// MODEL.md's cruise check: wingbeat-averaged force of both wings, body level at 10 m/s.
+// docs/MODEL.md's cruise check: wingbeat-averaged force of both wings, body level at 10 m/s.
 
 void expect_cruise(const Species& s, double frequency, double amp) {
   const double weight = s.mass * kGravity;
   const WingbeatAverage avg = average_wing_force(s, 1000.0, frequency, amp, radians(8));
-  EXPECT_NEAR(avg.force.y, weight, 0.1 * weight) << s.name << ": lift / weight "
-                                                  << avg.force.y / weight;
-  EXPECT_LT(std::fabs(avg.force.x), 0.1 * weight) << s.name << ": thrust / weight "
-                                                  << avg.force.x / weight;
+  EXPECT_NEAR(avg.force.y, weight, 0.1 * weight)
+      << s.name << ": lift / weight " << avg.force.y / weight;
+  EXPECT_LT(std::fabs(avg.force.x), 0.1 * weight)
+      << s.name << ": thrust / weight " << avg.force.x / weight;
 }
 
 TEST(Cruise, StarlingLiftEqualsWeight) { expect_cruise(starling(), 9.25, 0.7); }
@@ -829,17 +845,19 @@ TEST(Wind, ProfilesAtGivenHeights) {
   EXPECT_EQ(wind_at(w, -50.0), w.wind);
   w.wind_profile = WindProfile::power_law;
   w.wind_exponent = 1.0 / 7.0;
-  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 1000.0)), 500.0, 1e-9);            // at h_ref
-  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 861.2777, 1e-3);         // 500 (45)^(1/7)
-  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 100.0)), 359.8428, 1e-3);           // 500 (0.1)^(1/7)
-  EXPECT_EQ(wind_at(w, 1000.0), glm::dvec3(0.0));                                 // none on the ground
-  EXPECT_NEAR(wind_at(w, 1000.0 + 45000.0).x / wind_at(w, 1000.0 + 45000.0).z, 0.75, 1e-12);  // same direction
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 1000.0)), 500.0, 1e-9);      // at h_ref
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 861.2777, 1e-3);  // 500 (45)^(1/7)
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 100.0)), 359.8428, 1e-3);    // 500 (0.1)^(1/7)
+  EXPECT_EQ(wind_at(w, 1000.0), glm::dvec3(0.0));                          // none on the ground
+  EXPECT_NEAR(wind_at(w, 1000.0 + 45000.0).x / wind_at(w, 1000.0 + 45000.0).z, 0.75,
+              1e-12);  // same direction
   w.wind_profile = WindProfile::logarithmic;
   w.wind_roughness = 3.0;
   EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 1000.0)), 500.0, 1e-9);
-  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 827.6441, 1e-3);  // 500 ln(15000) / ln(333.3)
-  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 30.0)), 198.1863, 1e-3);     // 500 ln(10) / ln(333.3)
-  EXPECT_EQ(wind_at(w, 1000.0 + 2.0), glm::dvec3(0.0));                    // below z0
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 45000.0)), 827.6441,
+              1e-3);                                                    // 500 ln(15000) / ln(333.3)
+  EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 30.0)), 198.1863, 1e-3);  // 500 ln(10) / ln(333.3)
+  EXPECT_EQ(wind_at(w, 1000.0 + 2.0), glm::dvec3(0.0));                 // below z0
 }
 
 }  // namespace

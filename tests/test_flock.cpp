@@ -1,5 +1,5 @@
-// Flocking on the CPU reference (MODEL.md "Flocking"): the neighbour grid against brute force, and
-// the criteria of "What a flock must show" on the default scenario's 1,000 starlings.
+// Flocking on the CPU reference (docs/MODEL.md "Flocking"): the neighbour grid against brute force,
+// and the criteria of "What a flock must show" on the default scenario's 1,000 starlings.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,8 +24,8 @@ using glm::dvec3;
 using testing::flocking_bird;
 
 // Every bird's neighbours from the grid equal brute force's, in order.
-void expect_grid_matches_brute_force(const std::vector<BirdState>& birds, const std::vector<Species>& species,
-                                     const char* what) {
+void expect_grid_matches_brute_force(const std::vector<BirdState>& birds,
+                                     const std::vector<Species>& species, const char* what) {
   const NeighbourGrid grid(birds, grid_shape(species, birds));
   size_t seen = 0;
   for (uint32_t i = 0; i < birds.size(); ++i) {
@@ -46,7 +46,8 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
     std::vector<BirdState> birds;
     for (int i = 0; i < 1500; ++i) {
       BirdState b = flocking_bird(size * dvec3{unit(rng), 0.3 * unit(rng), unit(rng)},
-                                  1000.0 * glm::normalize(dvec3{1.0, 0.2 * unit(rng), unit(rng)}), i % 3 == 0 ? 1 : 0);
+                                  1000.0 * glm::normalize(dvec3{1.0, 0.2 * unit(rng), unit(rng)}),
+                                  i % 3 == 0 ? 1 : 0);
       b.species = i % 5 == 0 ? 1 : 0;
       if (i % 11 == 0) b.mode = FlightMode::landing;  // neither sees nor is seen
       if (i % 13 == 0) b.flocking = 0;
@@ -58,15 +59,18 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
 
 TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   const std::vector<Species> species = {starling()};
-  const double cell = grid_shape(species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
+  const double cell =
+      grid_shape(species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // All in one cell, more than neighbours can hold, with equal distances (ties by index).
   std::vector<BirdState> one_cell;
   for (int i = 0; i < 300; ++i)
-    one_cell.push_back(flocking_bird(dvec3{0.25 * cell * unit(rng), 10.0 * (i % 3), 0.25 * cell * unit(rng)},
-                                     dvec3{1000.0, 0.0, 0.0}));
-  for (int i = 0; i < 8; ++i) one_cell.push_back(flocking_bird(dvec3{50.0, 400.0, 50.0 * i}, dvec3{0.0, 0.0, 1000.0}));
+    one_cell.push_back(
+        flocking_bird(dvec3{0.25 * cell * unit(rng), 10.0 * (i % 3), 0.25 * cell * unit(rng)},
+                      dvec3{1000.0, 0.0, 0.0}));
+  for (int i = 0; i < 8; ++i)
+    one_cell.push_back(flocking_bird(dvec3{50.0, 400.0, 50.0 * i}, dvec3{0.0, 0.0, 1000.0}));
   expect_grid_matches_brute_force(one_cell, species, "one cell");
   // On the cells' borders and corners, and across them by a hair.
   std::vector<BirdState> borders;
@@ -78,7 +82,8 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   expect_grid_matches_brute_force(borders, species, "cell borders");
   // Farther apart than the perception radius: nobody sees anybody.
   std::vector<BirdState> apart;
-  for (int i = 0; i < 20; ++i) apart.push_back(flocking_bird(dvec3{3000.0 * i, 0.0, 0.0}, dvec3{0.0, 0.0, 1000.0}));
+  for (int i = 0; i < 20; ++i)
+    apart.push_back(flocking_bird(dvec3{3000.0 * i, 0.0, 0.0}, dvec3{0.0, 0.0, 1000.0}));
   const NeighbourGrid grid(apart, grid_shape(species, apart));
   for (uint32_t i = 0; i < apart.size(); ++i) EXPECT_TRUE(grid.seen_by(i, species).empty());
   // One bird, and none.
@@ -93,14 +98,15 @@ TEST(Perception, SeesTheNearestOutsideTheBlindSectorWithinTheRadius) {
   const Species s = starling();
   const dvec3 ahead{1.0, 0.0, 0.0};
   EXPECT_TRUE(sees(s, ahead, dvec3{100.0, 0.0, 0.0}));
-  EXPECT_TRUE(sees(s, ahead, dvec3{0.0, 0.0, 100.0}));                 // beside
-  EXPECT_TRUE(sees(s, ahead, dvec3{-100.0, 0.0, 101.0}));              // 44.7 deg off straight back
-  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 99.0}));              // 44.7 deg: inside the 45
-  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 0.0}));               // straight behind
+  EXPECT_TRUE(sees(s, ahead, dvec3{0.0, 0.0, 100.0}));     // beside
+  EXPECT_TRUE(sees(s, ahead, dvec3{-100.0, 0.0, 101.0}));  // 44.7 deg off straight back
+  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 99.0}));  // 44.7 deg: inside the 45
+  EXPECT_FALSE(sees(s, ahead, dvec3{-100.0, 0.0, 0.0}));   // straight behind
   EXPECT_FALSE(sees(s, ahead, dvec3{s.perception_radius + 1.0, 0.0, 0.0}));
   // k nearest, nearest first, ties by index.
   std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
-  for (int i = 1; i <= 10; ++i) birds.push_back(flocking_bird(dvec3{100.0 * ((i + 1) / 2), 0.0, 0.0}, dvec3{1000.0, 0.0, 0.0}));
+  for (int i = 1; i <= 10; ++i)
+    birds.push_back(flocking_bird(dvec3{100.0 * ((i + 1) / 2), 0.0, 0.0}, dvec3{1000.0, 0.0, 0.0}));
   const std::vector<uint32_t> seen = seen_by_brute_force(0, birds, {s});
   EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7}));
 }
@@ -109,7 +115,8 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   Species s = starling();
   const dvec3 forward{1000.0, 0.0, 0.0};
   // A bird close on the right: the goal turns left (-z) of the route straight ahead; slows.
-  std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward), flocking_bird(dvec3{0.0, 0.0, 50.0}, forward)};
+  std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward),
+                                  flocking_bird(dvec3{0.0, 0.0, 50.0}, forward)};
   const dvec3 route{10000.0, 0.0, 0.0};
   Perception p = social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds);
   EXPECT_EQ(p.neighbours, 1u);
@@ -124,21 +131,23 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   EXPECT_GT(p.airspeed, s.cruise_speed);
   // One close ahead: it slows.
   birds[1] = flocking_bird(dvec3{50.0, 0.0, 0.0}, forward);
-  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed, s.cruise_speed);
+  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+            s.cruise_speed);
   // One beside flying 2 m/s faster: it speeds up by speed_match x 200 cm/s; slower, it slows.
   ASSERT_GT(s.speed_match, 0.0);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{1200.0, 0.0, 0.0});
   EXPECT_NEAR(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
               std::clamp(s.cruise_speed + s.speed_match * 200.0, s.min_speed, s.max_speed), 1e-9);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{800.0, 0.0, 0.0});
-  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed, s.cruise_speed);
+  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+            s.cruise_speed);
   // None seen: no goal.
   EXPECT_EQ(social_goal(s, birds[0], route, {}, birds).neighbours, 0u);
 }
 
-// MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default scenario's
-// 1,000 starlings, 60 s after the first 20, every frame.
-// The half-size of the box holding `flock`'s birds, each axis.
+// docs/MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default
+// scenario's 1,000 starlings, 60 s after the first 20, every frame. The half-size of the box
+// holding `flock`'s birds, each axis.
 dvec3 spawn_half_size(const std::vector<BirdState>& birds, uint32_t flock) {
   dvec3 lo(1e300), hi(-1e300);
   for (const BirdState& b : birds)
@@ -199,7 +208,8 @@ TEST(Spawn, AFlockGrownPastTheGroundWidensInstead) {
   // --birds N the same way.
   Scenario t = load_scenario("default");
   t.flocks[0].spawn_centre.y = 1000.0;
-  for (const BirdState& b : spawn_birds(t, 100 * 1020)) ASSERT_GT(b.position.y, t.world.ground_height);
+  for (const BirdState& b : spawn_birds(t, 100 * 1020))
+    ASSERT_GT(b.position.y, t.world.ground_height);
 }
 
 TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
@@ -215,11 +225,15 @@ TEST(FlockCriteria, WithFlockingOffTheSameStarlingsFailSpacingOrCohesion) {
   CpuSimulation sim(scenario);
   const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
   const double span = scenario.species[scenario.flocks[0].species].box_c;
-  const bool spacing = run.median_nearest_low >= span && run.median_nearest_high <= 3.0 * span && run.worst_too_close < 0.005;
+  const bool spacing = run.median_nearest_low >= span && run.median_nearest_high <= 3.0 * span &&
+                       run.worst_too_close < 0.005;
   const bool cohesion = run.smallest_largest_cluster >= 0.95;
   EXPECT_FALSE(spacing && cohesion);
-  std::printf("flocking off: median nearest %.1f-%.1f cm, worst too close %.4f, smallest largest cluster %.4f\n",
-              run.median_nearest_low, run.median_nearest_high, run.worst_too_close, run.smallest_largest_cluster);
+  std::printf(
+      "flocking off: median nearest %.1f-%.1f cm, worst too close %.4f, smallest largest cluster "
+      "%.4f\n",
+      run.median_nearest_low, run.median_nearest_high, run.worst_too_close,
+      run.smallest_largest_cluster);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
-// Flocking on the compute shaders against the CPU reference (MODEL.md "What a flock must show",
-// criterion 6), Khronos validation layer on: the neighbour grid (grid_*.comp, perceive.comp) finds
-// the same neighbours, the social goal agrees within float rounding, and the flock metrics agree
-// over 20 s.
+// Flocking on the compute shaders against the CPU reference (docs/MODEL.md "What a flock must
+// show", criterion 6), Khronos validation layer on: the neighbour grid (grid_*.comp, perceive.comp)
+// finds the same neighbours, the social goal agrees within float rounding, and the flock metrics
+// agree over 20 s.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,7 +24,8 @@ namespace {
 using glm::dvec3;
 using testing::flocking_bird;
 
-// The default scenario with `birds` placed by the test (the targets and species as the file has them).
+// The default scenario with `birds` placed by the test (the targets and species as the file has
+// them).
 Scenario flocking_scenario() {
   Scenario s = load_scenario("default");
   for (Flock& f : s.flocks) f.flocking = true;
@@ -37,7 +38,8 @@ struct Compared {
 };
 
 // Perceives once on each backend from the same state (a frame of no steps) and compares.
-Compared perceive_on_both(gpu::Device& device, const Scenario& scenario, const std::vector<BirdState>& birds) {
+Compared perceive_on_both(gpu::Device& device, const Scenario& scenario,
+                          const std::vector<BirdState>& birds) {
   CpuSimulation cpu(scenario, birds);
   gpu::GpuSimulation gpu(device, scenario, birds);
   cpu.step(0);
@@ -66,13 +68,16 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   while (flown.time() < 5.0) flown.step_frame();
   const Compared c = perceive_on_both(device, scenario, flown.birds());
   EXPECT_GT(c.seeing, c.birds * 9 / 10);
-  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << c.same_neighbours << " of " << c.birds;
+  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds))
+      << c.same_neighbours << " of " << c.birds;
   EXPECT_LT(c.worst_direction, 1e-4);  // a unit vector
   EXPECT_LT(c.worst_airspeed, 0.05);   // cm/s of ~1000
   EXPECT_LT(c.worst_nearest, 0.01);    // cm of ~100
-  std::printf("same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, airspeed %.2g cm/s, nearest "
-              "%.2g cm\n",
-              c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
+  std::printf(
+      "same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, airspeed %.2g "
+      "cm/s, nearest "
+      "%.2g cm\n",
+      c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
@@ -88,53 +93,63 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalAThousandKilometresOut) {
   for (BirdState& b : birds) b.position += offset;
   const Compared c = perceive_on_both(device, moved_by(scenario, offset), birds);
   EXPECT_GT(c.seeing, c.birds * 9 / 10);
-  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << c.same_neighbours << " of " << c.birds;
+  EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds))
+      << c.same_neighbours << " of " << c.birds;
   EXPECT_LT(c.worst_direction, 1e-4);
   EXPECT_LT(c.worst_airspeed, 0.05);
   EXPECT_LT(c.worst_nearest, 0.01);
-  std::printf("1,000 km out: same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, airspeed %.2g "
-              "cm/s, nearest %.2g cm\n",
-              c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
+  std::printf(
+      "1,000 km out: same neighbours for %zu of %zu birds (%zu seeing); worst direction %.2g, "
+      "airspeed %.2g "
+      "cm/s, nearest %.2g cm\n",
+      c.same_neighbours, c.birds, c.seeing, c.worst_direction, c.worst_airspeed, c.worst_nearest);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
 TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = flocking_scenario();
-  const double cell = grid_shape(scenario.species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
+  const double cell =
+      grid_shape(scenario.species, {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})}).cell;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   // All in one cell (with exact ties), on cell borders, cells whose slots collide, two flocks in
   // one place, a sparse flock, one bird, none.
   std::vector<BirdState> one_cell;
   for (int i = 0; i < 300; ++i)
-    one_cell.push_back(flocking_bird(dvec3{0.25 * cell * unit(rng), 4000.0 + 10.0 * (i % 3), 0.25 * cell * unit(rng)},
-                                     dvec3{1000.0, 0.0, 0.0}));
+    one_cell.push_back(flocking_bird(
+        dvec3{0.25 * cell * unit(rng), 4000.0 + 10.0 * (i % 3), 0.25 * cell * unit(rng)},
+        dvec3{1000.0, 0.0, 0.0}));
   // On cell borders: one coordinate on a border, the others anywhere (a lattice would make exact
   // ties of distance, which float and double break differently).
   std::vector<BirdState> borders;
   for (int x = -3; x <= 3; ++x)
     for (int n = 0; n < 40; ++n)
-      borders.push_back(flocking_bird(dvec3{cell * x, 4000.0 + 600.0 * unit(rng), 600.0 * unit(rng)},
-                                      dvec3{0.0, 0.0, -1000.0}));
+      borders.push_back(
+          flocking_bird(dvec3{cell * x, 4000.0 + 600.0 * unit(rng), 600.0 * unit(rng)},
+                        dvec3{0.0, 0.0, -1000.0}));
   // The table of cells (grid.glsl: grid_slot) is 16 cells along x for a flock this small: cells
   // 16 apart start their search at one slot. A line of birds through 48 cells makes most cells'
   // slots taken by another's (the search goes on past them, grid_count.comp and flock.glsl).
   std::vector<BirdState> line;
   for (int n = 0; n < 160; ++n)
-    line.push_back(flocking_bird(dvec3{0.3 * cell * n + 7.0 * unit(rng), 4000.0 + 50.0 * unit(rng), 50.0 * unit(rng)},
-                                 dvec3{0.0, 0.0, 1000.0}));  // across the line: no bird has all behind it
+    line.push_back(flocking_bird(
+        dvec3{0.3 * cell * n + 7.0 * unit(rng), 4000.0 + 50.0 * unit(rng), 50.0 * unit(rng)},
+        dvec3{0.0, 0.0, 1000.0}));  // across the line: no bird has all behind it
   // Two flocks in the same cells: each bird sees its own flock alone.
   std::vector<BirdState> two_flocks;
   for (int n = 0; n < 200; ++n)
-    two_flocks.push_back(flocking_bird(dvec3{3.0 * cell * unit(rng), 4000.0 + 2.0 * cell * unit(rng), 3.0 * cell * unit(rng)},
-                                       dvec3{0.0, 0.0, 1000.0}, n % 2));
-  for (const auto& [what, birds] : {std::pair{"one cell", one_cell}, std::pair{"borders", borders},
-                                    std::pair{"cells sharing slots", line}, std::pair{"two flocks", two_flocks}}) {
+    two_flocks.push_back(flocking_bird(
+        dvec3{3.0 * cell * unit(rng), 4000.0 + 2.0 * cell * unit(rng), 3.0 * cell * unit(rng)},
+        dvec3{0.0, 0.0, 1000.0}, n % 2));
+  for (const auto& [what, birds] :
+       {std::pair{"one cell", one_cell}, std::pair{"borders", borders},
+        std::pair{"cells sharing slots", line}, std::pair{"two flocks", two_flocks}}) {
     const Compared c = perceive_on_both(device, scenario, birds);
     EXPECT_EQ(c.seeing, c.birds) << what;
     // Exact ties and borders may fall either way in float: all but 0.1 % agree.
-    EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds)) << what << ": " << c.same_neighbours;
+    EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds))
+        << what << ": " << c.same_neighbours;
   }
   // Two species that see different numbers of neighbours, and see as far (the search's k is then
   // the bird's own, and its order reaches the farther).
@@ -145,17 +160,20 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   for (size_t n = 0; n < two_species.size(); ++n) two_species[n].species = uint32_t(n % 2);
   const Compared mixed = perceive_on_both(device, unlike, two_species);
   EXPECT_EQ(mixed.seeing, mixed.birds);
-  EXPECT_GE(double(mixed.same_neighbours), 0.999 * double(mixed.birds)) << "two species: " << mixed.same_neighbours;
+  EXPECT_GE(double(mixed.same_neighbours), 0.999 * double(mixed.birds))
+      << "two species: " << mixed.same_neighbours;
   // Sparse: 300 birds over 300 m, most alone in their cells and many out of sight of any other.
   std::vector<BirdState> sparse;
   for (int n = 0; n < 300; ++n)
-    sparse.push_back(flocking_bird(dvec3{30000.0 * unit(rng), 4000.0 + 3000.0 * unit(rng), 30000.0 * unit(rng)},
-                                   dvec3{1000.0, 0.0, 0.0}));
+    sparse.push_back(
+        flocking_bird(dvec3{30000.0 * unit(rng), 4000.0 + 3000.0 * unit(rng), 30000.0 * unit(rng)},
+                      dvec3{1000.0, 0.0, 0.0}));
   const Compared apart = perceive_on_both(device, scenario, sparse);
   EXPECT_GT(apart.seeing, 0u);
   EXPECT_LT(apart.seeing, apart.birds);
   EXPECT_EQ(apart.same_neighbours, apart.birds);
-  const Compared one = perceive_on_both(device, scenario, {flocking_bird(dvec3{0.0, 4000.0, 0.0}, dvec3{1000.0, 0.0, 0.0})});
+  const Compared one = perceive_on_both(
+      device, scenario, {flocking_bird(dvec3{0.0, 4000.0, 0.0}, dvec3{1000.0, 0.0, 0.0})});
   EXPECT_EQ(one.same_neighbours, 1u);
   EXPECT_EQ(one.seeing, 0u);
   gpu::GpuSimulation none(device, scenario, std::vector<BirdState>{});
@@ -164,7 +182,7 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
-// MODEL.md's criteria 1-4 on the compute shaders: the default starlings, 20 to 80 s.
+// docs/MODEL.md's criteria 1-4 on the compute shaders: the default starlings, 20 to 80 s.
 // Issue 13: frames recorded several to a submission (step_frames) fly exactly as the same frames
 // submitted one by one: a flocking flock (the perception each frame) and a bird chasing a moving
 // target (each frame's targets), bit for bit; a submission's last frame is the one read back.
@@ -185,8 +203,9 @@ TEST(GpuFrames, SeveralFramesASubmissionFlyAsFramesOneByOne) {
     ASSERT_EQ(a.size(), b.size());
     size_t same = 0;
     for (size_t i = 0; i < a.size(); ++i)
-      same += a[i].position == b[i].position && a[i].velocity == b[i].velocity && a[i].attitude == b[i].attitude &&
-              a[i].omega == b[i].omega && a[i].phase == b[i].phase && a[i].amplitude == b[i].amplitude &&
+      same += a[i].position == b[i].position && a[i].velocity == b[i].velocity &&
+              a[i].attitude == b[i].attitude && a[i].omega == b[i].omega &&
+              a[i].phase == b[i].phase && a[i].amplitude == b[i].amplitude &&
               a[i].targets_reached == b[i].targets_reached && a[i].mode == b[i].mode;
     EXPECT_EQ(same, a.size());
   }
@@ -213,10 +232,12 @@ TEST(GpuFlock, FlockMetricsOverTwentySecondsAgreeWithTheReference) {
   EXPECT_NEAR(b.mean_largest_cluster, a.mean_largest_cluster, 0.05 * a.mean_largest_cluster);
   // A fraction of a percent (a pair of birds is 0.2 %): within a quarter of a percentage point.
   EXPECT_NEAR(b.mean_too_close, a.mean_too_close, 0.0025);
-  std::printf("CPU, Vulkan over 20 s: median nearest %.1f, %.1f cm; polarisation %.4f, %.4f; largest cluster "
-              "%.4f, %.4f; too close %.4f, %.4f\n",
-              a.mean_median_nearest, b.mean_median_nearest, a.mean_polarisation, b.mean_polarisation,
-              a.mean_largest_cluster, b.mean_largest_cluster, a.mean_too_close, b.mean_too_close);
+  std::printf(
+      "CPU, Vulkan over 20 s: median nearest %.1f, %.1f cm; polarisation %.4f, %.4f; largest "
+      "cluster "
+      "%.4f, %.4f; too close %.4f, %.4f\n",
+      a.mean_median_nearest, b.mean_median_nearest, a.mean_polarisation, b.mean_polarisation,
+      a.mean_largest_cluster, b.mean_largest_cluster, a.mean_too_close, b.mean_too_close);
   EXPECT_EQ(b.non_finite, 0u);
   EXPECT_EQ(device.validation_errors(), 0u);
 }

@@ -1,6 +1,6 @@
-// Every input the scenario loader's fuzzer found (tests/fuzz-regressions/, docs/TESTING.md "Fuzz findings"):
-// each gives a clean ScenarioError naming the file, or a scenario that validates; never a crash,
-// a sanitizer report (the asan preset runs this too), a hang or another exception.
+// Every input the scenario loader's fuzzer found (tests/fuzz-regressions/, docs/TESTING.md "Fuzz
+// findings"): each gives a clean ScenarioError naming the file, or a scenario that validates; never
+// a crash, a sanitizer report (the asan preset runs this too), a hang or another exception.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +19,8 @@ namespace {
 std::vector<std::filesystem::path> regression_files() {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(AEROFLOCK_FUZZ_REGRESSIONS))
-    if (entry.is_regular_file() && entry.path().filename() != ".keep") files.push_back(entry.path());
+    if (entry.is_regular_file() && entry.path().filename() != ".keep")
+      files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   return files;
 }
@@ -38,8 +39,9 @@ TEST(FuzzRegressions, EachGivesACleanErrorOrAValidScenario) {
       EXPECT_NO_THROW(validate(s));
     } catch (const ScenarioError& e) {
       // "NAME:LINE:COLUMN: error: ..." or, for the whole scenario, "NAME: error: ...".
-      const std::regex clean("^" + std::regex_replace(name, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
-                             R"((:[0-9]+:[0-9]+)?: error: .+)");
+      const std::regex clean(
+          "^" + std::regex_replace(name, std::regex(R"([.^$|()\[\]{}*+?\\])"), R"(\$&)") +
+          R"((:[0-9]+:[0-9]+)?: error: .+)");
       EXPECT_TRUE(std::regex_search(std::string(e.what()), clean)) << e.what();
     } catch (const std::exception& e) {
       ADD_FAILURE() << "not a ScenarioError: " << e.what();

@@ -96,7 +96,8 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.tail_twist = in(-sp.rot_max, sp.rot_max);
     b.sweep = in(-sp.sweep_max, sp.sweep_max);
     b.pitch_trim = in(0.0, radians(20));
-    b.circling = in(0.0, 5.0);  // past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside
+    b.circling =
+        in(0.0, 5.0);  // past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
     const Route& tour = s.world.routes[0];
     const Branch& br = s.world.branches[0];
@@ -222,97 +223,102 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   // In still air and in a wind (crabbing, banking for the airspeed, landing into the wind), the
   // same at every height or growing with it (world.h: WindProfile).
-  for (const WindProfile profile : {WindProfile::uniform, WindProfile::power_law, WindProfile::logarithmic})
-  for (const dvec3& wind : {dvec3{0.0}, dvec3{300.0, 0.0, -200.0}}) {
-    if (profile != WindProfile::uniform && wind == dvec3{0.0}) continue;
-    const std::string in = glm::length(wind) == 0.0 ? "calm_" : profile == WindProfile::uniform ? "wind_"
-                           : profile == WindProfile::power_law ? "power_law_wind_" : "logarithmic_wind_";
-    SCOPED_TRACE(in);
-    Scenario scenario = probe_scenario();
-    scenario.world.wind = wind;
-    scenario.world.wind_profile = profile;
-    scenario.world.wind_exponent = 0.2;
-    std::vector<BirdState> birds = random_birds(scenario, 12000, 7);
-    // And 12 whose species has a NaN lift coefficient: those in the air quarantined by the step.
-    Species doomed = scenario.species[0];
-    doomed.Cl_max = std::numeric_limits<double>::quiet_NaN();
-    scenario.species.push_back(doomed);
-    for (size_t i = 0; i < 12; ++i) {
-      birds.push_back(birds[i]);
-      birds.back().species = static_cast<uint32_t>(scenario.species.size() - 1);
-    }
-    gpu::GpuSimulation gpu_sim(device, scenario, birds);
-    gpu_sim.step(0, true);  // no step: the forces of the next step from the state as given
-    const std::vector<StepForces> gpu_forces = *gpu_sim.snapshot().forces;
-    gpu_sim.step(1);
-    const std::vector<BirdState>& gpu_after = gpu_sim.birds();
+  for (const WindProfile profile :
+       {WindProfile::uniform, WindProfile::power_law, WindProfile::logarithmic})
+    for (const dvec3& wind : {dvec3{0.0}, dvec3{300.0, 0.0, -200.0}}) {
+      if (profile != WindProfile::uniform && wind == dvec3{0.0}) continue;
+      const std::string in = glm::length(wind) == 0.0            ? "calm_"
+                             : profile == WindProfile::uniform   ? "wind_"
+                             : profile == WindProfile::power_law ? "power_law_wind_"
+                                                                 : "logarithmic_wind_";
+      SCOPED_TRACE(in);
+      Scenario scenario = probe_scenario();
+      scenario.world.wind = wind;
+      scenario.world.wind_profile = profile;
+      scenario.world.wind_exponent = 0.2;
+      std::vector<BirdState> birds = random_birds(scenario, 12000, 7);
+      // And 12 whose species has a NaN lift coefficient: those in the air quarantined by the step.
+      Species doomed = scenario.species[0];
+      doomed.Cl_max = std::numeric_limits<double>::quiet_NaN();
+      scenario.species.push_back(doomed);
+      for (size_t i = 0; i < 12; ++i) {
+        birds.push_back(birds[i]);
+        birds.back().species = static_cast<uint32_t>(scenario.species.size() - 1);
+      }
+      gpu::GpuSimulation gpu_sim(device, scenario, birds);
+      gpu_sim.step(0, true);  // no step: the forces of the next step from the state as given
+      const std::vector<StepForces> gpu_forces = *gpu_sim.snapshot().forces;
+      gpu_sim.step(1);
+      const std::vector<BirdState>& gpu_after = gpu_sim.birds();
 
-    World world = scenario.world;
-    world.move_targets(0.0);
-    double worst_force = 0, worst_torque = 0;
-    std::map<std::string, double> worst_state;
-    std::map<std::string, bool> changed;  // by the step, for some bird: the test covers the field
-    for (size_t i = 0; i < birds.size(); ++i) {
-      const Species& sp = scenario.species[birds[i].species];
-      BirdState cpu = birds[i];
-      StepForces f;
-      step_bird(cpu, sp, world, 0.0, scenario.dt, &f);
-      // Relative to the force (torque) itself plus the weight (the weight at half the span), so
-      // that small forces are not held to a tighter absolute bound than float rounding allows.
-      const double weight = sp.mass * kGravity;
-      const double force_scale = glm::length(f.total) + weight;
-      const double torque_scale = glm::length(f.torque) + weight * 0.5 * sp.box_c;
-      const StepForces& g = gpu_forces[i];
-      for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]},
-                                     {g.wing[1], f.wing[1]},
-                                     {g.wing[2], f.wing[2]},
-                                     {g.wing[3], f.wing[3]},
-                                     {g.tail, f.tail},
-                                     {g.ground, f.ground},
-                                     {g.legs, f.legs},
-                                     {g.gravity, f.gravity},
-                                     {g.total, f.total}})
-        worst_force = std::max(worst_force, max_abs(gpu - ref) / force_scale);
-      for (const auto& [gpu, ref] : {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
-        worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
-      const BirdState& after = gpu_after[i];
+      World world = scenario.world;
+      world.move_targets(0.0);
+      double worst_force = 0, worst_torque = 0;
+      std::map<std::string, double> worst_state;
+      std::map<std::string, bool> changed;  // by the step, for some bird: the test covers the field
+      for (size_t i = 0; i < birds.size(); ++i) {
+        const Species& sp = scenario.species[birds[i].species];
+        BirdState cpu = birds[i];
+        StepForces f;
+        step_bird(cpu, sp, world, 0.0, scenario.dt, &f);
+        // Relative to the force (torque) itself plus the weight (the weight at half the span), so
+        // that small forces are not held to a tighter absolute bound than float rounding allows.
+        const double weight = sp.mass * kGravity;
+        const double force_scale = glm::length(f.total) + weight;
+        const double torque_scale = glm::length(f.torque) + weight * 0.5 * sp.box_c;
+        const StepForces& g = gpu_forces[i];
+        for (const auto& [gpu, ref] : {std::pair{g.wing[0], f.wing[0]},
+                                       {g.wing[1], f.wing[1]},
+                                       {g.wing[2], f.wing[2]},
+                                       {g.wing[3], f.wing[3]},
+                                       {g.tail, f.tail},
+                                       {g.ground, f.ground},
+                                       {g.legs, f.legs},
+                                       {g.gravity, f.gravity},
+                                       {g.total, f.total}})
+          worst_force = std::max(worst_force, max_abs(gpu - ref) / force_scale);
+        for (const auto& [gpu, ref] :
+             {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
+          worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
+        const BirdState& after = gpu_after[i];
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial)                           \
   worst_state[#name] =                                                             \
       std::max(worst_state[#name], field_difference(#name, after.name, cpu.name)); \
   changed[#name] = changed[#name] || field_difference(#name, birds[i].name, cpu.name) > 0;
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
-    }
-    // Those in the air (one on its legs is held still whatever the forces): the mode is compared
-    // with the reference's above.
-    size_t quarantined = 0;
-    for (size_t i = birds.size() - 12; i < birds.size(); ++i) quarantined += gpu_after[i].mode == FlightMode::quarantined;
-    EXPECT_GT(quarantined, 6u);
-    auto figure = [](double v) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%.3g", v);
-      return std::string(text);
-    };
-    RecordProperty(in + "worst_force_relative", figure(worst_force));
-    RecordProperty(in + "worst_torque_relative", figure(worst_torque));
-    // Float rounding: measured 1e-6 (with the shader's precise trigonometry).
-    EXPECT_LT(worst_force, 1e-5) << "wing, tail, ground, legs, gravity or total force";
-    EXPECT_LT(worst_torque, 1e-5) << "torque or tail torque";
-    for (const auto& [name, worst] : worst_state) {
-      RecordProperty(in + "worst_" + name, figure(worst));
-      const auto tolerance = kStateTolerance.find(name);
-      ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
-      EXPECT_LE(worst, tolerance->second) << name;
-      // Every field but the bird's species, route, flock and commanded airspeed changes in a step for some
-      // of these birds (the take-off time when a bird near the ground touches down).
-      // quarantined_at is the step's start, 0 here (the NaN quarantine tests in test_behaviours.cpp
-      // compare it later in a flight on both backends).
-      if (name != "species" && name != "route" && name != "airspeed" && name != "flock" && name != "flocking" &&
-          name != "quarantined_at") {
-        EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
+      }
+      // Those in the air (one on its legs is held still whatever the forces): the mode is compared
+      // with the reference's above.
+      size_t quarantined = 0;
+      for (size_t i = birds.size() - 12; i < birds.size(); ++i)
+        quarantined += gpu_after[i].mode == FlightMode::quarantined;
+      EXPECT_GT(quarantined, 6u);
+      auto figure = [](double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.3g", v);
+        return std::string(text);
+      };
+      RecordProperty(in + "worst_force_relative", figure(worst_force));
+      RecordProperty(in + "worst_torque_relative", figure(worst_torque));
+      // Float rounding: measured 1e-6 (with the shader's precise trigonometry).
+      EXPECT_LT(worst_force, 1e-5) << "wing, tail, ground, legs, gravity or total force";
+      EXPECT_LT(worst_torque, 1e-5) << "torque or tail torque";
+      for (const auto& [name, worst] : worst_state) {
+        RecordProperty(in + "worst_" + name, figure(worst));
+        const auto tolerance = kStateTolerance.find(name);
+        ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
+        EXPECT_LE(worst, tolerance->second) << name;
+        // Every field but the bird's species, route, flock and commanded airspeed changes in a step
+        // for some of these birds (the take-off time when a bird near the ground touches down).
+        // quarantined_at is the step's start, 0 here (the NaN quarantine tests in
+        // test_behaviours.cpp compare it later in a flight on both backends).
+        if (name != "species" && name != "route" && name != "airspeed" && name != "flock" &&
+            name != "flocking" && name != "quarantined_at") {
+          EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
+        }
       }
     }
-  }
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
@@ -352,7 +358,7 @@ INSTANTIATE_TEST_SUITE_P(Presets, GpuEnvelope, ::testing::Values(starling, eagle
 // Every built-in scenario for its first 2 simulated seconds on both backends, each bird on its
 // own: with flocking on, a float-sized difference flips which of two nearly equidistant birds is
 // the seventh nearest, and the flock's chaos grows it (31 cm in 2 s for the default starlings);
-// flocking's agreement is tested as MODEL.md asks, from one state and by the flock's metrics
+// flocking's agreement is tested as docs/MODEL.md asks, from one state and by the flock's metrics
 // (tests/test_flock_vulkan.cpp).
 // The start both backends fly from: up to 64 of the scenario's birds, flocking off (each flies
 // alone), their states rounded to the device's floats.
@@ -573,11 +579,14 @@ TEST(GpuLongFrame, AFrameInPartsStepsAsTheFrameWhole) {
 // fly as without the targets they never visit, frames one by one, bit for bit.
 TEST(GpuLimits, ManyTargetsTakeFewerFramesASubmission) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  const size_t targets = gpu::storage_capacity(device, 2 * sizeof(gpu::GpuTarget)) / gpu::kFramesPerSubmission + 1;
-  if (targets > 200000) GTEST_SKIP() << "the device holds 16 frames of " << targets - 1 << " targets";
+  const size_t targets =
+      gpu::storage_capacity(device, 2 * sizeof(gpu::GpuTarget)) / gpu::kFramesPerSubmission + 1;
+  if (targets > 200000)
+    GTEST_SKIP() << "the device holds 16 frames of " << targets - 1 << " targets";
   const Scenario plain = load_scenario("fig21-moving-target");
   Scenario crowded = plain;
-  while (crowded.world.targets.size() < targets) crowded.world.targets.push_back(plain.world.targets[0]);
+  while (crowded.world.targets.size() < targets)
+    crowded.world.targets.push_back(plain.world.targets[0]);
   gpu::GpuSimulation many(device, crowded, 8), few(device, plain, 8);
   EXPECT_LT(many.frames_per_submission(), gpu::kFramesPerSubmission);
   EXPECT_GE(many.frames_per_submission(), 1u);

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <string>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -189,7 +189,8 @@ TEST(GpuDevice, ChecksGroupCount) {
     const std::string m = e.what();
     std::printf("%s\n", m.c_str());
     EXPECT_NE(m.find(std::to_string(most + 1) + " birds need"), std::string::npos) << m;
-    EXPECT_NE(m.find("(maxComputeWorkGroupCount[0]): at most " + std::to_string(most) + " birds"), std::string::npos)
+    EXPECT_NE(m.find("(maxComputeWorkGroupCount[0]): at most " + std::to_string(most) + " birds"),
+              std::string::npos)
         << m;
   }
   EXPECT_EQ(gpu::storage_capacity(device, 1000), [&] {

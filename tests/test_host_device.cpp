@@ -121,14 +121,18 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
   EXPECT_EQ(perceive.stride("GpuPerception"), sizeof(GpuPerception));
   EXPECT_EQ(perceive.offsets("GpuPerception").at("seen_key"), offsetof(GpuPerception, seen_key));
   // The push-constant blocks, member by member where C++ can name them.
-  EXPECT_EQ(step.offsets("StepConstants").at("next_targets"), offsetof(StepConstants, next_targets));
+  EXPECT_EQ(step.offsets("StepConstants").at("next_targets"),
+            offsetof(StepConstants, next_targets));
   EXPECT_EQ(step.offsets("StepConstants").at("first_step"), offsetof(StepConstants, first_step));
-  EXPECT_EQ(forces.offsets("StepConstants").at("frame_steps"), offsetof(StepConstants, frame_steps));
-  EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"), offsetof(StepConstants, frame_seconds));
+  EXPECT_EQ(forces.offsets("StepConstants").at("frame_steps"),
+            offsetof(StepConstants, frame_steps));
+  EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"),
+            offsetof(StepConstants, frame_seconds));
   EXPECT_EQ(perceive.offsets("StepConstants").at("grid_cell"), offsetof(StepConstants, grid_cell));
   EXPECT_EQ(pose.offsets("PoseConstants").at("lod_scale"), offsetof(PoseConstants, lod_scale));
   EXPECT_EQ(pose.offsets("PoseConstants").at("tile_z"), offsetof(PoseConstants, tile_z));
-  EXPECT_EQ(bird.offsets("FrameConstants").at("list_offset"), offsetof(FrameConstants, list_offset));
+  EXPECT_EQ(bird.offsets("FrameConstants").at("list_offset"),
+            offsetof(FrameConstants, list_offset));
   const SpirvLayouts solid(shader_spirv("solid_vert"));
   EXPECT_EQ(solid.offsets("FrameConstants").at("tile_z"), offsetof(FrameConstants, tile_z));
   EXPECT_EQ(solid.offsets("GpuTarget").at("tile_z"), offsetof(GpuTarget, tile_z));

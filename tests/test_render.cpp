@@ -20,10 +20,10 @@
 #include "gpu_test_device.h"
 #include "io/image.h"
 #include "io/scenario_file.h"
-#include "model/flock_geometry.h"
-#include "render/camera_control.h"
 #include "model/constants.h"
+#include "model/flock_geometry.h"
 #include "model/simulation.h"
+#include "render/camera_control.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 #include "render_image.h"
@@ -36,7 +36,8 @@ using testing::render;
 
 // Pixel coordinates of a world point.
 glm::vec2 project(const render::Camera& camera, VkExtent2D size, const glm::dvec3& p) {
-  const glm::vec4 clip = camera.view_projection(float(size.width) / size.height) * glm::vec4(glm::vec3(p), 1.0f);
+  const glm::vec4 clip =
+      camera.view_projection(float(size.width) / size.height) * glm::vec4(glm::vec3(p), 1.0f);
   const glm::vec2 ndc = glm::vec2(clip) / clip.w;
   return {(ndc.x * 0.5f + 0.5f) * size.width, (ndc.y * 0.5f + 0.5f) * size.height};
 }
@@ -75,7 +76,8 @@ TEST(Render, BirdsAreWhereTheirStateSays) {
                           }()});
   const Image background = render(device, away, camera, size);
   const glm::vec2 at = project(camera, size, bird);
-  EXPECT_GT(changed_near(image, background, at, 6), 10) << "bird pixels at " << at.x << ", " << at.y;
+  EXPECT_GT(changed_near(image, background, at, 6), 10)
+      << "bird pixels at " << at.x << ", " << at.y;
   EXPECT_EQ(changed_near(image, background, {40, 40}, 6), 0) << "nothing drawn far from the bird";
   EXPECT_EQ(device.validation_errors(), 0);
 }
@@ -213,15 +215,18 @@ TEST(Render, AKnownPoseMatchesItsReference) {
   const VkExtent2D size{320, 200};
   PoseScene scene;
   const Image image = scene.draw(device, scene.bird, size);
-  const std::filesystem::path reference = std::filesystem::path(AEROFLOCK_TEST_DATA) / "render" / "eagle_pose.png";
-  if (std::getenv("AEROFLOCK_UPDATE_REFERENCE")) write_png(reference, size.width, size.height, image.rgba);
+  const std::filesystem::path reference =
+      std::filesystem::path(AEROFLOCK_TEST_DATA) / "render" / "eagle_pose.png";
+  if (std::getenv("AEROFLOCK_UPDATE_REFERENCE"))
+    write_png(reference, size.width, size.height, image.rgba);
   const Rgba expected = read_png(reference);
   ASSERT_EQ(expected.width, size.width);
   ASSERT_EQ(expected.height, size.height);
   const Image want{expected.width, expected.height, expected.pixels};
   const int off = differing(image, want, 24);
   RecordProperty("pixels_off_reference", off);
-  EXPECT_LE(off, int(0.005 * size.width * size.height)) << off << " pixels differ from " << reference;
+  EXPECT_LE(off, int(0.005 * size.width * size.height))
+      << off << " pixels differ from " << reference;
 
   BirdState wings = scene.bird, tail = scene.bird, banked = scene.bird;
   wings.phase += 2.0;
@@ -230,8 +235,9 @@ TEST(Render, AKnownPoseMatchesItsReference) {
   const int by_wings = differing(scene.draw(device, wings, size), image, 24);
   const int by_tail = differing(scene.draw(device, tail, size), image, 24);
   const int by_bank = differing(scene.draw(device, banked, size), image, 24);
-  RecordProperty("pixels_changed_wings_tail_bank",
-                 std::to_string(by_wings) + " " + std::to_string(by_tail) + " " + std::to_string(by_bank));
+  RecordProperty(
+      "pixels_changed_wings_tail_bank",
+      std::to_string(by_wings) + " " + std::to_string(by_tail) + " " + std::to_string(by_bank));
   EXPECT_GT(by_wings, 300);
   EXPECT_GT(by_tail, 100);
   EXPECT_GT(by_bank, 300);
@@ -247,7 +253,8 @@ TEST(Render, AShadowLiesUnderTheBirdOnTheGround) {
   scene.bird.position = {0.0, 300.0, 0.0};
   const glm::dvec3 sun(render::sun_direction());
   const glm::dvec3 shadow = scene.bird.position - sun * (scene.bird.position.y / sun.y);
-  const glm::dvec3 away_from_sun = scene.bird.position + sun * (scene.bird.position.y / sun.y) * glm::dvec3(1, 0, 1) -
+  const glm::dvec3 away_from_sun = scene.bird.position +
+                                   sun * (scene.bird.position.y / sun.y) * glm::dvec3(1, 0, 1) -
                                    glm::dvec3(0.0, scene.bird.position.y, 0.0);
   scene.camera.target = glm::vec3(0.5 * (shadow + scene.bird.position));
   scene.camera.eye = scene.camera.target + glm::vec3(-150.0f, 900.0f, -500.0f);

@@ -241,25 +241,35 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:6:10: error: targets[0].radius: expected a positive number, got -1"},
       {"steps_per_frame", replace(kValid, "dt = 0.0003", "steps_per_frame = 0"),
        "bad.toml:2:19: error: simulation.steps_per_frame: expected a positive integer, got 0"},
-      {"loop over one target", replace(kValid, "targets = [\"t1\"]", "targets = [\"t1\"]\nloop = true"),
+      {"loop over one target",
+       replace(kValid, "targets = [\"t1\"]", "targets = [\"t1\"]\nloop = true"),
        "bad.toml:11:8: error: routes[0].loop: a looping route needs at least two targets"},
       {"perch beyond braking", kValid + species + "perch_radius = 900.0\n",
-       "bad.toml:21:16: error: species[0].perch_radius: species 'x': perch_radius must be <= brake_distance"},
+       "bad.toml:21:16: error: species[0].perch_radius: species 'x': perch_radius must be <= "
+       "brake_distance"},
       {"turning", replace(kValid, "dt = 0.0003", "turning = \"left\""),
        "bad.toml:2:11: error: simulation.turning: expected \"tail\" or \"fixed-rate\""},
       {"length unit", "[units]\nlength = \"furlong\"\n" + kValid,
-       "bad.toml:2:10: error: units.length: expected \"mm\", \"cm\", \"m\" or \"km\", got \"furlong\""},
-      {"length unit type", "[units]\nlength = 100\n" + kValid, "bad.toml:2:10: error: units.length: expected a string"},
+       "bad.toml:2:10: error: units.length: expected \"mm\", \"cm\", \"m\" or \"km\", got "
+       "\"furlong\""},
+      {"length unit type", "[units]\nlength = 100\n" + kValid,
+       "bad.toml:2:10: error: units.length: expected a string"},
       {"wind profile", kValid + "[wind]\nprofile = \"cubic\"\n",
-       "bad.toml:18:11: error: wind.profile: expected \"uniform\", \"power-law\" or \"logarithmic\", got \"cubic\""},
+       "bad.toml:18:11: error: wind.profile: expected \"uniform\", \"power-law\" or "
+       "\"logarithmic\", got \"cubic\""},
       {"wind exponent", kValid + "[wind]\nexponent = 1.5\n",
        "bad.toml:18:12: error: wind.exponent: expected a number from 0 to 1, got 1.5"},
       {"wind roughness", kValid + "[wind]\nheight = 500.0\nroughness = 600.0\n",
-       "bad.toml:19:13: error: wind.roughness: the roughness length must be below the reference height"},
-      {"wind twice", replace(kValid, "dt = 0.0003", "wind = [100.0, 0.0, 0.0]") + "[wind]\nvelocity = [1.0, 0.0, 0.0]\n",
+       "bad.toml:19:13: error: wind.roughness: the roughness length must be below the reference "
+       "height"},
+      {"wind twice",
+       replace(kValid, "dt = 0.0003", "wind = [100.0, 0.0, 0.0]") +
+           "[wind]\nvelocity = [1.0, 0.0, 0.0]\n",
        "bad.toml:2:8: error: simulation.wind: the wind is set in [wind] too"},
-      {"beyond 20,000 km", replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [3.0e9, 3000.0, 0.0]"),
-       "bad.toml:6:11: error: targets[0].centre[0]: expected at most 2e+09 (the world's radius, 20,000 km), got 3e+09"},
+      {"beyond 20,000 km",
+       replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [3.0e9, 3000.0, 0.0]"),
+       "bad.toml:6:11: error: targets[0].centre[0]: expected at most 2e+09 (the world's radius, "
+       "20,000 km), got 3e+09"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);
@@ -308,7 +318,8 @@ perception_radius = 1500.0
 )";
   for (const auto& [unit, cm] : {std::pair{"mm", 0.1}, {"cm", 1.0}, {"m", 100.0}, {"km", 1.0e5}}) {
     SCOPED_TRACE(unit);
-    const Scenario s = parse_scenario("[units]\nlength = \"" + std::string(unit) + "\"\n" + world, "u.toml");
+    const Scenario s =
+        parse_scenario("[units]\nlength = \"" + std::string(unit) + "\"\n" + world, "u.toml");
     const World& w = s.world;
     EXPECT_DOUBLE_EQ(w.wind.x, 0.2 * cm);
     EXPECT_DOUBLE_EQ(w.wind.z, -0.1 * cm);
@@ -333,14 +344,17 @@ perception_radius = 1500.0
 // Issue 13: `fidelity` names the step and keeps a frame 30 ms of flight; steps_per_frame may
 // still say otherwise.
 TEST(ScenarioFile, FidelityNamesTheStep) {
-  const Scenario fast = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"fast\""), "f.toml");
+  const Scenario fast =
+      parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"fast\""), "f.toml");
   EXPECT_EQ(fast.dt, kFastDt);
   EXPECT_EQ(fast.steps_per_frame, 15u);
   EXPECT_STREQ(fidelity_name(fast.dt), "fast");
-  const Scenario paper = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"paper\""), "p.toml");
+  const Scenario paper =
+      parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"paper\""), "p.toml");
   EXPECT_EQ(paper.dt, kPaperDt);
   EXPECT_EQ(paper.steps_per_frame, 100u);
-  const Scenario own = parse_scenario(replace(kValid, "dt = 0.0003", "fidelity = \"fast\"\nsteps_per_frame = 5"), "o.toml");
+  const Scenario own = parse_scenario(
+      replace(kValid, "dt = 0.0003", "fidelity = \"fast\"\nsteps_per_frame = 5"), "o.toml");
   EXPECT_EQ(own.steps_per_frame, 5u);
   // set_dt keeps the frame's length.
   Scenario s = paper;
@@ -361,12 +375,14 @@ velocity = [3.0, 0.0, 4.0]
 profile = "logarithmic"
 height = 10.0
 roughness = 0.03
-)", "w.toml");
+)",
+                                    "w.toml");
   EXPECT_EQ(s.world.wind_profile, WindProfile::logarithmic);
   EXPECT_DOUBLE_EQ(s.world.wind.z, 400.0);
   EXPECT_DOUBLE_EQ(s.world.wind_height, 1000.0);
   EXPECT_DOUBLE_EQ(s.world.wind_roughness, 3.0);
-  const Scenario p = parse_scenario(kValid + "[wind]\nprofile = \"power-law\"\nexponent = 0.2\n", "w.toml");
+  const Scenario p =
+      parse_scenario(kValid + "[wind]\nprofile = \"power-law\"\nexponent = 0.2\n", "w.toml");
   EXPECT_EQ(p.world.wind_profile, WindProfile::power_law);
   EXPECT_DOUBLE_EQ(p.world.wind_exponent, 0.2);
   EXPECT_DOUBLE_EQ(p.world.wind_height, 1000.0);  // the default reference: 10 m
@@ -404,10 +420,13 @@ TEST(ScenarioFile, MissingFileIsAScenarioError) {
 // these ran on main, to 0 steps, NaN birds or no end.
 TEST(ScenarioLimits, NumbersOutsideTheirRangeSayWhere) {
   const std::string species = "\n[[species]]\nname = \"x\"\nbase = \"starling\"\n";
-  const std::string subnormal = "expected 0 or a number at least 1.1754944e-38 in size (a smaller one is subnormal in the device's float), got ";
+  const std::string subnormal =
+      "expected 0 or a number at least 1.1754944e-38 in size (a smaller one is subnormal in the "
+      "device's float), got ";
   const BadCase cases[] = {
       {"dt 2 s (NaN birds)", replace(kValid, "dt = 0.0003", "dt = 2.0"),
-       "bad.toml:2:6: error: simulation.dt: expected at most 0.01 (the convergence study's range, docs/convergence.md), got 2"},
+       "bad.toml:2:6: error: simulation.dt: expected at most 0.01 (the convergence study's range, "
+       "docs/convergence.md), got 2"},
       {"dt 1e-9 (no end)", replace(kValid, "dt = 0.0003", "dt = 1e-9"),
        "bad.toml:2:6: error: simulation.dt: expected a number from 1e-05 to 0.01, got 1e-09"},
       {"dt 1e-45 (0 steps)", replace(kValid, "dt = 0.0003", "dt = 1e-45"),
@@ -417,25 +436,35 @@ TEST(ScenarioLimits, NumbersOutsideTheirRangeSayWhere) {
       {"dt inf", replace(kValid, "dt = 0.0003", "dt = -inf"),
        "bad.toml:2:6: error: simulation.dt: expected a finite number, got -inf"},
       {"steps_per_frame 1e9", replace(kValid, "dt = 0.0003", "steps_per_frame = 1000000000"),
-       "bad.toml:2:19: error: simulation.steps_per_frame: expected an integer <= 100000, got 1000000000"},
+       "bad.toml:2:19: error: simulation.steps_per_frame: expected an integer <= 100000, got "
+       "1000000000"},
       {"duration 1e19", replace(kValid, "dt = 0.0003", "duration = 1e19"),
        "bad.toml:2:12: error: simulation.duration: expected at most 1e+06 (11.6 days), got 1e+19"},
       {"flock speed 1e20", replace(kValid, "count = 3", "count = 3\nspeed = 1e20"),
-       "bad.toml:16:9: error: flocks[0].speed: expected at most 34300 (the speed of sound), got 1e+20"},
+       "bad.toml:16:9: error: flocks[0].speed: expected at most 34300 (the speed of sound), got "
+       "1e+20"},
       {"wind 1e308", replace(kValid, "dt = 0.0003", "wind = [1e308, 0.0, 0.0]"),
-       "bad.toml:2:9: error: simulation.wind[0]: expected at most 34300 (the speed of sound), got 1e+308"},
-      {"wind in m/s", "[units]\nlength = \"m\"\n" + kValid + "[wind]\nvelocity = [0.0, 0.0, 400.0]\n",
-       "bad.toml:20:23: error: wind.velocity[2]: expected at most 343 (the speed of sound), got 400"},
+       "bad.toml:2:9: error: simulation.wind[0]: expected at most 34300 (the speed of sound), got "
+       "1e+308"},
+      {"wind in m/s",
+       "[units]\nlength = \"m\"\n" + kValid + "[wind]\nvelocity = [0.0, 0.0, 400.0]\n",
+       "bad.toml:20:23: error: wind.velocity[2]: expected at most 343 (the speed of sound), got "
+       "400"},
       {"target period 5e-324", replace(kValid, "name = \"t1\"", "name = \"t1\"\nperiod = 5e-324"),
-       "bad.toml:6:10: error: targets[0].period: expected 0 or a number from 0.1 to 1e+06, got 5e-324"},
+       "bad.toml:6:10: error: targets[0].period: expected 0 or a number from 0.1 to 1e+06, got "
+       "5e-324"},
       {"target radius subnormal", replace(kValid, "name = \"t1\"", "name = \"t1\"\nradius = 1e-40"),
-       "bad.toml:6:10: error: targets[0].radius: expected a number at least 1.1754944e-38 in size (a smaller one is subnormal in the device's float), got 1e-40"},
+       "bad.toml:6:10: error: targets[0].radius: expected a number at least 1.1754944e-38 in size "
+       "(a smaller one is subnormal in the device's float), got 1e-40"},
       {"species subnormal", kValid + species + "shoulder_x = -1e-310\n",
        "bad.toml:21:14: error: species[0].shoulder_x: " + subnormal + "-1e-310"},
       {"target period 1 ms", replace(kValid, "name = \"t1\"", "name = \"t1\"\nperiod = 0.001"),
-       "bad.toml:6:10: error: targets[0].period: expected 0 or a number from 0.1 to 1e+06, got 0.001"},
-      {"target velocity", replace(kValid, "name = \"t1\"", "name = \"t1\"\nvelocity = [0, -1e300, 0]"),
-       "bad.toml:6:16: error: targets[0].velocity[1]: expected a number from -34300 to 34300, got -1e+300"},
+       "bad.toml:6:10: error: targets[0].period: expected 0 or a number from 0.1 to 1e+06, got "
+       "0.001"},
+      {"target velocity",
+       replace(kValid, "name = \"t1\"", "name = \"t1\"\nvelocity = [0, -1e300, 0]"),
+       "bad.toml:6:16: error: targets[0].velocity[1]: expected a number from -34300 to 34300, got "
+       "-1e+300"},
       {"ground 1e308", kValid + "[ground]\nheight = -1e308\n",
        "bad.toml:18:10: error: ground.height: expected a number from -2e+09 to 2e+09, got -1e+308"},
       {"heading", replace(kValid, "count = 3", "count = 3\nheading = 1e308"),
@@ -443,14 +472,17 @@ TEST(ScenarioLimits, NumbersOutsideTheirRangeSayWhere) {
       {"species mass 1e308", kValid + species + "mass = 1e308\n",
        "bad.toml:21:8: error: species[0].mass: species 'x': mass must be <= 1e+06, got 1e+308"},
       {"species wingbeat angle", kValid + species + "A_arm = -1e308\n",
-       "bad.toml:21:9: error: species[0].A_arm: species 'x': A_arm must be within +-180 degrees, got -1e+308"},
+       "bad.toml:21:9: error: species[0].A_arm: species 'x': A_arm must be within +-180 degrees, "
+       "got -1e+308"},
       {"species rate", kValid + species + "roll_rate = 1e6\n",
-       "bad.toml:21:13: error: species[0].roll_rate: species 'x': roll_rate must be <= 100000 deg/s, got 1e+06"},
+       "bad.toml:21:13: error: species[0].roll_rate: species 'x': roll_rate must be <= 100000 "
+       "deg/s, got 1e+06"},
       {"species nan", kValid + species + "f_max = nan\n",
        "bad.toml:21:9: error: species[0].f_max: expected a finite number, got nan"},
       // Row 6: passed the parser's check on main, then failed validate() with no line or column.
       {"branch direction subnormal",
-       kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, 500.0, 0.0]\ndirection = [1e-320, 0.0, 1e-320]\n",
+       kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, 500.0, 0.0]\ndirection = [1e-320, 0.0, "
+                "1e-320]\n",
        "bad.toml:20:14: error: branches[0].direction[0]: " + subnormal + "1e-320"},
   };
   for (const BadCase& c : cases) {
@@ -459,33 +491,53 @@ TEST(ScenarioLimits, NumbersOutsideTheirRangeSayWhere) {
     EXPECT_EQ(message.substr(0, c.message.size()), c.message) << message;
   }
   // The bounds themselves are legal.
-  EXPECT_NO_THROW(parse_scenario(replace(kValid, "dt = 0.0003", "dt = 0.01\nsteps_per_frame = 100000\nduration = 1e6"), "ok.toml"));
+  EXPECT_NO_THROW(parse_scenario(
+      replace(kValid, "dt = 0.0003", "dt = 0.01\nsteps_per_frame = 100000\nduration = 1e6"),
+      "ok.toml"));
   EXPECT_NO_THROW(parse_scenario(replace(kValid, "dt = 0.0003", "dt = 1e-5"), "ok.toml"));
-  EXPECT_NO_THROW(parse_scenario(replace(kValid, "name = \"t1\"", "name = \"t1\"\nperiod = 0"), "ok.toml"));
+  EXPECT_NO_THROW(
+      parse_scenario(replace(kValid, "name = \"t1\"", "name = \"t1\"\nperiod = 0"), "ok.toml"));
 }
 
 // Issue 16: nothing starts under the ground, said where; Fig. 17's target lies on it and the
 // take-off figures stand on it.
 TEST(ScenarioLimits, NothingStartsUnderTheGround) {
   const BadCase cases[] = {
-      {"flock under the ground", replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, -100.0, 0.0]"),
-       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y = -215.38 cm, "
+      {"flock under the ground",
+       replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, -100.0, 0.0]"),
+       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y "
+       "= -215.38 cm, "
        "must be above the ground at 0 cm"},
-      {"flock at ground height", replace(replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 0.0, 0.0]"), "count = 3", "count = 1"),
-       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y = 0 cm"},
-      {"flock's box into the ground", replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 3000.0, 0.0]\nextent = [0.0, 3500.0, 0.0]"),
-       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y = -500 cm"},
-      {"many birds without a box", replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 100.0, 0.0]"),
-       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y = -15.38 cm"},
+      {"flock at ground height",
+       replace(replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 0.0, 0.0]"),
+               "count = 3", "count = 1"),
+       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y "
+       "= 0 cm"},
+      {"flock's box into the ground",
+       replace(kValid, "centre = [0.0, 3000.0, 0.0]",
+               "centre = [0.0, 3000.0, 0.0]\nextent = [0.0, 3500.0, 0.0]"),
+       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y "
+       "= -500 cm"},
+      {"many birds without a box",
+       replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 100.0, 0.0]"),
+       "bad.toml:16:10: error: flocks[0].centre: the spawn box's lowest point, centre - extent, y "
+       "= -15.38 cm"},
       {"raised ground, in m", "[units]\nlength = \"m\"\n" + kValid + "[ground]\nheight = 5000.0\n",
-       "bad.toml:8:10: error: targets[0].centre: a target's centre, y = 3000 m, must be on or above the ground at 5000 m"},
-      {"target under the ground", replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [0.0, -1.0, 10000.0]"),
-       "bad.toml:6:10: error: targets[0].centre: a target's centre, y = -1 cm, must be on or above the ground at 0 cm"},
-      {"branch under the ground", kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, -500.0, 0.0]\n",
-       "bad.toml:19:9: error: branches[0].point: a branch's point, y = -500 cm, must be above the ground at 0 cm"},
-      {"standing at stand_height 0", kValid + "[[species]]\nname = \"legless\"\nbase = \"starling\"\nstand_height = 0.0\n" +
+       "bad.toml:8:10: error: targets[0].centre: a target's centre, y = 3000 m, must be on or "
+       "above the ground at 5000 m"},
+      {"target under the ground",
+       replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [0.0, -1.0, 10000.0]"),
+       "bad.toml:6:10: error: targets[0].centre: a target's centre, y = -1 cm, must be on or above "
+       "the ground at 0 cm"},
+      {"branch under the ground",
+       kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, -500.0, 0.0]\n",
+       "bad.toml:19:9: error: branches[0].point: a branch's point, y = -500 cm, must be above the "
+       "ground at 0 cm"},
+      {"standing at stand_height 0",
+       kValid + "[[species]]\nname = \"legless\"\nbase = \"starling\"\nstand_height = 0.0\n" +
            "[[flocks]]\nspecies = \"legless\"\nroute = \"r\"\nstanding = true\n",
-       "bad.toml:24:12: error: flocks[1].standing: species 'legless' has stand_height 0: its birds would stand in the ground"},
+       "bad.toml:24:12: error: flocks[1].standing: species 'legless' has stand_height 0: its birds "
+       "would stand in the ground"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);
@@ -494,9 +546,16 @@ TEST(ScenarioLimits, NothingStartsUnderTheGround) {
   }
   // A target on the ground (Fig. 17), a standing flock whose centre is on it (its birds stand at
   // stand_height), a box just clear of it.
-  EXPECT_NO_THROW(parse_scenario(replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [0.0, 0.0, 10000.0]"), "ok.toml"));
-  EXPECT_NO_THROW(parse_scenario(replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 0.0, 0.0]\nstanding = true"), "ok.toml"));
-  EXPECT_NO_THROW(parse_scenario(replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 3000.0, 0.0]\nextent = [0.0, 2999.0, 0.0]"), "ok.toml"));
+  EXPECT_NO_THROW(parse_scenario(
+      replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [0.0, 0.0, 10000.0]"),
+      "ok.toml"));
+  EXPECT_NO_THROW(parse_scenario(
+      replace(kValid, "centre = [0.0, 3000.0, 0.0]", "centre = [0.0, 0.0, 0.0]\nstanding = true"),
+      "ok.toml"));
+  EXPECT_NO_THROW(
+      parse_scenario(replace(kValid, "centre = [0.0, 3000.0, 0.0]",
+                             "centre = [0.0, 3000.0, 0.0]\nextent = [0.0, 2999.0, 0.0]"),
+                     "ok.toml"));
   for (const char* name : {"fig17-ground-effect", "fig19-takeoff-no-legs", "fig20-takeoff-legs"})
     EXPECT_NO_THROW(load_scenario(name)) << name;
 }
@@ -527,7 +586,9 @@ TEST(ScenarioLimits, ValidateAndSetDt) {
   EXPECT_EQ(complaint(s), "target 't1' is not above the ground (y 3000 cm, the ground 5000 cm)");
   s = ok;
   s.flocks[0].spawn_centre.y = 10.0;  // three birds, a box of 2 wing lengths cbrt(3) a side
-  EXPECT_EQ(complaint(s), "flock 'flock0': the lowest point of its spawn box is not above the ground (y -105.38 cm, the ground 0 cm)");
+  EXPECT_EQ(complaint(s),
+            "flock 'flock0': the lowest point of its spawn box is not above the ground (y -105.38 "
+            "cm, the ground 0 cm)");
 
   s = ok;
   EXPECT_THROW(set_dt(s, 2.0), std::invalid_argument);
@@ -553,22 +614,26 @@ TEST(ScenarioLimits, FilesAreRegularAndBounded) {
     return "";
   };
   EXPECT_EQ(error_reading("/dev/zero"),
-            "/dev/zero: error: cannot read the scenario file: it is not a regular file (a device, a pipe or a socket)");
+            "/dev/zero: error: cannot read the scenario file: it is not a regular file (a device, "
+            "a pipe or a socket)");
   const auto dir = std::filesystem::temp_directory_path() / "aeroflock-test-scenario-limits";
   std::filesystem::create_directories(dir);
-  EXPECT_EQ(error_reading(dir), dir.string() + ": error: cannot read the scenario file: it is a directory");
+  EXPECT_EQ(error_reading(dir),
+            dir.string() + ": error: cannot read the scenario file: it is a directory");
   const auto big = dir / "big.toml";
   {
     std::ofstream out(big);
     out << kValid << std::string(kMaxScenarioBytes, '#') << "\n";  // one long comment
   }
-  EXPECT_EQ(error_reading(big), big.string() + ": error: cannot read the scenario file: it is " +
-                                    std::to_string(kValid.size() + kMaxScenarioBytes + 1) +
-                                    " bytes, more than the 16777216 bytes (16 MiB) a scenario file may be");
+  EXPECT_EQ(error_reading(big),
+            big.string() + ": error: cannot read the scenario file: it is " +
+                std::to_string(kValid.size() + kMaxScenarioBytes + 1) +
+                " bytes, more than the 16777216 bytes (16 MiB) a scenario file may be");
   std::filesystem::remove_all(dir);
   // From a buffer too (the fuzzer's way in).
   EXPECT_EQ(error_of(kValid + std::string(kMaxScenarioBytes, '#')),
-            "bad.toml: error: the scenario is larger than 16777216 bytes (16 MiB), the most a scenario may be");
+            "bad.toml: error: the scenario is larger than 16777216 bytes (16 MiB), the most a "
+            "scenario may be");
 }
 
 // Issue 16 (c): 10^5 targets on one route load, every name looked up once by hash (main's
@@ -579,20 +644,26 @@ TEST(ScenarioLimits, HundredThousandTargetsLoad) {
   std::string text = "[simulation]\nfidelity = \"fast\"\n";
   std::string route = "[[routes]]\nname = \"r\"\ntargets = [";
   for (int i = 0; i < kTargets; ++i) {
-    text += "[[targets]]\nname = \"t" + std::to_string(i) + "\"\ncentre = [" + std::to_string(i) + ".0, 1000.0, 0.0]\n";
+    text += "[[targets]]\nname = \"t" + std::to_string(i) + "\"\ncentre = [" + std::to_string(i) +
+            ".0, 1000.0, 0.0]\n";
     route += (i ? ", \"t" : "\"t") + std::to_string(kTargets - 1 - i) + "\"";
   }
-  text += route + "]\n[[flocks]]\nspecies = \"starling\"\nroute = \"r\"\ncentre = [0.0, 1000.0, 0.0]\n";
+  text +=
+      route + "]\n[[flocks]]\nspecies = \"starling\"\nroute = \"r\"\ncentre = [0.0, 1000.0, 0.0]\n";
   ASSERT_LT(text.size(), kMaxScenarioBytes);
   const Scenario s = parse_scenario(text, "many.toml");
   ASSERT_EQ(s.world.targets.size(), size_t(kTargets));
   ASSERT_EQ(s.world.routes[0].targets.size(), size_t(kTargets));
-  for (int i = 0; i < kTargets; ++i) ASSERT_EQ(s.world.routes[0].targets[i], uint32_t(kTargets - 1 - i));
+  for (int i = 0; i < kTargets; ++i)
+    ASSERT_EQ(s.world.routes[0].targets[i], uint32_t(kTargets - 1 - i));
   EXPECT_EQ(s.world.targets[12345].centre.x, 12345.0);
-  const std::string message = error_of(text + "[[flocks]]\nspecies = \"starling\"\nroute = \"q\"\ncentre = [0.0, 1000.0, 0.0]\n", "many.toml");
+  const std::string message = error_of(
+      text + "[[flocks]]\nspecies = \"starling\"\nroute = \"q\"\ncentre = [0.0, 1000.0, 0.0]\n",
+      "many.toml");
   EXPECT_NE(message.find("unknown route \"q\" (known: r)"), std::string::npos) << message;
   const std::string target = error_of(replace(text, "\"t0\"]", "\"t-1\"]"), "many.toml");
-  EXPECT_NE(target.find("unknown target \"t-1\" (known: t0, t1, t2,"), std::string::npos) << target.substr(0, 300);
+  EXPECT_NE(target.find("unknown target \"t-1\" (known: t0, t1, t2,"), std::string::npos)
+      << target.substr(0, 300);
   EXPECT_NE(target.find("t19 and 99980 more)"), std::string::npos) << target.substr(0, 300);
   EXPECT_LT(target.size(), 400u);
 }

@@ -108,11 +108,8 @@ TEST(FlockExtent, CentreVelocityAndRadiiOfTheFiniteBirds) {
   EXPECT_EQ(flock_extent({}).centre, glm::dvec3(0.0));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const std::vector<BirdState> birds = {
-      bird({100, 0, 0}, {10, 0, 0}),
-      bird({nan, 0, 0}, {0, 0, 0}),
-      bird({300, 0, 0}, {30, 0, 0}),
-      bird({200, 50, 0}, {0, nan, 0}),
-      bird({200, 0, 0}, {20, 0, 0}),
+      bird({100, 0, 0}, {10, 0, 0}),   bird({nan, 0, 0}, {0, 0, 0}),  bird({300, 0, 0}, {30, 0, 0}),
+      bird({200, 50, 0}, {0, nan, 0}), bird({200, 0, 0}, {20, 0, 0}),
   };
   const FlockExtent e = flock_extent(birds);
   EXPECT_EQ(e.finite, 3u);
@@ -141,9 +138,11 @@ RunSummary sample_summary() {
 TEST(Summary, JsonHasEveryKey) {
   const nlohmann::ordered_json j = summary_json(sample_summary());
   for (const char* key :
-       {"backend", "device", "scenario", "birds", "steps", "dt", "steps_per_frame", "sim_seconds",
-        "wall_seconds", "bird_steps_per_second", "nan_birds", "centroid", "mean_speed",
-        "targets_reached", "perched", "flying", "flocking", "quarantined", "signal", "error", "vtk_queue"})
+       {"backend",   "device",          "scenario",    "birds",           "steps",
+        "dt",        "steps_per_frame", "sim_seconds", "wall_seconds",    "bird_steps_per_second",
+        "nan_birds", "centroid",        "mean_speed",  "targets_reached", "perched",
+        "flying",    "flocking",        "quarantined", "signal",          "error",
+        "vtk_queue"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["signal"].is_null());
   EXPECT_TRUE(j["error"].is_null());
@@ -157,20 +156,22 @@ TEST(Summary, JsonHasEveryKey) {
   const nlohmann::ordered_json s = summary_json(stopped);
   EXPECT_EQ(s["signal"], "SIGTERM");
   EXPECT_EQ(s["error"], stopped.error);
-  EXPECT_EQ(s["vtk_queue"], (nlohmann::ordered_json{{"high_water_frames", 3}, {"high_water_bytes", 1200}, {"bound_frames", 4}}));
+  EXPECT_EQ(s["vtk_queue"],
+            (nlohmann::ordered_json{
+                {"high_water_frames", 3}, {"high_water_bytes", 1200}, {"bound_frames", 4}}));
   EXPECT_EQ(j["birds"], 2);
   EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
   EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
   EXPECT_DOUBLE_EQ(j["mean_speed"].get<double>(), 500.0);
 }
 
-// MODEL.md's flock metrics from hand-placed birds: four in a row 1 m apart and one 10 m off.
+// docs/MODEL.md's flock metrics from hand-placed birds: four in a row 1 m apart and one 10 m off.
 TEST(FlockMetrics, NearestNeighbourClosenessPolarisationAndClusters) {
   std::vector<BirdState> birds;
   for (int i = 0; i < 4; ++i) birds.push_back(bird({100.0 * i, 100, 0}, {1000, 0, 0}));
   birds.push_back(bird({1300.0, 100, 0}, {0, 0, 1000}));
   birds.push_back(bird({130.0, 100, 30}, {1000, 0, 0}));  // 42.4 cm from the second: too close
-  const std::vector<Species> species = {starling()};       // wingspan (box_c) 100 cm
+  const std::vector<Species> species = {starling()};      // wingspan (box_c) 100 cm
   const FlockMetrics m = flock_metrics(birds, species);
   EXPECT_EQ(m.birds, 6u);
   // Nearest: 100, 42.4, 76.2 (the third to the sixth), 100, 1000, 42.4: median (76.2 + 100) / 2.
@@ -193,7 +194,9 @@ TEST(Summary, WritesAtomically) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["scenario"], "test");
   // Nothing beside it: no temporary left.
-  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
 
   const auto bad = dir / "no-such-dir" / "summary.json";
   try {

@@ -4,12 +4,12 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
-#include <vtkFieldData.h>
 #include <vtkStringArray.h>
 #include <vtkXMLPolyDataReader.h>
 
@@ -27,7 +27,6 @@
 #include <thread>
 #include <vector>
 
-#include "test_files.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
 #include "model/body.h"
@@ -35,6 +34,7 @@
 #include "model/simulation.h"
 #include "model/step.h"
 #include "model/tail.h"
+#include "test_files.h"
 
 namespace aeroflock {
 namespace {
@@ -131,7 +131,8 @@ TEST(VtkExport, FramesMatchTheSimulation) {
   // Times are the step's, as written by a person: 0.06, not 0.059999999999999998.
   const std::string pvd_text = read_text(options.dir / "flock.pvd");
   for (const char* t : {"\"0\"", "\"0.06\"", "\"0.12\"", "\"0.18\"", "\"0.24\""})
-    EXPECT_NE(pvd_text.find(std::string("timestep=") + t), std::string::npos) << t << " in\n" << pvd_text;
+    EXPECT_NE(pvd_text.find(std::string("timestep=") + t), std::string::npos) << t << " in\n"
+                                                                              << pvd_text;
   for (size_t k = 0; k < pvd.size(); ++k) {
     SCOPED_TRACE("saved frame " + std::to_string(k));
     EXPECT_NEAR(pvd[k].time, saved[k].time, 1e-12);
@@ -320,7 +321,8 @@ TEST(VtkExport, AFrameAThousandKilometresOutReadsBackToTheMillimetre) {
   }
   vtkSmartPointer<vtkPolyData> trajectories = read_vtp(options.dir / "trajectories.vtp");
   for (vtkPolyData* data : {frame.Get(), trajectories.Get()}) {
-    auto* unit = vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray("length_unit"));
+    auto* unit =
+        vtkStringArray::SafeDownCast(data->GetFieldData()->GetAbstractArray("length_unit"));
     ASSERT_NE(unit, nullptr);
     EXPECT_EQ(unit->GetValue(0), "cm");
   }
@@ -340,19 +342,22 @@ TEST(VtkExport, FloatByDefaultPositionsAndTimesDouble) {
   for (const std::string& name : vtk_point_arrays()) {
     vtkDataArray* a = data->GetPointData()->GetArray(name.c_str());
     ASSERT_NE(a, nullptr) << name;
-    const int want = name == "time" ? VTK_DOUBLE
-                     : name == "bird_id" ? VTK_UNSIGNED_INT
-                     : (name == "species" || name == "flight_state" || name == "target" || name == "neighbours")
-                         ? VTK_INT
-                         : VTK_FLOAT;
+    const int want =
+        name == "time"      ? VTK_DOUBLE
+        : name == "bird_id" ? VTK_UNSIGNED_INT
+        : (name == "species" || name == "flight_state" || name == "target" || name == "neighbours")
+            ? VTK_INT
+            : VTK_FLOAT;
     EXPECT_EQ(a->GetDataType(), want) << name << " is " << a->GetDataTypeAsString();
   }
   const BirdState& b = saved[2].birds[3];
   double x[3];
   data->GetPoint(3, x);
   EXPECT_EQ(glm::dvec3(x[0], x[1], x[2]), b.position);
-  EXPECT_EQ(data->GetPointData()->GetArray("velocity")->GetComponent(3, 0), double(float(b.velocity.x)));
-  EXPECT_EQ(data->GetPointData()->GetArray("frequency")->GetComponent(3, 0), double(float(b.frequency)));
+  EXPECT_EQ(data->GetPointData()->GetArray("velocity")->GetComponent(3, 0),
+            double(float(b.velocity.x)));
+  EXPECT_EQ(data->GetPointData()->GetArray("frequency")->GetComponent(3, 0),
+            double(float(b.frequency)));
   EXPECT_EQ(data->GetPointData()->GetArray("time")->GetComponent(3, 0), 0.06);
 }
 
@@ -379,7 +384,8 @@ TEST(VtkExport, FilesDescribeThemselves) {
     for (const Species& sp : scenario.species) names.push_back(sp.name);
     EXPECT_EQ(strings(data, "species_names"), names);
     EXPECT_EQ(strings(data, "flight_state_names"),
-              (std::vector<std::string>{"flying", "standing", "taking_off", "landing", "perched", "quarantined"}));
+              (std::vector<std::string>{"flying", "standing", "taking_off", "landing", "perched",
+                                        "quarantined"}));
     EXPECT_EQ(strings(data, "scenario"), std::vector<std::string>{"fig21-moving-target"});
     EXPECT_EQ(strings(data, "scenario_hash"), std::vector<std::string>{scenario.hash});
     EXPECT_TRUE(scenario.hash.starts_with("fnv1a64:")) << scenario.hash;
@@ -397,8 +403,10 @@ TEST(VtkExport, FilesDescribeThemselves) {
   ASSERT_EQ(units.size(), vtk_point_arrays().size() + 1);
   EXPECT_EQ(units[0].substr(0, 10), "points: cm");
   for (size_t i = 0; i < vtk_point_arrays().size(); ++i)
-    EXPECT_EQ(units[i + 1].substr(0, vtk_point_arrays()[i].size() + 2), vtk_point_arrays()[i] + ": ");
-  for (const char* expected : {"speed: cm/s", "aero_force: dyn", "heading_pitch_bank: deg", "time: s", "frequency: Hz"})
+    EXPECT_EQ(units[i + 1].substr(0, vtk_point_arrays()[i].size() + 2),
+              vtk_point_arrays()[i] + ": ");
+  for (const char* expected :
+       {"speed: cm/s", "aero_force: dyn", "heading_pitch_bank: deg", "time: s", "frequency: Hz"})
     EXPECT_NE(std::find(units.begin(), units.end(), expected), units.end()) << expected;
   EXPECT_NE(trajectories->GetCellData()->GetArray("species"), nullptr);
 }
@@ -564,7 +572,8 @@ TEST(VtkExport, ASlowDiskMakesTheRunWaitAndLosesNoFrame) {
   EXPECT_EQ(exporter.frames_added(), size_t(kFrames));
   const std::vector<PvdEntry> entries = read_pvd(options.dir / "flock.pvd");
   ASSERT_EQ(entries.size(), size_t(kFrames));
-  for (const PvdEntry& e : entries) EXPECT_EQ(read_vtp(options.dir / e.file)->GetNumberOfPoints(), 4);
+  for (const PvdEntry& e : entries)
+    EXPECT_EQ(read_vtp(options.dir / e.file)->GetNumberOfPoints(), 4);
 
   // The bound in bytes: one frame at a time when a frame is over it (an empty queue takes any).
   options.dir = fresh_dir("slow_bytes");
@@ -603,8 +612,10 @@ TEST(VtkExport, AnEarlierExportIsRefusedOrReplaced) {
     VtkExporter again(options, sim.scenario(), 2);
     FAIL() << "an earlier export was not refused";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("holds an earlier run's export (flock.pvd, trajectories.vtp, 3 frames)"),
-              std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(
+                  "holds an earlier run's export (flock.pvd, trajectories.vtp, 3 frames)"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(read_pvd(options.dir / "flock.pvd").size(), 3u);  // untouched
   options.overwrite = true;

@@ -12,10 +12,10 @@
 
 #include <glm/geometric.hpp>
 
+#include "flock_run.h"
 #include "gpu/compute.h"
 #include "gpu/gpu_simulation.h"
 #include "gpu/layout.h"
-#include "flock_run.h"
 #include "gpu_test_device.h"
 #include "io/image.h"
 #include "io/scenario_file.h"
@@ -32,7 +32,8 @@ using glm::dvec3;
 
 constexpr double kKm = 1.0e5;  // cm
 
-// The default scenario (1,000 starlings, 20 eagles) moved by `offset`, flocking or each bird on its own.
+// The default scenario (1,000 starlings, 20 eagles) moved by `offset`, flocking or each bird on its
+// own.
 Scenario default_at(const dvec3& offset, bool flocking) {
   Scenario s = moved_by(load_scenario("default"), offset);
   for (Flock& f : s.flocks) f.flocking = f.flocking && flocking;
@@ -40,9 +41,9 @@ Scenario default_at(const dvec3& offset, bool flocking) {
 }
 
 struct Flight {
-  uint64_t targets = 0;  // reached, all birds
-  dvec3 centroid{0.0};   // at the end, from the offset
-  double flown = 0.0;    // mean path length of a bird, cm
+  uint64_t targets = 0;          // reached, all birds
+  dvec3 centroid{0.0};           // at the end, from the offset
+  double flown = 0.0;            // mean path length of a bird, cm
   std::vector<BirdState> birds;  // at the end, positions from the offset
   testing::FlockRun flock;       // the starlings' metrics (flocking only)
 };
@@ -62,7 +63,8 @@ Flight fly(Simulation& sim, const dvec3& offset, double seconds) {
   while (sim.time() < seconds - 1e-9) {
     sim.step_frame();
     const std::vector<BirdState>& now = sim.birds();
-    for (size_t i = 0; i < now.size(); ++i) f.flown += glm::length(now[i].position - last[i].position);
+    for (size_t i = 0; i < now.size(); ++i)
+      f.flown += glm::length(now[i].position - last[i].position);
     last = now;
   }
   f.flown /= double(last.size());
@@ -76,14 +78,16 @@ struct Apart {
 };
 Apart apart(const Flight& a, const Flight& b) {
   std::vector<double> d;
-  for (size_t i = 0; i < a.birds.size(); ++i) d.push_back(glm::length(a.birds[i].position - b.birds[i].position));
+  for (size_t i = 0; i < a.birds.size(); ++i)
+    d.push_back(glm::length(a.birds[i].position - b.birds[i].position));
   std::sort(d.begin(), d.end());
   return d.empty() ? Apart{} : Apart{d[d.size() / 2], d.back()};
 }
 
 void print(const char* backend, double offset, const Flight& f) {
-  std::printf("%-6s %6.0f km: %llu targets, centroid (%.3f, %.3f, %.3f) m from the offset", backend, offset / kKm,
-              (unsigned long long)f.targets, f.centroid.x / 100, f.centroid.y / 100, f.centroid.z / 100);
+  std::printf("%-6s %6.0f km: %llu targets, centroid (%.3f, %.3f, %.3f) m from the offset", backend,
+              offset / kKm, (unsigned long long)f.targets, f.centroid.x / 100, f.centroid.y / 100,
+              f.centroid.z / 100);
   if (f.flown > 0.0) std::printf(", flown %.1f m", f.flown / 100);
   std::printf("\n");
 }
@@ -92,7 +96,8 @@ const std::vector<double> kOffsets = {0.0, 10 * kKm, 100 * kKm, 1000 * kKm, 1000
 
 TEST(WorldScale, TiledPositionsRoundTripToTheMicrometre) {
   // A world point packed for the device and read back (gpu/layout.cpp), 20,000 km out too.
-  for (const dvec3 p : {dvec3(0.0), dvec3(1.0e8 + 0.1234, 4.0e4, -3.3e5), dvec3(-2.0e9, 2.0e5, 2.0e9 - 8192.0)}) {
+  for (const dvec3 p :
+       {dvec3(0.0), dvec3(1.0e8 + 0.1234, 4.0e4, -3.3e5), dvec3(-2.0e9, 2.0e5, 2.0e9 - 8192.0)}) {
     BirdState b;
     b.position = p;
     b.landing_start = p + dvec3(-500.0, 10.0, 7.0);
@@ -130,8 +135,11 @@ TEST(WorldScale, EveryBirdFliesTheSameAtEveryOffsetOnBothBackends) {
       EXPECT_EQ(at.targets, origin.targets) << km << " km";
       EXPECT_LT(glm::length(at.centroid - origin.centroid), 1e-3 * origin.flown) << km << " km";
       const Apart d = apart(at, origin);
-      std::printf("%s %6.0f km: centroid %.4f cm from the origin's; birds from theirs: median %.4f cm, worst %.4f cm\n",
-                  runs == &cpu ? "CPU   " : "Vulkan", km, glm::length(at.centroid - origin.centroid), d.median, d.worst);
+      std::printf(
+          "%s %6.0f km: centroid %.4f cm from the origin's; birds from theirs: median %.4f cm, "
+          "worst %.4f cm\n",
+          runs == &cpu ? "CPU   " : "Vulkan", km, glm::length(at.centroid - origin.centroid),
+          d.median, d.worst);
     }
   // CPU against Vulkan as close at every offset as at the origin: float against double only. The
   // median bird (the worst is one bird near a decision, 7-23 cm apart at every offset, the origin
@@ -140,8 +148,8 @@ TEST(WorldScale, EveryBirdFliesTheSameAtEveryOffsetOnBothBackends) {
   for (size_t k = 0; k < kOffsets.size(); ++k) {
     const Apart d = apart(cpu[k], vulkan[k]);
     const double centroids = glm::length(cpu[k].centroid - vulkan[k].centroid);
-    std::printf("CPU to Vulkan %6.0f km: centroid %.4f cm; birds: median %.4f cm, worst %.4f cm\n", kOffsets[k] / kKm,
-                centroids, d.median, d.worst);
+    std::printf("CPU to Vulkan %6.0f km: centroid %.4f cm; birds: median %.4f cm, worst %.4f cm\n",
+                kOffsets[k] / kKm, centroids, d.median, d.worst);
     EXPECT_LT(d.median, 2.0 * at_origin.median + 1e-3) << kOffsets[k] / kKm << " km";
     EXPECT_LT(centroids, 1e-3 * cpu[0].flown) << kOffsets[k] / kKm << " km";
   }
@@ -168,15 +176,20 @@ TEST(WorldScale, TheFlockFliesTheSameAtEveryOffsetOnVulkan) {
     const testing::FlockRun& b = runs[k].flock;
     const double km = kOffsets[k] / kKm;
     EXPECT_EQ(runs[k].targets, runs[0].targets) << km << " km";
-    EXPECT_NEAR(b.mean_median_nearest, a.mean_median_nearest, 0.05 * a.mean_median_nearest) << km << " km";
-    EXPECT_NEAR(b.mean_polarisation, a.mean_polarisation, 0.05 * a.mean_polarisation) << km << " km";
-    EXPECT_NEAR(b.mean_largest_cluster, a.mean_largest_cluster, 0.05 * a.mean_largest_cluster) << km << " km";
+    EXPECT_NEAR(b.mean_median_nearest, a.mean_median_nearest, 0.05 * a.mean_median_nearest)
+        << km << " km";
+    EXPECT_NEAR(b.mean_polarisation, a.mean_polarisation, 0.05 * a.mean_polarisation)
+        << km << " km";
+    EXPECT_NEAR(b.mean_largest_cluster, a.mean_largest_cluster, 0.05 * a.mean_largest_cluster)
+        << km << " km";
     EXPECT_NEAR(b.mean_too_close, a.mean_too_close, 0.0025) << km << " km";
     EXPECT_EQ(b.non_finite, 0u);
-    std::printf("%6.0f km: median nearest %.1f cm (origin %.1f), polarisation %.4f (%.4f), largest cluster %.4f "
-                "(%.4f), too close %.4f (%.4f)\n",
-                km, b.mean_median_nearest, a.mean_median_nearest, b.mean_polarisation, a.mean_polarisation,
-                b.mean_largest_cluster, a.mean_largest_cluster, b.mean_too_close, a.mean_too_close);
+    std::printf(
+        "%6.0f km: median nearest %.1f cm (origin %.1f), polarisation %.4f (%.4f), largest cluster "
+        "%.4f "
+        "(%.4f), too close %.4f (%.4f)\n",
+        km, b.mean_median_nearest, a.mean_median_nearest, b.mean_polarisation, a.mean_polarisation,
+        b.mean_largest_cluster, a.mean_largest_cluster, b.mean_too_close, a.mean_too_close);
   }
   EXPECT_EQ(device.validation_errors(), 0u);
 }
@@ -193,7 +206,8 @@ TEST(WorldScale, APictureOfTheFlockAThousandKilometresOutIsTheOneAtTheOrigin) {
   // About 1,000 km east and 300 km north: whole pairs of the ground's 10.24 m squares, so that the
   // ground looks the same under the flock.
   constexpr double kPair = 2048.0;
-  for (const dvec3 offset : {dvec3(0.0), dvec3(std::round(1000 * kKm / kPair) * kPair, 0.0, -std::round(300 * kKm / kPair) * kPair)}) {
+  for (const dvec3 offset : {dvec3(0.0), dvec3(std::round(1000 * kKm / kPair) * kPair, 0.0,
+                                               -std::round(300 * kKm / kPair) * kPair)}) {
     std::vector<BirdState> birds = flown.birds();
     for (BirdState& b : birds) {
       b.position += offset;
@@ -222,8 +236,8 @@ TEST(WorldScale, APictureOfTheFlockAThousandKilometresOutIsTheOneAtTheOrigin) {
       }
     const double share = double(differ) / double(size.width * size.height);
     std::printf("%s: %zu of %u pixels differ (%.4f %%); %.1f %% of the picture is not sky\n",
-                pictures == &framed ? "framed" : "close up", differ, size.width * size.height, 100 * share,
-                100.0 - 100.0 * double(background) / double(size.width * size.height));
+                pictures == &framed ? "framed" : "close up", differ, size.width * size.height,
+                100 * share, 100.0 - 100.0 * double(background) / double(size.width * size.height));
     EXPECT_LT(share, 1e-3);  // a few edge pixels at most
     if (const char* dir = std::getenv("AEROFLOCK_TEST_PICTURES")) {
       const std::string stem = std::string(dir) + "/" + (pictures == &framed ? "framed" : "close");
@@ -231,7 +245,9 @@ TEST(WorldScale, APictureOfTheFlockAThousandKilometresOutIsTheOneAtTheOrigin) {
       write_png(stem + "_1000km.png", size.width, size.height, b.rgba);
       std::vector<uint8_t> diff(a.rgba.size(), 255);
       for (size_t i = 0; i < diff.size(); i += 4)
-        for (int c = 0; c < 3; ++c) diff[i + c] = uint8_t(std::min(255, 16 * std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c]))));
+        for (int c = 0; c < 3; ++c)
+          diff[i + c] =
+              uint8_t(std::min(255, 16 * std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c]))));
       write_png(stem + "_diff.png", size.width, size.height, diff);
     }
   }

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
-#include <limits>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -15,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -71,7 +71,7 @@ struct RunOptions {
   std::string vtk_compression = "lz4";
   std::string vtk_precision = "float";
   bool overwrite = false;  // --overwrite: an earlier export in vtk_dir is replaced
-  bool strict = false;  // the first bird quarantined (NaN) is an error
+  bool strict = false;     // the first bird quarantined (NaN) is an error
 };
 
 // Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
@@ -79,7 +79,8 @@ struct RunOptions {
 // (SA_RESETHAND) ends the program at once.
 volatile std::sig_atomic_t g_signal = 0;
 extern "C" void on_stop_signal(int signal) { g_signal = signal; }
-constexpr uint64_t kBirdFramesPerSubmission = 20000;  // a run's frames go to the device in batches of about this
+constexpr uint64_t kBirdFramesPerSubmission =
+    20000;  // a run's frames go to the device in batches of about this
 
 struct ViewOptions {
   std::string scenario = "default";
@@ -99,7 +100,8 @@ int list_scenarios(const std::string& show) {
     names += (names.empty() ? "" : ", ") + s.name;
   }
   if (!show.empty())
-    throw std::runtime_error("--show: no built-in scenario " + show + " (the built-ins: " + names + ")");
+    throw std::runtime_error("--show: no built-in scenario " + show + " (the built-ins: " + names +
+                             ")");
   return 0;
 }
 
@@ -114,8 +116,10 @@ void resize_flocks(Scenario& scenario, const std::vector<std::string>& sizes) {
     const auto [end, ec] = std::from_chars(first, last, count);
     if (eq == std::string::npos || eq == 0 || first == last || ec != std::errc() || end != last ||
         count > std::numeric_limits<uint32_t>::max())
-      throw std::runtime_error("--flock: expected NAME=COUNT (a flock of the scenario and a whole "
-                               "number of birds, 0 to leave it out), got " + item);
+      throw std::runtime_error(
+          "--flock: expected NAME=COUNT (a flock of the scenario and a whole "
+          "number of birds, 0 to leave it out), got " +
+          item);
     const std::string name = item.substr(0, eq);
     std::string names;
     size_t index = scenario.flocks.size();
@@ -124,7 +128,8 @@ void resize_flocks(Scenario& scenario, const std::vector<std::string>& sizes) {
       names += (i ? ", " : "") + scenario.flocks[i].name;
     }
     if (index == scenario.flocks.size())
-      throw std::runtime_error("--flock " + item + ": scenario " + scenario.name + " has no flock " + name +
+      throw std::runtime_error("--flock " + item + ": scenario " + scenario.name +
+                               " has no flock " + name +
                                " (its flocks: " + (names.empty() ? "none" : names) + ")");
     resize_flock(scenario, index, uint32_t(count));
   }
@@ -139,21 +144,25 @@ CLI::Validator integer_in(uint64_t min, uint64_t max) {
         const char* end = text.data() + text.size();
         const auto [ptr, ec] = std::from_chars(text.data(), end, v);
         if (ec == std::errc() && ptr == end && v >= min && v <= max) return "";
-        const bool too_large = (ec == std::errc::result_out_of_range || (ec == std::errc() && v > max)) && ptr == end;
+        const bool too_large =
+            (ec == std::errc::result_out_of_range || (ec == std::errc() && v > max)) && ptr == end;
         return max == std::numeric_limits<uint32_t>::max() && !too_large
                    ? "expected an integer >= " + std::to_string(min) + ", got " + text
                    : "expected an integer from " + std::to_string(min) + " to " +
                          std::to_string(max) + ", got " + text;
       },
-      max == std::numeric_limits<uint32_t>::max() ? ">= " + std::to_string(min)
-                                                  : std::to_string(min) + ".." + std::to_string(max));
+      max == std::numeric_limits<uint32_t>::max()
+          ? ">= " + std::to_string(min)
+          : std::to_string(min) + ".." + std::to_string(max));
 }
 const CLI::Validator kCount = integer_in(1, std::numeric_limits<uint32_t>::max());
 const CLI::Validator kIndex = integer_in(0, std::numeric_limits<uint32_t>::max());
 constexpr uint64_t kMaxThreads = 1024;
 // A path: an empty one (an unset "$OUT") would lose the output without a word.
 const CLI::Validator kPath(
-    [](std::string& text) -> std::string { return text.empty() ? "expected a path, got an empty one" : ""; },
+    [](std::string& text) -> std::string {
+      return text.empty() ? "expected a path, got an empty one" : "";
+    },
     "PATH");
 
 // CLI11's own PositiveNumber names the whole double range in its message.
@@ -176,7 +185,8 @@ CLI::Validator number_in(double min, double max, const std::string& unit, const 
         const double v = std::strtod(text.c_str(), &end);
         if (end != text.c_str() && *end == '\0' && v >= min && v <= max) return "";
         std::ostringstream message;
-        message << "expected a number from " << min << " to " << max << " " << unit << " (" << why << "), got " << text;
+        message << "expected a number from " << min << " to " << max << " " << unit << " (" << why
+                << "), got " << text;
         return message.str();
       },
       "");
@@ -191,7 +201,8 @@ const CLI::Validator kSeconds(
       const double v = std::strtod(text.c_str(), &end);
       if (end != text.c_str() && *end == '\0' && v > 0 && v <= kMaxDuration) return "";
       std::ostringstream message;
-      message << "expected a positive number of seconds, at most " << kMaxDuration << " (11.6 days), got " << text;
+      message << "expected a positive number of seconds, at most " << kMaxDuration
+              << " (11.6 days), got " << text;
       return message.str();
     },
     "");
@@ -219,7 +230,8 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
               (unsigned long long)s.perched, (unsigned long long)s.nan_birds);
   std::printf("flocks           %s\n", flocks.c_str());
   const double frame_seconds = r.dt * r.steps_per_frame;
-  std::printf("simulated        %.3f s (%llu steps of %g s", r.sim_seconds, (unsigned long long)r.steps, r.dt);
+  std::printf("simulated        %.3f s (%llu steps of %g s", r.sim_seconds,
+              (unsigned long long)r.steps, r.dt);
   if (!interrupted && std::abs(r.sim_seconds - asked_seconds) > 1e-9 * asked_seconds)
     std::printf("; %g s asked, rounded up to whole frames of %g s", asked_seconds, frame_seconds);
   std::printf(")\n");
@@ -229,10 +241,11 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   std::printf("mean speed       %.2f m/s\n", s.mean_speed / 100);
   std::printf("targets reached  %llu\n", (unsigned long long)s.targets_reached);
   for (const FlockingSummary& f : r.flocking)
-    std::printf("flock %-10s median nearest neighbour %.2f m, %.2f %% nearer than half a wingspan, "
-                "polarisation %.3f, largest cluster %.1f %%\n",
-                f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close, f.metrics.polarisation,
-                100 * f.metrics.largest_cluster);
+    std::printf(
+        "flock %-10s median nearest neighbour %.2f m, %.2f %% nearer than half a wingspan, "
+        "polarisation %.3f, largest cluster %.1f %%\n",
+        f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close,
+        f.metrics.polarisation, 100 * f.metrics.largest_cluster);
   // Only the files written are named (summary_path is empty when its write failed).
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
   for (const std::string& line : images) std::printf("%s\n", line.c_str());
@@ -247,25 +260,32 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   if (interrupted)
     std::printf("interrupted      at t = %.3f s (%s)\n", r.sim_seconds,
                 r.signal == "SIGINT" ? "SIGINT, Ctrl-C" : r.signal.c_str());
-  if (!r.error.empty()) std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
+  if (!r.error.empty())
+    std::printf("stopped          at t = %.3f s: %s\n", r.sim_seconds, r.error.c_str());
 }
 
 // NaN quarantine (step.cpp): each quarantined bird once on stderr, the first kShown by time.
-void report_quarantined(const std::vector<BirdState>& birds, const std::vector<QuarantinedBird>& listed) {
+void report_quarantined(const std::vector<BirdState>& birds,
+                        const std::vector<QuarantinedBird>& listed) {
   constexpr size_t kShown = 10;
   for (size_t k = 0; k < listed.size() && k < kShown; ++k) {
     const BirdState& b = listed[k].last;
-    std::fprintf(stderr,
-                 "aeroflock: bird %llu quarantined: its state became non-finite in the step at t = %.4f s; "
-                 "frozen at its last finite state, position (%.2f, %.2f, %.2f) m, velocity (%.2f, %.2f, %.2f) m/s\n",
-                 (unsigned long long)listed[k].bird, listed[k].time, b.position.x / 100, b.position.y / 100,
-                 b.position.z / 100, b.velocity.x / 100, b.velocity.y / 100, b.velocity.z / 100);
+    std::fprintf(
+        stderr,
+        "aeroflock: bird %llu quarantined: its state became non-finite in the step at t = %.4f s; "
+        "frozen at its last finite state, position (%.2f, %.2f, %.2f) m, velocity (%.2f, %.2f, "
+        "%.2f) m/s\n",
+        (unsigned long long)listed[k].bird, listed[k].time, b.position.x / 100, b.position.y / 100,
+        b.position.z / 100, b.velocity.x / 100, b.velocity.y / 100, b.velocity.z / 100);
   }
-  const auto all = static_cast<size_t>(
-      std::count_if(birds.begin(), birds.end(), [](const BirdState& b) { return b.mode == FlightMode::quarantined; }));
+  const auto all =
+      static_cast<size_t>(std::count_if(birds.begin(), birds.end(), [](const BirdState& b) {
+        return b.mode == FlightMode::quarantined;
+      }));
   if (all > kShown)
-    std::fprintf(stderr, "aeroflock: %zu more birds quarantined (the summary lists the first %zu)\n", all - kShown,
-                 kQuarantinedListed);
+    std::fprintf(stderr,
+                 "aeroflock: %zu more birds quarantined (the summary lists the first %zu)\n",
+                 all - kShown, kQuarantinedListed);
 }
 
 // A scenario without birds is a mistake (an empty file), not a run. (A flock's count is >= 1.)
@@ -274,8 +294,9 @@ void require_birds(const Scenario& scenario, const std::vector<std::string>& flo
     throw std::runtime_error("--flock: no birds are left in scenario " + scenario.name +
                              " (every flock was given 0)");
   if (scenario.flocks.empty())
-    throw std::runtime_error("scenario " + scenario.name +
-                             " has no birds: it needs a [[flocks]] table (see `aeroflock scenarios --show default`)");
+    throw std::runtime_error(
+        "scenario " + scenario.name +
+        " has no birds: it needs a [[flocks]] table (see `aeroflock scenarios --show default`)");
 }
 
 int run(const RunOptions& opt) {
@@ -297,13 +318,15 @@ int run(const RunOptions& opt) {
   resize_flocks(scenario, opt.flocks);
   require_birds(scenario, opt.flocks);
   // Tests of the NaN quarantine: that flock's birds turn non-finite near the ground.
-  if (const char* doomed = std::getenv("AEROFLOCK_TEST_NAN_FLOCK")) make_flock_non_finite(scenario, doomed);
+  if (const char* doomed = std::getenv("AEROFLOCK_TEST_NAN_FLOCK"))
+    make_flock_non_finite(scenario, doomed);
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // Whole frames, at least one: any positive duration flies. The small allowance keeps an exact
   // multiple from gaining a frame to rounding. (seconds <= kMaxDuration and frame_seconds >=
   // kMinDt: at most 10^11 frames, far inside uint64_t.)
-  const auto frames = static_cast<uint64_t>(std::max(1.0, std::ceil(seconds / frame_seconds - 1e-9)));
+  const auto frames =
+      static_cast<uint64_t>(std::max(1.0, std::ceil(seconds / frame_seconds - 1e-9)));
   const double total_seconds = double(frames) * frame_seconds;  // whole frames
 
   RunSummary summary;
@@ -348,7 +371,10 @@ int run(const RunOptions& opt) {
   pace.add(0.0, 0.0);
   // Without pictures or exports nothing reads a frame: a small flock's frames go to the device
   // several at a time (Simulation::step_frames), about kBirdFramesPerSubmission bird-frames each.
-  const uint64_t batch = images || vtk ? 1 : std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1, gpu::kFramesPerSubmission);
+  const uint64_t batch =
+      images || vtk ? 1
+                    : std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1,
+                                           gpu::kFramesPerSubmission);
   // A write error stops the run; what was written stays valid, and the summary says why.
   std::vector<std::string> errors;
   for (uint64_t frame = 0; frame < frames;) {
@@ -401,8 +427,10 @@ int run(const RunOptions& opt) {
   if (opt.strict && !summary.quarantined.empty()) {
     const QuarantinedBird& first = summary.quarantined.front();
     char why[160];
-    std::snprintf(why, sizeof why, "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
-                  (unsigned long long)first.bird, first.time, summary.sim_seconds);
+    std::snprintf(
+        why, sizeof why,
+        "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
+        (unsigned long long)first.bird, first.time, summary.sim_seconds);
     errors.push_back(why);
   }
   // Every output closed valid, whatever stopped the run; the first error is the summary's.
@@ -459,11 +487,13 @@ int view(const ViewOptions& opt) {
 // --fidelity paper|fast or --dt SECONDS: the time step, the frame kept 30 ms of flight.
 void add_step_options(CLI::App* app, StepOption& step, const char* default_is) {
   char help[160];
-  std::snprintf(help, sizeof help, "The time step: paper (%g ms) or fast (%g ms, docs/convergence.md); default %s",
+  std::snprintf(help, sizeof help,
+                "The time step: paper (%g ms) or fast (%g ms, docs/convergence.md); default %s",
                 kPaperDt * 1e3, kFastDt * 1e3, default_is);
   CLI::Option* fidelity =
       app->add_option("--fidelity", step.fidelity, help)->check(CLI::IsMember({"paper", "fast"}));
-  app->add_option("--dt", step.dt, "The time step in seconds, instead of --fidelity's (10 us to 10 ms)")
+  app->add_option("--dt", step.dt,
+                  "The time step in seconds, instead of --fidelity's (10 us to 10 ms)")
       ->check(kStep)
       ->excludes(fidelity);
 }
@@ -479,8 +509,8 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
         const char* end = text.data() + text.size();
         const auto [x, ec1] = std::from_chars(text.data(), end, w);
         const bool has_x = ec1 == std::errc() && x != end && *x == 'x';
-        const auto [rest, ec2] =
-            has_x ? std::from_chars(x + 1, end, h) : std::from_chars_result{x, std::errc::invalid_argument};
+        const auto [rest, ec2] = has_x ? std::from_chars(x + 1, end, h)
+                                       : std::from_chars_result{x, std::errc::invalid_argument};
         if (!has_x || ec2 != std::errc() || rest != end || w < 16 || h < 16 || w > 8192 || h > 8192)
           throw CLI::ValidationError("--size",
                                      "expected WxH between 16x16 and 8192x8192, got " + text);
@@ -491,14 +521,15 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
 }
 
 // X,Y,Z in metres into `point` (cm).
-void add_point_option(CLI::App* app, const char* name, std::optional<glm::dvec3>& point, const char* what) {
+void add_point_option(CLI::App* app, const char* name, std::optional<glm::dvec3>& point,
+                      const char* what) {
   app->add_option_function<std::string>(
       name,
       [&point, name](const std::string& text) {
         double x = 0, y = 0, z = 0;
         char extra = 0;
-        if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3 || !std::isfinite(x) ||
-            !std::isfinite(y) || !std::isfinite(z))
+        if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3 ||
+            !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
           throw CLI::ValidationError(name, "expected X,Y,Z in metres, got " + text);
         point = glm::dvec3(x, y, z) * 100.0;
       },
@@ -507,14 +538,17 @@ void add_point_option(CLI::App* app, const char* name, std::optional<glm::dvec3>
 
 // The cameras of `run` (pictures) and `view` (the window).
 void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targets) {
-  app->add_option("--camera", camera.mode,
-                  "auto (frames the flock, following it), orbit (circles the flock), follow (behind "
-                  "one bird, --camera-bird) or fixed (--camera-eye, --camera-target)")
+  app->add_option(
+         "--camera", camera.mode,
+         "auto (frames the flock, following it), orbit (circles the flock), follow (behind "
+         "one bird, --camera-bird) or fixed (--camera-eye, --camera-target)")
       ->check(CLI::IsMember({"auto", "orbit", "follow", "fixed"}))
       ->capture_default_str();
-  app->add_option("--camera-bird", camera.bird, "With --camera follow: the bird followed (default 0)");
-  add_point_option(app, "--camera-eye", camera.eye,
-                   "With --camera fixed: where the camera is, X,Y,Z in metres (default: where auto starts)");
+  app->add_option("--camera-bird", camera.bird,
+                  "With --camera follow: the bird followed (default 0)");
+  add_point_option(
+      app, "--camera-eye", camera.eye,
+      "With --camera fixed: where the camera is, X,Y,Z in metres (default: where auto starts)");
   add_point_option(app, "--camera-target", camera.target,
                    "With --camera fixed: what it looks at, X,Y,Z in metres (default: the flock)");
   app->add_option("--fov", camera.fov_degrees, "Vertical field of view in degrees")
@@ -529,15 +563,19 @@ void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targ
 // Options that belong to another camera are errors, not silently ignored.
 void check_camera_options(const render::CameraOptions& camera, const CLI::App& app, bool draws) {
   if (!draws)
-    for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target", "--fov", "--targets", "--msaa"})
-      if (app.count(name) > 0) throw CLI::ValidationError(name, "needs --png, --frames-dir or --video");
+    for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target",
+                             "--fov", "--targets", "--msaa"})
+      if (app.count(name) > 0)
+        throw CLI::ValidationError(name, "needs --png, --frames-dir or --video");
   if (camera.mode != "fixed" && (camera.eye || camera.target))
     throw CLI::ValidationError(camera.eye ? "--camera-eye" : "--camera-target",
                                "needs --camera fixed (the camera is " + camera.mode + ")");
   if (camera.eye && camera.target && glm::distance(*camera.eye, *camera.target) < 1.0)
-    throw CLI::ValidationError("--camera-target", "must differ from --camera-eye (the camera looks at its own eye)");
+    throw CLI::ValidationError("--camera-target",
+                               "must differ from --camera-eye (the camera looks at its own eye)");
   if (camera.mode != "follow" && app.count("--camera-bird") > 0)
-    throw CLI::ValidationError("--camera-bird", "needs --camera follow (the camera is " + camera.mode + ")");
+    throw CLI::ValidationError("--camera-bird",
+                               "needs --camera follow (the camera is " + camera.mode + ")");
 }
 
 // Letters to change, add or remove to turn `a` into `b` (Levenshtein).
@@ -564,11 +602,12 @@ std::string unknown_command(const CLI::App& app, const std::string& word) {
   for (const CLI::App* sub : app.get_subcommands({})) {
     if (sub->get_name() == word) return "";
     list += (list.empty() ? "" : ", ") + sub->get_name();
-    if (const size_t d = edit_distance(word, sub->get_name()); d < best) best = d, closest = sub->get_name();
+    if (const size_t d = edit_distance(word, sub->get_name()); d < best)
+      best = d, closest = sub->get_name();
   }
   return "aeroflock: unknown command '" + word + "'" +
-         (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + "; the commands are " + list +
-         " (aeroflock --help)";
+         (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + "; the commands are " +
+         list + " (aeroflock --help)";
 }
 
 }  // namespace
@@ -596,29 +635,39 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--device", opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
   CLI::Option* run_birds = run_cmd
-      ->add_option("--birds", opt.birds,
-                   "Birds in all, shared over the flocks in proportion, each flock as dense as the scenario's")
-      ->check(kCount);
+                               ->add_option("--birds", opt.birds,
+                                            "Birds in all, shared over the flocks in proportion, "
+                                            "each flock as dense as the scenario's")
+                               ->check(kCount);
   run_cmd
       ->add_option("--flock", opt.flocks,
-                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
+                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; "
+                   "repeatable")
       ->excludes(run_birds);
-  run_cmd->add_option("--seconds", opt.seconds, "Simulated seconds (default: the scenario's; at most 1e6)")
+  run_cmd
+      ->add_option("--seconds", opt.seconds,
+                   "Simulated seconds (default: the scenario's; at most 1e6)")
       ->check(kSeconds);
   add_step_options(run_cmd, opt.step, "the scenario's");
-  run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")->check(kPath);
+  run_cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")
+      ->check(kPath);
   run_cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(integer_in(1, kMaxThreads));
-  run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)")->check(kPath);
-  CLI::Option* frames_dir_opt = run_cmd->add_option(
-      "--frames-dir", opt.images.frames_dir, "Render frames to DIR/frame_NNNNNN.png")->check(kPath);
+  run_cmd->add_option("--png", opt.images.png, "Render the last frame to this PNG (headless)")
+      ->check(kPath);
+  CLI::Option* frames_dir_opt = run_cmd
+                                    ->add_option("--frames-dir", opt.images.frames_dir,
+                                                 "Render frames to DIR/frame_NNNNNN.png")
+                                    ->check(kPath);
   run_cmd->add_option("--every", opt.images.every, "With --frames-dir: every K-th frame")
       ->check(kCount)
       ->needs(frames_dir_opt);
   CLI::Option* video_opt =
-      run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)")->check(kPath);
-  run_cmd->add_option("--fps", opt.images.fps,
-                      "With --video: frames per simulated second (default: one a frame, real time)")
+      run_cmd->add_option("--video", opt.images.video, "Render the run to FILE.mp4 (needs ffmpeg)")
+          ->check(kPath);
+  run_cmd
+      ->add_option("--fps", opt.images.fps,
+                   "With --video: frames per simulated second (default: one a frame, real time)")
       ->check(kPositive)
       ->needs(video_opt);
   add_camera_options(run_cmd, opt.images.camera, opt.images.targets);
@@ -626,10 +675,15 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 2, 4, 8}));
   add_size_option(run_cmd, opt.images.width, opt.images.height,
                   "Image size WxH (default 1280x720)");
-  CLI::Option* vtk_opt = run_cmd->add_option(
-      "--vtk", opt.vtk_dir,
-      "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp")->check(kPath);
-  run_cmd->add_option("--vtk-every", opt.vtk_every, "With --vtk: every K-th frame besides the first and the last (default 1)")
+  CLI::Option* vtk_opt =
+      run_cmd
+          ->add_option(
+              "--vtk", opt.vtk_dir,
+              "Write VTK files for ParaView/Python to DIR: frames, flock.pvd, trajectories.vtp")
+          ->check(kPath);
+  run_cmd
+      ->add_option("--vtk-every", opt.vtk_every,
+                   "With --vtk: every K-th frame besides the first and the last (default 1)")
       ->check(kCount)
       ->needs(vtk_opt);
   run_cmd
@@ -651,13 +705,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->needs(vtk_opt);
   run_cmd
-      ->add_flag("--overwrite", opt.overwrite,
-                 "With --vtk: replace an earlier run's export in DIR (its flock.pvd, trajectories.vtp "
-                 "and frames/flock_*.vtp, no other file); without it such a DIR is an error")
+      ->add_flag(
+          "--overwrite", opt.overwrite,
+          "With --vtk: replace an earlier run's export in DIR (its flock.pvd, trajectories.vtp "
+          "and frames/flock_*.vtp, no other file); without it such a DIR is an error")
       ->needs(vtk_opt);
-  run_cmd->add_flag("--strict", opt.strict,
-                    "A bird whose state becomes non-finite (NaN) stops the run with an error (exit 2), its "
-                    "outputs closed; without it the bird is quarantined (frozen, reported) and the rest fly on");
+  run_cmd->add_flag(
+      "--strict", opt.strict,
+      "A bird whose state becomes non-finite (NaN) stops the run with an error (exit 2), its "
+      "outputs closed; without it the bird is quarantined (frozen, reported) and the rest fly on");
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
@@ -668,12 +724,14 @@ int main(int argc, char** argv) {
                    "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
   CLI::Option* view_birds = view_cmd
-      ->add_option("--birds", view_opt.viewer.birds,
-                   "Birds in all, shared over the flocks in proportion, each flock as dense as the scenario's")
-      ->check(kCount);
+                                ->add_option("--birds", view_opt.viewer.birds,
+                                             "Birds in all, shared over the flocks in proportion, "
+                                             "each flock as dense as the scenario's")
+                                ->check(kCount);
   view_cmd
       ->add_option("--flock", view_opt.flocks,
-                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; repeatable")
+                   "NAME=COUNT: that flock's birds (0 leaves it out), as dense as the scenario's; "
+                   "repeatable")
       ->excludes(view_birds);
   add_step_options(view_cmd, view_opt.step, "the scenario's");
   add_size_option(view_cmd, view_opt.viewer.width, view_opt.viewer.height,
@@ -681,8 +739,9 @@ int main(int argc, char** argv) {
   view_cmd->add_flag("--paused", view_opt.viewer.paused, "Start with the simulation paused");
   add_camera_options(view_cmd, view_opt.viewer.camera, view_opt.viewer.targets);
   view_cmd
-      ->add_option("--msaa", view_opt.viewer.msaa,
-                   "Samples a pixel: 1 (none), 2, 4 or 8 (default 4; 1 on a CPU device such as lavapipe)")
+      ->add_option(
+          "--msaa", view_opt.viewer.msaa,
+          "Samples a pixel: 1 (none), 2, 4 or 8 (default 4; 1 on a CPU device such as lavapipe)")
       ->check(CLI::IsMember({1, 2, 4, 8}));
   view_cmd
       ->add_option("--frames", view_opt.viewer.frames,
@@ -697,21 +756,27 @@ int main(int argc, char** argv) {
       "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
   bench_cmd->add_flag("--quick", bench_opt.quick,
                       "A short smoke run: 1000 and 3000 birds, headless only");
-  bench_cmd->add_option("--json", bench_opt.json,
-                        "Write the results as JSON (Google Benchmark-like) to FILE")->check(kPath);
-  bench_cmd->add_option("--plot", bench_opt.plot,
-                        "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)")->check(kPath);
+  bench_cmd
+      ->add_option("--json", bench_opt.json,
+                   "Write the results as JSON (Google Benchmark-like) to FILE")
+      ->check(kPath);
+  bench_cmd
+      ->add_option("--plot", bench_opt.plot,
+                   "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)")
+      ->check(kPath);
   bench_cmd
       ->add_option("--backends", bench_backends,
                    "Comma-separated backends: vulkan, vulkan:N (Vulkan on device N), cpu")
       ->capture_default_str();
-  bench_cmd->add_option("--variants", bench_variants,
-                        "Comma-separated variants: headless, solo, render, vtk, realtime (birds in real "
-                        "time at the paper's and the fast step) (default: all; --quick: headless)");
+  bench_cmd->add_option(
+      "--variants", bench_variants,
+      "Comma-separated variants: headless, solo, render, vtk, realtime (birds in real "
+      "time at the paper's and the fast step) (default: all; --quick: headless)");
   bench_cmd->add_option("--scenario", bench_opt.scenario,
                         "Scenario measured, a built-in name or FILE.toml (default: default)");
-  bench_cmd->add_option("--max-birds", bench_opt.max_birds,
-                        "Largest flock of the sweep (1k, 3k, 10k, ... up to it, and it)")
+  bench_cmd
+      ->add_option("--max-birds", bench_opt.max_birds,
+                   "Largest flock of the sweep (1k, 3k, 10k, ... up to it, and it)")
       ->check(kCount)
       ->capture_default_str();
   bench_cmd
@@ -727,41 +792,54 @@ int main(int argc, char** argv) {
   EnvelopeOptions envelope_opt;
   CLI::App* envelope_cmd = app.add_subcommand(
       "envelope", "Fly a species through a grid of starts, targets, winds, take-offs and landings");
-  envelope_cmd->add_option("--species", envelope_opt.species, "A preset (eagle, starling) or FILE.toml (its last [[species]])")
+  envelope_cmd
+      ->add_option("--species", envelope_opt.species,
+                   "A preset (eagle, starling) or FILE.toml (its last [[species]])")
       ->capture_default_str();
   envelope_cmd->add_option("--backend", envelope_opt.backend, "cpu (reference) or vulkan")
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
-  envelope_cmd->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
+  envelope_cmd
+      ->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
-  envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE")->check(kPath);
+  envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE")
+      ->check(kPath);
   envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
   StepOption envelope_step;
   add_step_options(envelope_cmd, envelope_step, "paper");
 
   ConvergeOptions converge_opt;
   std::vector<double> converge_dts_ms;
-  CLI::App* converge_cmd = app.add_subcommand(
-      "converge", "The time step's convergence study: every scenario and the envelope at steps of 0.1 to 10 ms");
-  converge_cmd->add_option("--scenarios", converge_opt.scenarios,
-                           "Built-in names or FILE.toml, comma-separated (default: every built-in)")
+  CLI::App* converge_cmd = app.add_subcommand("converge",
+                                              "The time step's convergence study: every scenario "
+                                              "and the envelope at steps of 0.1 to 10 ms");
+  converge_cmd
+      ->add_option("--scenarios", converge_opt.scenarios,
+                   "Built-in names or FILE.toml, comma-separated (default: every built-in)")
       ->delimiter(',');
-  converge_cmd->add_option("--dts", converge_dts_ms,
-                           "Steps in ms, comma-separated, the smallest the reference (default 0.1,0.3,0.5,1,2,3,5,10)")
+  converge_cmd
+      ->add_option("--dts", converge_dts_ms,
+                   "Steps in ms, comma-separated, the smallest the reference (default "
+                   "0.1,0.3,0.5,1,2,3,5,10)")
       ->delimiter(',')
       ->check(kStepMs);
-  converge_cmd->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
+  converge_cmd
+      ->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
       ->check(kSeconds);
   converge_cmd->add_option("--backend", converge_opt.backend, "cpu (reference, double) or vulkan")
       ->check(CLI::IsMember({"vulkan", "cpu"}))
       ->capture_default_str();
-  converge_cmd->add_option("--device", converge_opt.device, "Vulkan device index (see `aeroflock devices`)")
+  converge_cmd
+      ->add_option("--device", converge_opt.device, "Vulkan device index (see `aeroflock devices`)")
       ->check(kIndex);
-  converge_cmd->add_option("--envelope", converge_opt.envelope,
-                           "Envelope cases flown at each step: none, quick, sample (every 5th flight) or whole")
+  converge_cmd
+      ->add_option(
+          "--envelope", converge_opt.envelope,
+          "Envelope cases flown at each step: none, quick, sample (every 5th flight) or whole")
       ->check(CLI::IsMember({"none", "quick", "sample", "whole"}))
       ->capture_default_str();
-  converge_cmd->add_option("--json", converge_opt.json, "Write every figure to FILE.json")->check(kPath);
+  converge_cmd->add_option("--json", converge_opt.json, "Write every figure to FILE.json")
+      ->check(kPath);
 
   if (argc > 1 && argv[1][0] != '-')
     if (const std::string message = unknown_command(app, argv[1]); !message.empty()) {

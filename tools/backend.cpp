@@ -24,8 +24,9 @@ namespace {
 // counts twice, for the vector's growth as the flock is placed (and a snapshot's copy).
 void check_host_memory(const Scenario& scenario, uint32_t birds_override) {
   const uint64_t birds = spawn_count(scenario, birds_override);
-  const uint64_t per_bird = 2 * sizeof(BirdState) + sizeof(StepForces) +
-                            (any_flocking(scenario) ? sizeof(Perception) + 2 * sizeof(uint32_t) : 0);
+  const uint64_t per_bird =
+      2 * sizeof(BirdState) + sizeof(StepForces) +
+      (any_flocking(scenario) ? sizeof(Perception) + 2 * sizeof(uint32_t) : 0);
   const uint64_t available = available_memory();
   if (birds > available / per_bird)
     throw std::runtime_error("--backend cpu: " + std::to_string(birds) + " birds need about " +
@@ -56,7 +57,8 @@ SimulationFactory simulation_factory(const std::string& name, int device) {
     return [](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
       return std::make_unique<CpuSimulation>(std::move(s), std::move(birds));
     };
-  if (name != "vulkan") throw std::runtime_error("unknown backend \"" + name + "\" (available: vulkan, cpu)");
+  if (name != "vulkan")
+    throw std::runtime_error("unknown backend \"" + name + "\" (available: vulkan, cpu)");
   std::shared_ptr<gpu::Device> shared = std::make_shared<gpu::Device>(gpu::headless(device, false));
   return [shared](Scenario s, std::vector<BirdState> birds) -> std::unique_ptr<Simulation> {
     return std::make_unique<gpu::GpuSimulation>(*shared, std::move(s), std::move(birds));

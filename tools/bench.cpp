@@ -96,7 +96,7 @@ struct Series {
   uint32_t birds_per_frame = 0;
   bool lower_bound = false;  // every size measured fitted: the real figure may be larger
   int search_steps = 0;
-  bool skipped = false;  // n/a (the CPU reference with rendering)
+  bool skipped = false;              // n/a (the CPU reference with rendering)
   double budget_ms = 0.0, dt = 0.0;  // the realtime series': the frame's flight, and its step
   std::string key() const { return backend + "/" + variant; }
   bool real_time() const { return variant.starts_with("realtime-"); }
@@ -135,7 +135,8 @@ class OffscreenLoad {
     if (!sim_) throw std::runtime_error("rendering is measured only with the Vulkan backend");
     const gpu::Device& device = sim_->gpu_device();
     const VkExtent2D size{kRenderWidth, kRenderHeight};
-    renderer_ = std::make_unique<render::Renderer>(device, sim.scenario(), render::Offscreen::kFormat, size);
+    renderer_ = std::make_unique<render::Renderer>(device, sim.scenario(),
+                                                   render::Offscreen::kFormat, size);
     target_ = std::make_unique<render::Offscreen>(device, size);
     submitter_ = std::make_unique<gpu::Submitter>(device, 1);
     const render::CameraControl control({}, render::subject_of(sim.birds(), 0, sim.time()));
@@ -152,7 +153,8 @@ class OffscreenLoad {
     world.move_targets(sim_->time());
     submitter_->run([&](VkCommandBuffer cmd) {
       renderer_->record(cmd, target_->image(), target_->view(), sim_->bird_buffer(),
-                        uint32_t(sim_->bird_count()), world, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+                        uint32_t(sim_->bird_count()), world, view,
+                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
     });
   }
 
@@ -171,7 +173,6 @@ int samples(const std::string& variant, const Settings& s) {
   return variant == "vtk" ? std::max(3, (s.repetitions + 2) / 3) : s.repetitions;
 }
 
-
 // One flock of one backend and variant, measured a frame at a time: frame() is step_frame() then
 // birds() (the frame complete and read back), plus the render or the VTK hand-over, in wall ms.
 // With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
@@ -179,7 +180,8 @@ int samples(const std::string& variant, const Settings& s) {
 // device cannot hold the flock.
 class Subject {
  public:
-  Subject(const std::string& backend_name, const std::string& variant, uint32_t birds, const Settings& s)
+  Subject(const std::string& backend_name, const std::string& variant, uint32_t birds,
+          const Settings& s)
       : cycle_(frames_per_sample(variant)) {
     // "vulkan:N" is Vulkan on device N; plain "vulkan" is the --device choice.
     const bool on_device = backend_name.starts_with("vulkan:");
@@ -189,12 +191,13 @@ class Subject {
     if (variant == "solo")
       for (Flock& f : scenario.flocks) f.flocking = false;
     const bool rendering = variant == "render";
-    sim_ = make_simulation({on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
+    sim_ = make_simulation(
+        {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
     if (rendering) render_ = std::make_unique<OffscreenLoad>(*sim_);
     if (variant == "vtk") {
       static int counter = 0;
-      vtk_dir_.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) + "-" +
-                                                   std::to_string(counter++));
+      vtk_dir_.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) +
+                                                   "-" + std::to_string(counter++));
       VtkOptions vo;
       vo.dir = vtk_dir_.path;
       vo.every = kVtkEvery;
@@ -279,15 +282,16 @@ Paired measure_paired(const std::string& backend, uint32_t birds, const Settings
       a.push_back(with.sample());
     }
   }
-  return {backend, uint32_t(with.simulation().bird_count()), s.repetitions, quantile(a, 0.5), quantile(b, 0.5)};
+  return {backend, uint32_t(with.simulation().bird_count()), s.repetitions, quantile(a, 0.5),
+          quantile(b, 0.5)};
 }
 
 void print_header(const Settings& s) {
   std::printf(
       "aeroflock bench%s: %s scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
       "%d warm-up + %d timed frames\n\n",
-      s.quick ? " --quick" : "", s.scenario.name.c_str(), s.scenario.steps_per_frame, s.scenario.dt * 1000, s.budget_ms,
-      1000.0 / s.budget_ms, s.warmup, s.repetitions);
+      s.quick ? " --quick" : "", s.scenario.name.c_str(), s.scenario.steps_per_frame,
+      s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms, s.warmup, s.repetitions);
   std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms",
               "p10 ms", "p90 ms", "bird-steps/s");
   std::fflush(stdout);
@@ -355,7 +359,8 @@ void write_plot(const fs::path& png, const std::vector<Series>& series, double b
         gp << (i ? ", " : "") << gnuplot_string(data) << " index " << i << " using 1:" << column
            << " with linespoints title " << gnuplot_string(drawn[i]->key());
       if (column == 2)
-        gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget " << budget_ms << " ms'";
+        gp << ", " << budget_ms << " with lines dashtype 2 lc rgb 'gray' title 'budget "
+           << budget_ms << " ms'";
       gp << "\n";
     };
     gp << "set ylabel 'ms per frame (median)'\n";
@@ -390,8 +395,10 @@ void check_options(const BenchOptions& options) {
   for (size_t i = 0; i < options.variants.size(); ++i) {
     const std::string& v = options.variants[i];
     if (std::find(known.begin(), known.end(), v) == known.end())
-      throw std::runtime_error("--variants: unknown variant " + v + " (headless, solo, render, vtk, realtime)");
-    if (std::find(options.variants.begin() + i + 1, options.variants.end(), v) != options.variants.end())
+      throw std::runtime_error("--variants: unknown variant " + v +
+                               " (headless, solo, render, vtk, realtime)");
+    if (std::find(options.variants.begin() + i + 1, options.variants.end(), v) !=
+        options.variants.end())
       throw std::runtime_error("--variants: " + v + " given twice");
   }
   if (!options.plot.empty()) {
@@ -408,8 +415,9 @@ Settings settings(const BenchOptions& options) {
   if (options.dt > 0) set_dt(s.scenario, options.dt);
   s.backends = options.backends;
   s.variants = !options.variants.empty() ? options.variants
-               : options.quick            ? std::vector<std::string>{"headless"}
-                                          : std::vector<std::string>{"headless", "solo", "render", "vtk", "realtime"};
+               : options.quick
+                   ? std::vector<std::string>{"headless"}
+                   : std::vector<std::string>{"headless", "solo", "render", "vtk", "realtime"};
   s.sizes = options.quick
                 ? std::vector<uint32_t>{1000, 3000}
                 : std::vector<uint32_t>{1000, 3000, 10000, 30000, 100000, 300000, 1000000};
@@ -473,12 +481,14 @@ void measure_flocking_cost(Run& run) {
         const double seconds = (a.median + b.median) / 1000.0 * (s.warmup + s.repetitions);
         if (seconds > kMaxMeasurementSeconds) continue;
         try {
-          run.progress.show(backend + ": " + std::to_string(a.birds) + " birds (flocking's cost, frames alternated)");
+          run.progress.show(backend + ": " + std::to_string(a.birds) +
+                            " birds (flocking's cost, frames alternated)");
           run.paired.push_back(measure_paired(backend, a.birds, s));
           run.progress.clear();
         } catch (const std::exception& e) {
           run.progress.clear();
-          std::printf("%-8s %9u birds: flocking's cost not measured: %s\n", backend.c_str(), a.birds, e.what());
+          std::printf("%-8s %9u birds: flocking's cost not measured: %s\n", backend.c_str(),
+                      a.birds, e.what());
         }
       }
   }
@@ -583,8 +593,9 @@ void measure_real_time(Run& run, const std::string& backend) {
     set_dt(rt.scenario, dt_of(fidelity));
     rt.budget_ms = rt.scenario.frame_seconds() * 1000.0;
     const std::string name = fidelity_name(rt.scenario.dt);
-    std::printf("%-8s realtime-%s: %u steps of %g ms a frame, budget %g ms (the frame's flight)\n", backend.c_str(),
-                name.c_str(), rt.scenario.steps_per_frame, rt.scenario.dt * 1000, rt.budget_ms);
+    std::printf("%-8s realtime-%s: %u steps of %g ms a frame, budget %g ms (the frame's flight)\n",
+                backend.c_str(), name.c_str(), rt.scenario.steps_per_frame, rt.scenario.dt * 1000,
+                rt.budget_ms);
     Run sub(rt);
     Series series = measure_series(sub, backend, "realtime-" + name);
     series.budget_ms = rt.budget_ms;
@@ -647,7 +658,9 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s, bo
   for (const Series& series : all) any = any || series.real_time() == real_time;
   if (!any) return;
   if (real_time)
-    std::printf("\nbirds in real time (median frame <= the frame's flight, flocking as the scenario says):\n");
+    std::printf(
+        "\nbirds in real time (median frame <= the frame's flight, flocking as the scenario "
+        "says):\n");
   else
     std::printf("\nbirds per frame (median frame <= %g ms):\n", s.budget_ms);
   for (const Series& series : all) {
@@ -665,15 +678,20 @@ void print_birds_per_frame(const std::vector<Series>& all, const Settings& s, bo
                   thousands(std::min_element(series.points.begin(), series.points.end(),
                                              [](const Measurement& a, const Measurement& b) {
                                                return a.birds < b.birds;
-                                             })->birds).c_str());
+                                             })
+                                ->birds)
+                      .c_str());
     else if (s.quick && series.birds_per_frame < largest_measured(series))
-      std::printf("  %-16s %s: the largest size measured that fitted (--quick does not search between sizes)",
-                  series.key().c_str(), thousands(series.birds_per_frame).c_str());
+      std::printf(
+          "  %-16s %s: the largest size measured that fitted (--quick does not search between "
+          "sizes)",
+          series.key().c_str(), thousands(series.birds_per_frame).c_str());
     else
-      std::printf("  %-16s %s%s", series.key().c_str(), thousands(series.birds_per_frame).c_str(),
-                  !series.lower_bound ? ""
-                  : s.quick           ? " or more: the largest size measured fitted (--quick does not search beyond)"
-                                      : " or more: every size measured fitted");
+      std::printf(
+          "  %-16s %s%s", series.key().c_str(), thousands(series.birds_per_frame).c_str(),
+          !series.lower_bound ? ""
+          : s.quick ? " or more: the largest size measured fitted (--quick does not search beyond)"
+                    : " or more: every size measured fitted");
     if (series.search_steps) std::printf("  [%d search steps]", series.search_steps);
     if (real_time) std::printf("  (dt %g ms, frame %g ms)", series.dt * 1000, series.budget_ms);
     std::printf("\n");
@@ -692,8 +710,9 @@ void print_ratios(const std::vector<Ratios>& ratios) {
 }
 
 void print_exponents(const Exponents& exponents) {
-  std::printf("\nscaling exponent b of ms per frame = a N^b (least squares over the sizes named: those\n"
-              ">= 3,000 birds where two were measured, else all):\n");
+  std::printf(
+      "\nscaling exponent b of ms per frame = a N^b (least squares over the sizes named: those\n"
+      ">= 3,000 birds where two were measured, else all):\n");
   for (const auto& [series, fit] : exponents) {
     if (!fit) {
       std::printf("  %-16s n/a (fewer than 2 sizes)\n", series.c_str());
@@ -707,10 +726,14 @@ void print_exponents(const Exponents& exponents) {
 
 void print_flocking_cost(const std::vector<Paired>& paired) {
   if (paired.empty()) return;
-  std::printf("\nflocking's cost, its frames alternated with those of the same flock without it (median ms a frame):\n");
+  std::printf(
+      "\nflocking's cost, its frames alternated with those of the same flock without it (median ms "
+      "a frame):\n");
   for (const Paired& p : paired)
-    std::printf("  %-8s %9s birds  %9.3f with, %9.3f without: flocking keeps %.0f %% of the birds per frame\n",
-                p.backend.c_str(), thousands(p.birds).c_str(), p.with_ms, p.without_ms, 100.0 * p.keeps());
+    std::printf(
+        "  %-8s %9s birds  %9.3f with, %9.3f without: flocking keeps %.0f %% of the birds per "
+        "frame\n",
+        p.backend.c_str(), thousands(p.birds).c_str(), p.with_ms, p.without_ms, 100.0 * p.keeps());
 }
 
 void print_summary(const Run& run, const std::vector<Ratios>& ratios, const Exponents& exponents) {

@@ -14,11 +14,11 @@ struct BenchOptions {
   std::string plot;    // PNG through gnuplot
   std::vector<std::string> backends{"vulkan", "cpu"};
   std::vector<std::string> variants;  // headless, solo, render, vtk (empty: all; --quick: headless)
-  uint32_t max_birds = 1000000;  // largest flock of the sweep
-  int repetitions = 0;           // timed frames per measurement (0: 5 quick, 15 full)
-  int device = -1;               // Vulkan device index
-  std::string scenario = "default";  // what every measurement flies (a name or FILE.toml)
-  double dt = 0.0;                   // s: the step instead of the scenario's (0: the scenario's)
+  uint32_t max_birds = 1000000;       // largest flock of the sweep
+  int repetitions = 0;                // timed frames per measurement (0: 5 quick, 15 full)
+  int device = -1;                    // Vulkan device index
+  std::string scenario = "default";   // what every measurement flies (a name or FILE.toml)
+  double dt = 0.0;                    // s: the step instead of the scenario's (0: the scenario's)
 };
 
 // Runs the benchmark, prints the table on stdout (progress on stderr when it is a terminal).

@@ -29,17 +29,18 @@ namespace fs = std::filesystem;
 using glm::dvec3;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kLeastPath = 100.0;  // cm: birds that flew less (perched all along) have no relative error
+constexpr double kLeastPath =
+    100.0;  // cm: birds that flew less (perched all along) have no relative error
 
 // One scenario flown at one dt.
 struct Run {
   double dt = 0.0;
-  std::vector<dvec3> end;     // each bird's position at the comparison time, cm
-  std::vector<double> path;   // each bird's distance flown to then, cm
+  std::vector<dvec3> end;    // each bird's position at the comparison time, cm
+  std::vector<double> path;  // each bird's distance flown to then, cm
   std::vector<uint32_t> flock;
-  std::vector<double> cut;    // s: when each bird's position was taken (its route's end, or the end)
-  double wall = 0.0;          // s
-  double sim = 0.0;           // s
+  std::vector<double> cut;  // s: when each bird's position was taken (its route's end, or the end)
+  double wall = 0.0;        // s
+  double sim = 0.0;         // s
   uint64_t birds = 0;
   uint64_t nan_birds = 0, below_ground = 0, over_bank = 0, over_pitch = 0;  // birds that ever did
   uint64_t targets_reached = 0, perched = 0;
@@ -74,7 +75,8 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
   run.flocks = any_flocking(scenario);
   const double compare_at = std::round(seconds / kFrameSeconds) * kFrameSeconds;
   const double ground = scenario.world.ground_height;
-  std::unique_ptr<Simulation> sim = make_simulation({options.backend, 0, options.device, false}, scenario);
+  std::unique_ptr<Simulation> sim =
+      make_simulation({options.backend, 0, options.device, false}, scenario);
   const Scenario& s = sim->scenario();
   const size_t n = sim->bird_count();
   std::vector<dvec3> last(n);  // each bird's position at the frame before
@@ -114,14 +116,17 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
         bank[i] |= std::fabs(bank_angle(b.attitude)) > sp.bank_max + kBankMargin;
         pitch[i] |= std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
       }
-      if (taken[i]) continue;  // the behaviours are judged to the end, the position where it was taken
+      if (taken[i])
+        continue;  // the behaviours are judged to the end, the position where it was taken
       run.path[i] += glm::length(b.position - last[i]);
       last[i] = b.position;
-      if (cut.empty() ? route_done(b, s.world) : t >= cut[i] - half_frame) take(i, b, t, cut.empty() ? t : cut[i]);
+      if (cut.empty() ? route_done(b, s.world) : t >= cut[i] - half_frame)
+        take(i, b, t, cut.empty() ? t : cut[i]);
     }
     if (progress.due()) {
       char text[160];
-      std::snprintf(text, sizeof text, "%s, dt %g ms: t = %.1f of %.1f s", label.c_str(), dt * 1e3, t, compare_at);
+      std::snprintf(text, sizeof text, "%s, dt %g ms: t = %.1f of %.1f s", label.c_str(), dt * 1e3,
+                    t, compare_at);
       progress.show(text);
     }
   }
@@ -166,7 +171,8 @@ void compare(Run& r, const Run& ref) {
   for (const auto& [f, c] : centroids) {
     const double mean_path = paths[f].first / paths[f].second;
     if (mean_path >= kLeastPath)
-      r.centroid_error = std::max(r.centroid_error, glm::length(c.first - c.second) / paths[f].second / mean_path);
+      r.centroid_error =
+          std::max(r.centroid_error, glm::length(c.first - c.second) / paths[f].second / mean_path);
   }
   std::vector<std::string> failed;
   auto count = [&](uint64_t k, const char* what) {
@@ -176,14 +182,17 @@ void compare(Run& r, const Run& ref) {
   count(r.below_ground, "below the ground");
   count(r.over_bank, "over-banked");
   count(r.over_pitch, "over-pitched");
-  // Every target the reference's birds reached, and as many perched, give or take a bird in a hundred.
+  // Every target the reference's birds reached, and as many perched, give or take a bird in a
+  // hundred.
   const auto slack = [](uint64_t ref_count) { return ref_count / 100; };
   if (r.targets_reached + slack(ref.targets_reached) < ref.targets_reached)
     failed.push_back(std::to_string(r.targets_reached) + " of the reference's " +
                      std::to_string(ref.targets_reached) + " targets");
-  const uint64_t perched_gap = r.perched > ref.perched ? r.perched - ref.perched : ref.perched - r.perched;
+  const uint64_t perched_gap =
+      r.perched > ref.perched ? r.perched - ref.perched : ref.perched - r.perched;
   if (perched_gap > slack(ref.perched))
-    failed.push_back(std::to_string(r.perched) + " perched, the reference " + std::to_string(ref.perched));
+    failed.push_back(std::to_string(r.perched) + " perched, the reference " +
+                     std::to_string(ref.perched));
   r.failed.clear();
   for (size_t i = 0; i < failed.size(); ++i) r.failed += (i ? ", " : "") + failed[i];
 }
@@ -218,8 +227,9 @@ std::string percent(double x) {
   return text;
 }
 
-nlohmann::ordered_json to_json(const std::vector<ScenarioStudy>& studies, const std::vector<EnvelopeStudy>& env,
-                               const ConvergeOptions& o, double largest) {
+nlohmann::ordered_json to_json(const std::vector<ScenarioStudy>& studies,
+                               const std::vector<EnvelopeStudy>& env, const ConvergeOptions& o,
+                               double largest) {
   using J = nlohmann::ordered_json;
   J j;
   j["seconds"] = o.seconds;
@@ -238,31 +248,36 @@ nlohmann::ordered_json to_json(const std::vector<ScenarioStudy>& studies, const 
                           {"too_close", f.metrics.too_close},
                           {"polarisation", f.metrics.polarisation},
                           {"largest_cluster", f.metrics.largest_cluster}});
-      runs.push_back({{"dt", r.dt},
-                      {"error_median", r.error_median},
-                      {"error_max", r.error_max},
-                      {"centroid_error", r.centroid_error},
-                      {"criterion", r.criterion()},
-                      {"holds", r.failed.empty()},
-                      {"failed", r.failed},
-                      {"nan_birds", r.nan_birds},
-                      {"below_ground", r.below_ground},
-                      {"over_bank", r.over_bank},
-                      {"over_pitch", r.over_pitch},
-                      {"targets_reached", r.targets_reached},
-                      {"perched", r.perched},
-                      {"wall_seconds", r.wall},
-                      {"bird_seconds_per_second", r.wall > 0 ? double(r.birds) * r.sim / r.wall : 0.0},
-                      {"flocking", flocks}});
+      runs.push_back(
+          {{"dt", r.dt},
+           {"error_median", r.error_median},
+           {"error_max", r.error_max},
+           {"centroid_error", r.centroid_error},
+           {"criterion", r.criterion()},
+           {"holds", r.failed.empty()},
+           {"failed", r.failed},
+           {"nan_birds", r.nan_birds},
+           {"below_ground", r.below_ground},
+           {"over_bank", r.over_bank},
+           {"over_pitch", r.over_pitch},
+           {"targets_reached", r.targets_reached},
+           {"perched", r.perched},
+           {"wall_seconds", r.wall},
+           {"bird_seconds_per_second", r.wall > 0 ? double(r.birds) * r.sim / r.wall : 0.0},
+           {"flocking", flocks}});
     }
-    scenarios.push_back({{"name", st.name}, {"birds", st.birds}, {"flocking", st.flocks}, {"runs", runs}});
+    scenarios.push_back(
+        {{"name", st.name}, {"birds", st.birds}, {"flocking", st.flocks}, {"runs", runs}});
   }
   j["scenarios"] = scenarios;
   J envelope = J::array();
   for (const EnvelopeStudy& e : env) {
     J rows = J::array();
     for (const EnvelopeStudy::Row& r : e.rows)
-      rows.push_back({{"dt", r.dt}, {"cases", r.cases}, {"reached", r.reached}, {"failures", r.failures},
+      rows.push_back({{"dt", r.dt},
+                      {"cases", r.cases},
+                      {"reached", r.reached},
+                      {"failures", r.failures},
                       {"wall_seconds", r.wall}});
     envelope.push_back({{"species", e.species}, {"rows", rows}});
   }
@@ -274,7 +289,8 @@ nlohmann::ordered_json to_json(const std::vector<ScenarioStudy>& studies, const 
 
 int run_converge(const ConvergeOptions& o) {
   if (!o.json.empty()) check_output_path(o.json, "--json", {".json"});
-  if (o.dts.size() < 2) throw std::runtime_error("--dts: expected at least two steps (the smallest is the reference)");
+  if (o.dts.size() < 2)
+    throw std::runtime_error("--dts: expected at least two steps (the smallest is the reference)");
   std::vector<double> dts = o.dts;
   std::sort(dts.begin(), dts.end());
   ConvergeOptions options = o;
@@ -283,13 +299,16 @@ int run_converge(const ConvergeOptions& o) {
   if (names.empty())
     for (const BuiltinScenario& b : builtin_scenarios()) names.push_back(b.name);
   std::vector<Scenario> scenarios;
-  for (const std::string& name : names) scenarios.push_back(load_scenario(name));  // bad names fail first
+  for (const std::string& name : names)
+    scenarios.push_back(load_scenario(name));  // bad names fail first
 
   const std::string envelope = o.envelope == "none" ? "" : " and the envelope (" + o.envelope + ")";
-  std::printf("aeroflock converge: %zu scenario%s%s at %zu steps from %g to %g ms, %g s each, on the %s backend; "
-              "the %g ms step is the reference\n",
-              scenarios.size(), scenarios.size() == 1 ? "" : "s", envelope.c_str(), dts.size(), dts.front() * 1e3,
-              dts.back() * 1e3, o.seconds, o.backend.c_str(), dts.front() * 1e3);
+  std::printf(
+      "aeroflock converge: %zu scenario%s%s at %zu steps from %g to %g ms, %g s each, on the %s "
+      "backend; "
+      "the %g ms step is the reference\n",
+      scenarios.size(), scenarios.size() == 1 ? "" : "s", envelope.c_str(), dts.size(),
+      dts.front() * 1e3, dts.back() * 1e3, o.seconds, o.backend.c_str(), dts.front() * 1e3);
   std::fflush(stdout);
   Progress progress;
   std::vector<ScenarioStudy> studies;
@@ -299,18 +318,21 @@ int run_converge(const ConvergeOptions& o) {
     st.flocks = any_flocking(scenario);
     st.runs.push_back(fly(scenario, dts.front(), o.seconds, {}, options, progress, scenario.name));
     for (size_t k = 1; k < dts.size(); ++k)
-      st.runs.push_back(fly(scenario, dts[k], o.seconds, st.runs.front().cut, options, progress, scenario.name));
+      st.runs.push_back(
+          fly(scenario, dts[k], o.seconds, st.runs.front().cut, options, progress, scenario.name));
     st.birds = st.runs.front().birds;
     for (Run& r : st.runs) compare(r, st.runs.front());
     progress.clear();
-    std::printf("\n%s: %llu bird%s%s\n", st.name.c_str(), (unsigned long long)st.birds, st.birds == 1 ? "" : "s",
+    std::printf("\n%s: %llu bird%s%s\n", st.name.c_str(), (unsigned long long)st.birds,
+                st.birds == 1 ? "" : "s",
                 st.flocks ? ", flocking (the error is the flock centroid's)" : "");
-    std::printf("  %8s  %12s  %12s  %12s  %16s  %s\n", "dt (ms)", "error median", "error max", "centroid",
-                "bird-s / s", "holds");
+    std::printf("  %8s  %12s  %12s  %12s  %16s  %s\n", "dt (ms)", "error median", "error max",
+                "centroid", "bird-s / s", "holds");
     for (const Run& r : st.runs)
-      std::printf("  %8g  %12s  %12s  %12s  %16.4g  %s\n", r.dt * 1e3, percent(r.error_median).c_str(),
-                  percent(r.error_max).c_str(), percent(r.centroid_error).c_str(),
-                  double(r.birds) * r.sim / r.wall, r.failed.empty() ? "yes" : ("no: " + r.failed).c_str());
+      std::printf("  %8g  %12s  %12s  %12s  %16.4g  %s\n", r.dt * 1e3,
+                  percent(r.error_median).c_str(), percent(r.error_max).c_str(),
+                  percent(r.centroid_error).c_str(), double(r.birds) * r.sim / r.wall,
+                  r.failed.empty() ? "yes" : ("no: " + r.failed).c_str());
     std::fflush(stdout);
     studies.push_back(std::move(st));
   }
@@ -329,7 +351,8 @@ int run_converge(const ConvergeOptions& o) {
             [&](double t) {
               if (!progress.due()) return;
               char text[160];
-              std::snprintf(text, sizeof text, "envelope %s, dt %g ms: t = %.0f s", species.name.c_str(), dt * 1e3, t);
+              std::snprintf(text, sizeof text, "envelope %s, dt %g ms: t = %.0f s",
+                            species.name.c_str(), dt * 1e3, t);
               progress.show(text);
             },
             dt);
@@ -346,8 +369,8 @@ int run_converge(const ConvergeOptions& o) {
         es.rows.push_back(row);
       }
       progress.clear();
-      std::printf("\nenvelope, %s (%zu cases):\n  %8s  %10s  %8s  %s\n", es.species.c_str(), cases.size(), "dt (ms)",
-                  "reached", "wall (s)", "failures");
+      std::printf("\nenvelope, %s (%zu cases):\n  %8s  %10s  %8s  %s\n", es.species.c_str(),
+                  cases.size(), "dt (ms)", "reached", "wall (s)", "failures");
       for (const EnvelopeStudy::Row& r : es.rows) {
         std::printf("  %8g  %10zu  %8.1f ", r.dt * 1e3, r.reached, r.wall);
         for (const auto& [what, k] : r.failures) std::printf(" %s %d", what.c_str(), k);

@@ -12,13 +12,14 @@ namespace aeroflock {
 
 struct ConvergeOptions {
   std::vector<std::string> scenarios;  // built-in names or FILE.toml (empty: every built-in)
-  std::vector<double> dts{0.0001, 0.0003, 0.0005, 0.001, 0.002, 0.003, 0.005, 0.01};  // s; the smallest is the reference
-  double seconds = 10.0;               // flown by each run; positions compared at the end
-  std::string backend = "cpu";         // cpu (double, the reference) or vulkan
+  std::vector<double> dts{0.0001, 0.0003, 0.0005, 0.001,
+                          0.002,  0.003,  0.005,  0.01};  // s; the smallest is the reference
+  double seconds = 10.0;        // flown by each run; positions compared at the end
+  std::string backend = "cpu";  // cpu (double, the reference) or vulkan
   int device = -1;
-  std::string envelope = "sample";     // none, quick, sample (every 5th flight) or whole
-  std::string json;                    // every figure, to this file
-  double tolerance = 0.01;             // the position error allowed, of the distance flown
+  std::string envelope = "sample";  // none, quick, sample (every 5th flight) or whole
+  std::string json;                 // every figure, to this file
+  double tolerance = 0.01;          // the position error allowed, of the distance flown
 };
 
 // Returns 0 when at least one step but the reference holds everywhere within the tolerance.

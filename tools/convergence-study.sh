@@ -2,7 +2,7 @@
 # The time step's convergence study (docs/convergence.md), as its tables were made:
 #   1. aeroflock converge: every built-in scenario and the envelope's sample at 0.1 to 10 ms, on the
 #      CPU reference, against the 0.1 ms step (convergence.json, convergence.txt);
-#   2. MODEL.md's behaviours (tests/test_behaviours.cpp, the CPU reference) flown at each step;
+#   2. docs/MODEL.md's behaviours (tests/test_behaviours.cpp, the CPU reference) flown at each step;
 #   3. the tables, in Markdown, on stdout, and the plot (tools/convergence_table.py: convergence.png).
 # usage: tools/convergence-study.sh [BUILD_DIR] [OUT_DIR]     (defaults: build/release, docs)
 # About 40 minutes on 2 cores.

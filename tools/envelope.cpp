@@ -25,7 +25,8 @@ Species species_named(const std::string& name) {
   }
   for (const Species& s : species_presets())
     if (s.name == name) return s;
-  throw std::runtime_error("--species: no preset named \"" + name + "\" (eagle, starling, or a FILE.toml)");
+  throw std::runtime_error("--species: no preset named \"" + name +
+                           "\" (eagle, starling, or a FILE.toml)");
 }
 
 // One row of a table: how many of the cases with this value of a dimension succeed.
@@ -44,7 +45,9 @@ void print_table(const char* dimension, const std::map<std::string, Tally>& rows
 }
 
 std::string kind_name(EnvelopeCase::Kind k) {
-  return k == EnvelopeCase::Kind::flight ? "flight" : k == EnvelopeCase::Kind::takeoff ? "takeoff" : "landing";
+  return k == EnvelopeCase::Kind::flight    ? "flight"
+         : k == EnvelopeCase::Kind::takeoff ? "takeoff"
+                                            : "landing";
 }
 
 }  // namespace
@@ -55,18 +58,22 @@ int run_envelope(const EnvelopeOptions& options) {
     throw std::runtime_error("--backend: expected cpu or vulkan, got " + options.backend);
   const Species species = species_named(options.species);
   const std::vector<EnvelopeCase> cases = envelope_cases(options.quick);
-  std::printf("aeroflock envelope: %s, %zu cases on the %s backend, dt %g s\n", species.name.c_str(), cases.size(),
-              options.backend.c_str(), options.dt);
+  std::printf("aeroflock envelope: %s, %zu cases on the %s backend, dt %g s\n",
+              species.name.c_str(), cases.size(), options.backend.c_str(), options.dt);
   std::fflush(stdout);
 
   const SimulationFactory make = simulation_factory(options.backend, options.device);
   Progress progress;
-  const std::vector<EnvelopeResult> results = fly_envelope(species, cases, make, [&](double t) {
-    if (progress.due()) progress.show("t = " + std::to_string(int(t)) + " s");
-  }, options.dt);
+  const std::vector<EnvelopeResult> results = fly_envelope(
+      species, cases, make,
+      [&](double t) {
+        if (progress.due()) progress.show("t = " + std::to_string(int(t)) + " s");
+      },
+      options.dt);
   progress.finish();
 
-  std::map<std::string, Tally> by_kind, by_speed, by_pitch, by_bank, by_rise, by_bearing, by_distance, by_wind;
+  std::map<std::string, Tally> by_kind, by_speed, by_pitch, by_bank, by_rise, by_bearing,
+      by_distance, by_wind;
   int reached = 0;
   for (const EnvelopeResult& r : results) {
     const bool ok = r.outcome == Outcome::reached;
@@ -74,8 +81,10 @@ int run_envelope(const EnvelopeOptions& options) {
     auto count = [&](std::map<std::string, Tally>& rows, const std::string& value) {
       Tally& t = rows[value];
       ++t.total;
-      if (ok) ++t.reached;
-      else ++t.failures[name(r.outcome)];
+      if (ok)
+        ++t.reached;
+      else
+        ++t.failures[name(r.outcome)];
     };
     auto fmt = [](const char* f, double v) {
       char text[32];
@@ -104,12 +113,14 @@ int run_envelope(const EnvelopeOptions& options) {
   int shown = 0;
   for (const EnvelopeResult& r : results)
     if (r.outcome != Outcome::reached && shown++ < 10)
-      std::printf("%s  %s: %s at %.1f s (bank %.0f, pitch %.0f deg, lowest %.1f m)\n", shown == 1 ? "\nfailing, e.g.\n" : "",
-                  r.c.describe().c_str(), name(r.outcome), r.time, degrees(r.worst_bank), degrees(r.worst_pitch),
-                  r.lowest / 100);
+      std::printf("%s  %s: %s at %.1f s (bank %.0f, pitch %.0f deg, lowest %.1f m)\n",
+                  shown == 1 ? "\nfailing, e.g.\n" : "", r.c.describe().c_str(), name(r.outcome),
+                  r.time, degrees(r.worst_bank), degrees(r.worst_pitch), r.lowest / 100);
 
   if (!options.json.empty()) {
-    nlohmann::json j = {{"species", species.name}, {"backend", options.backend}, {"cases", results.size()},
+    nlohmann::json j = {{"species", species.name},
+                        {"backend", options.backend},
+                        {"cases", results.size()},
                         {"reached", reached}};
     nlohmann::json list = nlohmann::json::array();
     for (const EnvelopeResult& r : results)

@@ -32,9 +32,10 @@ struct FrameOutput::Impl {
   double camera_time = 0.0;                     // simulated time of its last update
   std::unique_ptr<VideoWriter> video;
   double video_fps = 0.0;
-  uint64_t dir_frames = 0;    // PNGs written to frames_dir
+  uint64_t dir_frames = 0;  // PNGs written to frames_dir
   bool png_written = false, video_written = false;
-  uint64_t video_frames = 0;  // written so far: frame k (from 0) shows simulated time (k + 1) / video_fps
+  uint64_t video_frames =
+      0;  // written so far: frame k (from 0) shows simulated time (k + 1) / video_fps
 
   Impl(const ImageOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png", {".png"});
@@ -45,22 +46,23 @@ struct FrameOutput::Impl {
             "--video needs ffmpeg, which is not installed (Debian: apt-get install ffmpeg)");
       if (options.width % 2 != 0 || options.height % 2 != 0)
         throw std::runtime_error("--video needs an even width and height (H.264), got --size " +
-                                 std::to_string(options.width) + "x" + std::to_string(options.height));
+                                 std::to_string(options.width) + "x" +
+                                 std::to_string(options.height));
       check_output_path(options.video, "--video", {".mp4", ".mkv", ".mov", ".webm"});
     }
     if (options.camera.bird >= sim.bird_count())
-      throw std::runtime_error("--camera-bird " + std::to_string(options.camera.bird) + ": the run has " +
-                               std::to_string(sim.bird_count()) + " birds (0 to " +
-                               std::to_string(sim.bird_count() - 1) + ")");
-    if (const auto* gpu_sim = dynamic_cast<const gpu::GpuSimulation*>(&sim)) device = &gpu_sim->gpu_device();
+      throw std::runtime_error("--camera-bird " + std::to_string(options.camera.bird) +
+                               ": the run has " + std::to_string(sim.bird_count()) +
+                               " birds (0 to " + std::to_string(sim.bird_count() - 1) + ")");
+    if (const auto* gpu_sim = dynamic_cast<const gpu::GpuSimulation*>(&sim))
+      device = &gpu_sim->gpu_device();
     if (!device) {
       gpu::DeviceOptions d = gpu::headless(-1, false);
       d.graphics = true;
       own_device = std::make_unique<gpu::Device>(d);
       device = own_device.get();
       own_birds = std::make_unique<gpu::Buffer>(
-          *device, std::max<size_t>(sim.bird_count(), 1) * sizeof(gpu::GpuBird),
-          gpu::Memory::host);
+          *device, std::max<size_t>(sim.bird_count(), 1) * sizeof(gpu::GpuBird), gpu::Memory::host);
     }
     const VkExtent2D size{options.width, options.height};
     renderer = std::make_unique<render::Renderer>(*device, sim.scenario(),
@@ -72,8 +74,10 @@ struct FrameOutput::Impl {
       const double frame_seconds = sim.scenario().dt * sim.scenario().steps_per_frame;
       video_fps = options.fps.value_or(1.0 / frame_seconds);
       char rate[64];
-      if (options.fps) std::snprintf(rate, sizeof rate, "%.9g", *options.fps);
-      else std::snprintf(rate, sizeof rate, "1000000/%.0f", frame_seconds * 1e6);
+      if (options.fps)
+        std::snprintf(rate, sizeof rate, "%.9g", *options.fps);
+      else
+        std::snprintf(rate, sizeof rate, "1000000/%.0f", frame_seconds * 1e6);
       video = std::make_unique<VideoWriter>(options.video, options.width, options.height, rate);
     }
   }

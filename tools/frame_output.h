@@ -18,7 +18,7 @@ struct ImageOptions {
   std::string png;         // the last frame
   std::string frames_dir;  // every `every`-th frame as frame_000000.png, ...
   uint32_t every = 1;
-  std::string video;  // FILE.mp4, through ffmpeg
+  std::string video;          // FILE.mp4, through ffmpeg
   std::optional<double> fps;  // video frames per simulated second (default: one a frame, real time)
   uint32_t width = 1280, height = 720;
   render::CameraOptions camera;

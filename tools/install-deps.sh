@@ -17,6 +17,8 @@ packages=(
   # The fuzz preset: clang, its libFuzzer and sanitizer runtimes (not pulled in without
   # recommends) and its OpenMP runtime.
   clang libclang-rt-14-dev libomp-dev
+  # The sources' formatting check (tools/check_format.sh): Debian 12's clang-format, version 14.
+  clang-format
 )
 
 installed() {

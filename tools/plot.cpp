@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 
 TempDir::TempDir(const std::string& prefix) {
   std::string pattern = (fs::temp_directory_path() / (prefix + "-XXXXXX")).string();
-  if (!::mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary directory " + pattern);
+  if (!::mkdtemp(pattern.data()))
+    throw std::runtime_error("cannot create a temporary directory " + pattern);
   path = pattern;
 }
 
@@ -57,17 +58,21 @@ void write_plot_png(const fs::path& png, const std::string& option, int width, i
   // gnuplot's warnings (a range of one point, say) are its own business; its messages are shown
   // only when it fails.
   const fs::path log = dir.path / "gnuplot.log";
-  const std::string command = "gnuplot " + shell_string(script.string()) + " 2>" + shell_string(log.string());
+  const std::string command =
+      "gnuplot " + shell_string(script.string()) + " 2>" + shell_string(log.string());
   if (std::system(command.c_str()) != 0) {
     std::ifstream messages(log);
-    const std::string text((std::istreambuf_iterator<char>(messages)), std::istreambuf_iterator<char>());
-    throw std::runtime_error(option + ": gnuplot failed writing " + png.string() + (text.empty() ? "" : ":\n" + text));
+    const std::string text((std::istreambuf_iterator<char>(messages)),
+                           std::istreambuf_iterator<char>());
+    throw std::runtime_error(option + ": gnuplot failed writing " + png.string() +
+                             (text.empty() ? "" : ":\n" + text));
   }
   // gnuplot draws into the scratch directory; the image reaches `png` through an AtomicFile, which
   // reports a failure there as every output does.
   std::ifstream in(image, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw std::runtime_error(option + ": cannot read gnuplot's image " + image.string());
+  if (!in.good() && !in.eof())
+    throw std::runtime_error(option + ": cannot read gnuplot's image " + image.string());
   try {
     write_text_atomically(png, bytes);
   } catch (const std::runtime_error& e) {

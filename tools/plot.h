@@ -29,7 +29,8 @@ std::string gnuplot_string(const std::string& text);
 // Runs the gnuplot script that `write` writes (after the terminal and output lines; its data files
 // go in `dir`) and puts the image at `png` atomically: never a half-written image. `option` names
 // the command line option in errors. Throws std::runtime_error.
-void write_plot_png(const std::filesystem::path& png, const std::string& option, int width, int height,
-                    const std::function<void(std::ostream& script, const std::filesystem::path& dir)>& write);
+void write_plot_png(
+    const std::filesystem::path& png, const std::string& option, int width, int height,
+    const std::function<void(std::ostream& script, const std::filesystem::path& dir)>& write);
 
 }  // namespace aeroflock

@@ -46,7 +46,8 @@ std::string human_duration(double seconds) {
 void Pace::add(double wall, double simulated) {
   samples_.emplace_back(wall, simulated);
   // Keep one sample older than the window, so that the window is always spanned.
-  while (samples_.size() > 2 && samples_[1].first <= wall - kWindow) samples_.erase(samples_.begin());
+  while (samples_.size() > 2 && samples_[1].first <= wall - kWindow)
+    samples_.erase(samples_.begin());
 }
 
 double Pace::rate() const {
@@ -56,15 +57,18 @@ double Pace::rate() const {
   return w1 - w0 >= 0.5 && s1 > s0 ? (s1 - s0) / (w1 - w0) : 0.0;
 }
 
-std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt, double pace) {
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt,
+                         double pace) {
   char text[192];
-  int n = std::snprintf(text, sizeof text, "t = %.2f / %.2f s (%.0f %%)   %zu birds", sim_seconds, total_seconds,
-                        100.0 * sim_seconds / total_seconds, birds);
+  int n = std::snprintf(text, sizeof text, "t = %.2f / %.2f s (%.0f %%)   %zu birds", sim_seconds,
+                        total_seconds, 100.0 * sim_seconds / total_seconds, birds);
   if (pace > 0.0)
-    std::snprintf(text + n, sizeof text - size_t(n), "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
+    std::snprintf(text + n, sizeof text - size_t(n),
+                  "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
                   double(birds) * pace / dt,
-                  (total_seconds - sim_seconds) / pace < 1.0 ? "< 1 s"
-                                                             : human_duration((total_seconds - sim_seconds) / pace).c_str());
+                  (total_seconds - sim_seconds) / pace < 1.0
+                      ? "< 1 s"
+                      : human_duration((total_seconds - sim_seconds) / pace).c_str());
   return text;
 }
 

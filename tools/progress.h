@@ -40,13 +40,14 @@ class Pace {
   double rate() const;
 
  private:
-  static constexpr double kWindow = 3.0;  // s of wall time
+  static constexpr double kWindow = 3.0;            // s of wall time
   std::vector<std::pair<double, double>> samples_;  // (wall, simulated), oldest first
 };
 
 // The run's line: simulated time of all (and the share done), the birds, and at `pace` (0: not
 // known yet) how fast against the wall clock (times real time, bird-steps per second) and the wall
 // time left.
-std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt, double pace);
+std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt,
+                         double pace);
 
 }  // namespace aeroflock

@@ -129,7 +129,8 @@ VkDeviceSize storage_capacity(const Device& device, size_t element_size) {
   if (element_size == 0) throw std::invalid_argument("storage_capacity: element_size 0");
   const DeviceInfo& info = device.info();
   VkDeviceSize most = ~VkDeviceSize{0};
-  for (VkDeviceSize limit : {info.max_storage_buffer_range, info.max_allocation_size, info.device_local_heap})
+  for (VkDeviceSize limit :
+       {info.max_storage_buffer_range, info.max_allocation_size, info.device_local_heap})
     if (limit > 0) most = std::min(most, limit);
   return most / element_size;
 }

@@ -9,12 +9,16 @@ namespace {
 
 uint32_t format_bytes(VkFormat format) {
   switch (format) {
-    case VK_FORMAT_R32_UINT: return 4;
-    case VK_FORMAT_R32G32_UINT: return 8;
+    case VK_FORMAT_R32_UINT:
+      return 4;
+    case VK_FORMAT_R32G32_UINT:
+      return 8;
     case VK_FORMAT_R32G32B32A32_SFLOAT:
     case VK_FORMAT_R32G32B32A32_SINT:
-    case VK_FORMAT_R32G32B32A32_UINT: return 16;
-    default: throw Error("compute pipeline: texel format " + std::to_string(format) + " not supported");
+    case VK_FORMAT_R32G32B32A32_UINT:
+      return 16;
+    default:
+      throw Error("compute pipeline: texel format " + std::to_string(format) + " not supported");
   }
 }
 
@@ -62,9 +66,11 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     pipeline.stage.module = module_;
     pipeline.stage.pName = "main";
     std::vector<VkSpecializationMapEntry> entries(constants.size());
-    for (uint32_t i = 0; i < entries.size(); ++i) entries[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
+    for (uint32_t i = 0; i < entries.size(); ++i)
+      entries[i] = {i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)};
     const VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
-                                              constants.size() * sizeof(uint32_t), constants.data()};
+                                              constants.size() * sizeof(uint32_t),
+                                              constants.data()};
     if (!constants.empty()) pipeline.stage.pSpecializationInfo = &specialization;
     pipeline.layout = layout_;
     check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &pipeline, nullptr, &pipeline_),
@@ -72,7 +78,8 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
 
     std::vector<VkDescriptorPoolSize> sizes;
     for (const Binding& b : bindings_) {
-      auto same = std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
+      auto same =
+          std::find_if(sizes.begin(), sizes.end(), [&](const auto& s) { return s.type == b.type; });
       if (same == sizes.end()) same = sizes.insert(sizes.end(), {b.type, 0});
       same->descriptorCount += max_sets;
     }
@@ -109,9 +116,10 @@ void ComputePipeline::destroy() {
 // Throws Error unless a buffer of `bytes` fits the device's limit for the binding's type.
 void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) const {
   const VkPhysicalDeviceLimits& limits = device_.limits();
-  const auto fail = [&](const char* what, VkDeviceSize size, VkDeviceSize most, const char* unit, const char* limit) {
-    throw Error(std::string("a ") + what + " of " + std::to_string(size) + " " + unit + "; " + device_.name() +
-                " allows " + std::to_string(most) + " (" + limit + ")");
+  const auto fail = [&](const char* what, VkDeviceSize size, VkDeviceSize most, const char* unit,
+                        const char* limit) {
+    throw Error(std::string("a ") + what + " of " + std::to_string(size) + " " + unit + "; " +
+                device_.name() + " allows " + std::to_string(most) + " (" + limit + ")");
   };
   switch (binding.type) {
     case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
@@ -119,12 +127,13 @@ void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) co
         throw Error("a texel buffer of " + std::to_string(bytes) + " bytes holds no texel of " +
                     std::to_string(format_bytes(binding.texels)));
       if (bytes / format_bytes(binding.texels) > limits.maxTexelBufferElements)
-        fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements, "texels",
-             "maxTexelBufferElements");
+        fail("texel buffer", bytes / format_bytes(binding.texels), limits.maxTexelBufferElements,
+             "texels", "maxTexelBufferElements");
       break;
     default:
       if (bytes > limits.maxStorageBufferRange)
-        fail("storage buffer", bytes, limits.maxStorageBufferRange, "bytes", "maxStorageBufferRange");
+        fail("storage buffer", bytes, limits.maxStorageBufferRange, "bytes",
+             "maxStorageBufferRange");
   }
 }
 
@@ -133,16 +142,20 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Bound> bound) {
   const size_t count = bindings_.size();
   std::vector<const Buffer*> buffers(count, nullptr);
   for (const Bound& b : bound) {
-    const auto it = std::find_if(bindings_.begin(), bindings_.end(),
-                                 [&](const Binding& binding) { return binding.number == b.binding; });
+    const auto it = std::find_if(bindings_.begin(), bindings_.end(), [&](const Binding& binding) {
+      return binding.number == b.binding;
+    });
     if (it == bindings_.end())
-      throw Error("compute pipeline: a buffer for binding " + std::to_string(b.binding) + ", which it does not have");
+      throw Error("compute pipeline: a buffer for binding " + std::to_string(b.binding) +
+                  ", which it does not have");
     const Buffer*& slot = buffers[size_t(it - bindings_.begin())];
-    if (slot) throw Error("compute pipeline: binding " + std::to_string(b.binding) + " given twice");
+    if (slot)
+      throw Error("compute pipeline: binding " + std::to_string(b.binding) + " given twice");
     slot = b.buffer;
   }
   for (size_t i = 0; i < count; ++i) {
-    if (!buffers[i]) throw Error("compute pipeline: no buffer for binding " + std::to_string(bindings_[i].number));
+    if (!buffers[i])
+      throw Error("compute pipeline: no buffer for binding " + std::to_string(bindings_[i].number));
     check_range(bindings_[i], buffers[i]->size());
   }
 
@@ -167,7 +180,8 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Bound> bound) {
       VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
       view.buffer = buffers[i]->handle();
       view.format = bindings_[i].texels;
-      view.range = buffers[i]->size() / format_bytes(bindings_[i].texels) * format_bytes(bindings_[i].texels);
+      view.range = buffers[i]->size() / format_bytes(bindings_[i].texels) *
+                   format_bytes(bindings_[i].texels);
       check(vkCreateBufferView(device_.handle(), &view, nullptr, &views[i]), "vkCreateBufferView");
       views_.push_back(views[i]);
       writes[i].pTexelBufferView = &views[i];
@@ -214,13 +228,15 @@ uint32_t group_count(uint64_t items, uint32_t local_size) {
   return static_cast<uint32_t>(groups);
 }
 
-void check_group_count(const Device& device, uint64_t items, uint32_t local_size, std::string_view what) {
+void check_group_count(const Device& device, uint64_t items, uint32_t local_size,
+                       std::string_view what) {
   const uint64_t most_groups = device.limits().maxComputeWorkGroupCount[0];
   const uint64_t groups = (items + local_size - 1) / local_size;
   if (groups <= most_groups) return;
   throw Error(std::to_string(items) + " " + std::string(what) + " need " + std::to_string(groups) +
-              " work groups of " + std::to_string(local_size) + " in one dispatch; " + device.name() + " allows " +
-              std::to_string(most_groups) + " (maxComputeWorkGroupCount[0]): at most " +
+              " work groups of " + std::to_string(local_size) + " in one dispatch; " +
+              device.name() + " allows " + std::to_string(most_groups) +
+              " (maxComputeWorkGroupCount[0]): at most " +
               std::to_string(most_groups * local_size) + " " + std::string(what));
 }
 

@@ -92,7 +92,8 @@ uint32_t group_count(uint64_t items, uint32_t local_size);
 // device's maxComputeWorkGroupCount[0]; the message names the most that fit, e.g. "5000000 birds
 // need 78125 work groups of 64 in one dispatch; llvmpipe (...) allows 65535
 // (maxComputeWorkGroupCount[0]): at most 4194240 birds".
-void check_group_count(const Device& device, uint64_t items, uint32_t local_size, std::string_view what = "birds");
+void check_group_count(const Device& device, uint64_t items, uint32_t local_size,
+                       std::string_view what = "birds");
 
 // Barriers (global memory barriers; every earlier compute or transfer write is covered):
 // earlier compute/transfer writes -> compute shader reads and writes (and earlier reads before

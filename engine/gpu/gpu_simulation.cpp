@@ -16,7 +16,8 @@ namespace {
 // A buffer holding `items` (at least one element, so that every binding is a valid buffer), once
 // the device is known to hold that many (`what` they are, for the error).
 template <class T>
-Buffer buffer_with(const Device& device, const std::vector<T>& items, Memory memory, std::string_view what) {
+Buffer buffer_with(const Device& device, const std::vector<T>& items, Memory memory,
+                   std::string_view what) {
   check_storage_size(device, std::max<size_t>(items.size(), 1) * sizeof(T), sizeof(T), what);
   Buffer b(device, std::max<size_t>(items.size(), 1) * sizeof(T), memory);
   if (!items.empty()) b.upload(std::as_bytes(std::span<const T>(items)));
@@ -36,14 +37,15 @@ uint32_t frames_fitting(const Device& device, const World& world) {
   const size_t frame_bytes = 2 * sizeof(GpuTarget);  // a target at a frame's start and the next's
   check_storage_size(device, world.targets.size() * frame_bytes, frame_bytes, "targets");
   if (world.targets.empty()) return kFramesPerSubmission;
-  return uint32_t(std::clamp<VkDeviceSize>(storage_capacity(device, frame_bytes) / world.targets.size(), 1,
-                                           kFramesPerSubmission));
+  return uint32_t(std::clamp<VkDeviceSize>(
+      storage_capacity(device, frame_bytes) / world.targets.size(), 1, kFramesPerSubmission));
 }
 
 // A frame's targets: where they are at its start, then at the next frame's start; for each frame
 // of a submission.
 Buffer targets_buffer(const Device& device, const World& world, uint32_t frames) {
-  return Buffer(device, std::max<size_t>(2 * world.targets.size() * frames, 1) * sizeof(GpuTarget), Memory::host);
+  return Buffer(device, std::max<size_t>(2 * world.targets.size() * frames, 1) * sizeof(GpuTarget),
+                Memory::host);
 }
 
 // Throws Error unless `birds` fit the device: their states in one storage buffer, one invocation
@@ -51,7 +53,8 @@ Buffer targets_buffer(const Device& device, const World& world, uint32_t frames)
 // the error's "at most" is the largest flock that fits.
 void check_flock_fits(const Device& device, uint64_t birds) {
   const uint64_t by_groups = uint64_t(device.limits().maxComputeWorkGroupCount[0]) * kWorkgroupSize;
-  if (storage_capacity(device, sizeof(GpuBird)) > by_groups) check_group_count(device, birds, kWorkgroupSize);
+  if (storage_capacity(device, sizeof(GpuBird)) > by_groups)
+    check_group_count(device, birds, kWorkgroupSize);
   check_storage_size(device, birds * sizeof(GpuBird), sizeof(GpuBird));
   check_group_count(device, birds, kWorkgroupSize);
 }
@@ -74,8 +77,8 @@ std::vector<BirdState> spawn_fitting(const Device& device, const Scenario& scena
 // Every bird's perception, none seen yet (one element when no flock flocks).
 Buffer perception_buffer(const Device& device, size_t birds, bool flocking) {
   const size_t n = flocking ? birds : 0;
-  return buffer_with(device, std::vector<GpuPerception>(n, pack(Perception{})), Memory::device_local,
-                     "birds' perception");
+  return buffer_with(device, std::vector<GpuPerception>(n, pack(Perception{})),
+                     Memory::device_local, "birds' perception");
 }
 
 Buffer grid_buffer(const Device& device, size_t words, const char* what) {
@@ -97,15 +100,17 @@ std::vector<Binding> world_and(std::initializer_list<Binding> more) {
 }
 
 // The search reads the grid as texels (compute.h: Binding).
-const std::vector<Binding> kPerceiveBindings = world_and({kBindingPerception,
-                                                          {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
-                                                          {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
-                                                          {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
-                                                          {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}});
+const std::vector<Binding> kPerceiveBindings =
+    world_and({kBindingPerception,
+               {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
+               {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
+               {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
+               {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}});
 
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
 // 1), and whether each of them sees that many (kAllSeeKSeen).
-std::vector<uint32_t> perceive_constants(const Scenario& scenario, const std::vector<BirdState>& birds) {
+std::vector<uint32_t> perceive_constants(const Scenario& scenario,
+                                         const std::vector<BirdState>& birds) {
   const std::vector<bool> flocks = flocking_species(scenario.species.size(), birds);
   uint32_t most = 0, least = aeroflock::kMaxNeighbours;
   for (size_t k = 0; k < flocks.size(); ++k)
@@ -132,23 +137,28 @@ Buffer search_buffer(const Device& device, const GridShape& shape, double radius
 
 }  // namespace
 
-GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds)
+GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario,
+                                  const std::vector<BirdState>& birds)
     : shape(grid_shape(scenario.species, birds)),
       place(grid_buffer(device, 2 * birds.size(), "birds' grid places")),
       counts(grid_buffer(device, shape.buckets, "grid slots")),
       starts(grid_buffer(device, shape.buckets, "grid slots")),
       blocks(grid_buffer(device, shape.buckets / kScanBlock, "grid blocks")),
-      points(grid_buffer(device, 4 * std::max<size_t>(birds.size(), 1), "birds in the grid")),  // a texel at least
+      points(grid_buffer(device, 4 * std::max<size_t>(birds.size(), 1),
+                         "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
       ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
       search(search_buffer(device, shape, farthest_seen(scenario, birds))),
       count(device, shader_spirv("grid_count"),
-            world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners, kBindingPerception}),
+            world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners,
+                       kBindingPerception}),
             sizeof(StepConstants), 2),
-      scan_blocks(device, shader_spirv("grid_scan_blocks"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
+      scan_blocks(device, shader_spirv("grid_scan_blocks"),
+                  {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
-      scan_totals(device, shader_spirv("grid_scan_totals"), {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
+      scan_totals(device, shader_spirv("grid_scan_totals"),
+                  {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
       ranges_pass(device, shader_spirv("grid_ranges"),
                   {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridRanges},
@@ -158,8 +168,12 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
                perceive_constants(scenario, birds)) {
-  scan_blocks.set_buffers({{kBindingGridCounts, &counts}, {kBindingGridStarts, &starts}, {kBindingGridBlocks, &blocks}});
-  scan_totals.set_buffers({{kBindingGridCounts, &counts}, {kBindingGridStarts, &starts}, {kBindingGridBlocks, &blocks}});
+  scan_blocks.set_buffers({{kBindingGridCounts, &counts},
+                           {kBindingGridStarts, &starts},
+                           {kBindingGridBlocks, &blocks}});
+  scan_totals.set_buffers({{kBindingGridCounts, &counts},
+                           {kBindingGridStarts, &starts},
+                           {kBindingGridBlocks, &blocks}});
   ranges_pass.set_buffers({{kBindingGridCounts, &counts},
                            {kBindingGridStarts, &starts},
                            {kBindingGridBlocks, &blocks},
@@ -183,16 +197,21 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       device_(device),
       count_(static_cast<uint32_t>(birds.size())),
       birds_(make_bird_buffer(device, birds)),
-      species_(buffer_with(device, pack_species(this->scenario()), Memory::device_local, "species")),
+      species_(
+          buffer_with(device, pack_species(this->scenario()), Memory::device_local, "species")),
       routes_(buffer_with(device, pack(world()).routes, Memory::device_local, "routes")),
-      route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local, "routes' targets")),
+      route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local,
+                                 "routes' targets")),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
-      step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingStepsShort}), sizeof(StepConstants), 2),
+      step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingStepsShort}),
+            sizeof(StepConstants), 2),
       frames_per_submission_(frames_fitting(device, world())),
-      slots_{{targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+      slots_{{targets_buffer(device, world(), frames_per_submission_),
+              Buffer(device, birds_.size(), Memory::host),
               Buffer(device, sizeof(uint32_t), Memory::host)},
-             {targets_buffer(device, world(), frames_per_submission_), Buffer(device, birds_.size(), Memory::host),
+             {targets_buffer(device, world(), frames_per_submission_),
+              Buffer(device, birds_.size(), Memory::host),
               Buffer(device, sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
@@ -201,16 +220,18 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     flocking_ = std::make_unique<Flocking>(device, this->scenario(), initial_);
   for (Slot& slot : slots_) {
     std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
-    slot.set = step_.make_set(
-        world_buffers(slot.targets, {{kBindingPerception, &perception_}, {kBindingStepsShort, &slot.steps_short}}));
+    slot.set =
+        step_.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
+                                                    {kBindingStepsShort, &slot.steps_short}}));
     if (!flocking_) continue;
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
-    slot.perceive_set = f.perceive.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
-                                                                         {kBindingGridPoints, &f.points},
-                                                                         {kBindingGridKeys, &f.keys},
-                                                                         {kBindingGridRanges, &f.ranges},
-                                                                         {kBindingGridSearch, &f.search}}));
+    slot.perceive_set =
+        f.perceive.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
+                                                         {kBindingGridPoints, &f.points},
+                                                         {kBindingGridKeys, &f.keys},
+                                                         {kBindingGridRanges, &f.ranges},
+                                                         {kBindingGridSearch, &f.search}}));
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
@@ -242,7 +263,8 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
   f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
   barrier_to_compute(cmd);
-  f.ranges_pass.dispatch(cmd, std::min(group_count(f.shape.buckets, kWorkgroupSize), kMaxRowGroups), &c, sizeof c);
+  f.ranges_pass.dispatch(cmd, std::min(group_count(f.shape.buckets, kWorkgroupSize), kMaxRowGroups),
+                         &c, sizeof c);
   barrier_to_compute(cmd);
   f.scatter.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);
@@ -250,10 +272,14 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
 }
 
-std::vector<Bound> GpuSimulation::world_buffers(const Buffer& targets, std::initializer_list<Bound> more) const {
-  std::vector<Bound> all = {{kBindingBirds, &birds_},   {kBindingSpecies, &species_},
-                            {kBindingTargets, &targets}, {kBindingRoutes, &routes_},
-                            {kBindingRouteTargets, &route_targets_}, {kBindingBranches, &branches_}};
+std::vector<Bound> GpuSimulation::world_buffers(const Buffer& targets,
+                                                std::initializer_list<Bound> more) const {
+  std::vector<Bound> all = {{kBindingBirds, &birds_},
+                            {kBindingSpecies, &species_},
+                            {kBindingTargets, &targets},
+                            {kBindingRoutes, &routes_},
+                            {kBindingRouteTargets, &route_targets_},
+                            {kBindingBranches, &branches_}};
   all.insert(all.end(), more);
   return all;
 }
@@ -269,13 +295,14 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      world_and({kBindingPerception, kBindingForces, kBindingStepsShort}),
-      sizeof(StepConstants), 2);
+      world_and({kBindingPerception, kBindingForces, kBindingStepsShort}), sizeof(StepConstants),
+      2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
-    slot.forces_set = step_forces_->make_set(world_buffers(
-        slot.targets,
-        {{kBindingPerception, &perception_}, {kBindingForces, forces_.get()}, {kBindingStepsShort, &slot.steps_short}}));
+    slot.forces_set = step_forces_->make_set(
+        world_buffers(slot.targets, {{kBindingPerception, &perception_},
+                                     {kBindingForces, forces_.get()},
+                                     {kBindingStepsShort, &slot.steps_short}}));
   }
 }
 
@@ -287,13 +314,16 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
 void GpuSimulation::check_steps_taken(const Slot& slot) const {
   const uint32_t short_birds = *reinterpret_cast<const uint32_t*>(slot.steps_short.mapped());
   if (short_birds == 0) return;
-  throw Error(device() + " ended the steps of " + std::to_string(short_birds) + " of " + std::to_string(count_) +
+  throw Error(device() + " ended the steps of " + std::to_string(short_birds) + " of " +
+              std::to_string(count_) +
               " birds early (a limit of the driver's on a shader's loops; dispatches of " +
-              std::to_string(steps_per_dispatch_) + " steps at most): frame " + std::to_string(slot.snapshot.frame) +
-              "'s state is wrong");
+              std::to_string(steps_per_dispatch_) + " steps at most): frame " +
+              std::to_string(slot.snapshot.frame) + "'s state is wrong");
 }
 
-void GpuSimulation::step(uint32_t steps, bool record_forces) { submit_frames(1, steps, record_forces); }
+void GpuSimulation::step(uint32_t steps, bool record_forces) {
+  submit_frames(1, steps, record_forces);
+}
 
 void GpuSimulation::step_frames(uint32_t frames) {
   while (frames > 0) {
@@ -308,15 +338,16 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   if (last_ >= 0 && slots_[1 - last_].fence != VK_NULL_HANDLE) {  // the slot about to be reused
     Slot& reused = slots_[1 - last_];
     submitter_.wait(reused.fence);  // as begin() would
-    check_steps_taken(reused);     // before its count is cleared
+    check_steps_taken(reused);      // before its count is cleared
     std::memset(reused.steps_short.mapped(), 0, sizeof(uint32_t));
   }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];
   auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
   const uint32_t targets_count = uint32_t(world().targets.size());
-  const uint32_t per_frame = 2 * targets_count;  // a frame's targets at its start, then at the next's
-  StepConstants c{};  // what every frame of the submission shares; the loop sets the rest
+  const uint32_t per_frame =
+      2 * targets_count;  // a frame's targets at its start, then at the next's
+  StepConstants c{};      // what every frame of the submission shares; the loop sets the rest
   c.wind_ground = vec4(vec3(world().wind), float(world().ground_height));
   c.dt = float(scenario().dt);
   c.frame_steps = steps;
@@ -341,7 +372,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     std::vector<GpuTarget> targets = pack_targets(world(), start);
     const std::vector<GpuTarget> next = pack_targets(world(), frame_start(this->steps() + steps));
     targets.insert(targets.end(), next.begin(), next.end());
-    if (!targets.empty()) std::memcpy(targets_of + f * per_frame, targets.data(), targets.size() * sizeof(GpuTarget));
+    if (!targets.empty())
+      std::memcpy(targets_of + f * per_frame, targets.data(), targets.size() * sizeof(GpuTarget));
 
     c.time = float(time());
     c.frame = uint32_t(this->frames() - 1);
@@ -355,7 +387,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
       c.steps = std::min(steps - first, steps_per_dispatch_);
       if (first > 0) barrier_to_compute(cmd);  // after the part before
       if (record_forces)
-        step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c, sizeof c);
+        step_forces_->dispatch(cmd, slot.forces_set, group_count(count_, kWorkgroupSize), &c,
+                               sizeof c);
       else
         step_.dispatch(cmd, slot.set, group_count(count_, kWorkgroupSize), &c, sizeof c);
       first += c.steps;

@@ -63,7 +63,8 @@ class GpuSimulation final : public Simulation {
 
  private:
   // What one frame in flight owns: its targets, its readback and its unpacked state.
-  // The buffers at world_and()'s bindings (gpu_simulation.cpp) with a slot's `targets`, then `more`.
+  // The buffers at world_and()'s bindings (gpu_simulation.cpp) with a slot's `targets`, then
+  // `more`.
   std::vector<Bound> world_buffers(const Buffer& targets, std::initializer_list<Bound> more) const;
 
   struct Slot {
@@ -71,7 +72,8 @@ class GpuSimulation final : public Simulation {
     Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)
     std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
     std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
-    VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE, perceive_set = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE,
+                    perceive_set = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
     Snapshot snapshot;  // its frame, steps and time; the vectors below once unpacked
     bool unpacked = false, has_forces = false;

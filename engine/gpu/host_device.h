@@ -2,9 +2,9 @@
 // engine/render) and as GLSL (shaders/): every GPU-visible struct, binding index, push-constant
 // block and the workgroup size. Buffers are std430; in C++ every vec3 and vec4 member is aligned
 // to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
-// (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint, int,
-// vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid out
-// differently by C++. All descriptors are in set 0, storage buffers but for the grid that
+// (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint,
+// int, vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid
+// out differently by C++. All descriptors are in set 0, storage buffers but for the grid that
 // perceive.comp reads as uniform texel buffers (gpu/compute.h: Binding), and no binding number
 // serves two buffers, compute or render.
 #ifndef AEROFLOCK_HOST_DEVICE_H
@@ -45,7 +45,9 @@ AF_UINT(kTileLog2, 14)
 // What a point of tile (x, z) is moved by to be seen from tile (from_x, from_z): the whole tiles
 // between them, exact in float (gpu/layout.h: tiled, tile_centre).
 const float kTile = float(1u << kTileLog2);
-vec3 tile_shift(int x, int z, int from_x, int from_z) { return vec3(float(x - from_x), 0.0, float(z - from_z)) * kTile; }
+vec3 tile_shift(int x, int z, int from_x, int from_z) {
+  return vec3(float(x - from_x), 0.0, float(z - from_z)) * kTile;
+}
 #endif
 
 // Bindings (set 0). Compute: the flock and its world, and the forces the step records.
@@ -74,11 +76,13 @@ AF_UINT(kBindingGridPlace, 13)
 AF_UINT(kBindingGridCounts, 14)
 AF_UINT(kBindingGridStarts, 15)
 AF_UINT(kBindingGridBlocks, 16)
-AF_UINT(kBindingGridPoints, 18)  // the birds in slot order: places in their cells (xyz), indices (w, as bits)
+AF_UINT(kBindingGridPoints,
+        18)  // the birds in slot order: places in their cells (xyz), indices (w, as bits)
 AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFlock: an empty slot)
 AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
-AF_UINT(kBindingGridSearch, 22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
+AF_UINT(kBindingGridSearch,
+        22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
 // The birds whose steps a dispatch ended short of its steps (step.glsl): a driver's limit caught.
 AF_UINT(kBindingStepsShort, 23)
 
@@ -127,12 +131,12 @@ struct GpuSpecies {
 #include "model/species.def"
 #undef AF_SPECIES_PARAM
   float inv_inertia_x, inv_inertia_y, inv_inertia_z;  // eq. 12
-  float shoulder_z, arm_length, hand_length;           // cm
-  float arm_area, hand_area;                           // one wing's, cm^2
-  float tail_hinge_x, tail_arm;                        // cm; tail_arm: 2/3 lr
-  float tail_area_per_radian;                          // eq. 9: S_t = lr^2 / 2 phi
+  float shoulder_z, arm_length, hand_length;          // cm
+  float arm_area, hand_area;                          // one wing's, cm^2
+  float tail_hinge_x, tail_arm;                       // cm; tail_arm: 2/3 lr
+  float tail_area_per_radian;                         // eq. 9: S_t = lr^2 / 2 phi
   float tan_bank_max;
-  float open_tail;                                     // the tail fully open (braking), rad
+  float open_tail;  // the tail fully open (braking), rad
 };
 
 struct GpuTarget {
@@ -142,7 +146,7 @@ struct GpuTarget {
 };
 
 struct GpuRoute {
-  uint first;   // into the route-target list
+  uint first;  // into the route-target list
   uint count;
   uint flags;   // kRouteLoop, kRoutePathControl
   uint branch;  // branch index + 1, 0: none
@@ -176,28 +180,29 @@ struct GpuPerception {
   uint pad;
 };
 
-// Push constants of step.comp, step_forces.comp and the flocking passes (grid_*.comp, perceive.comp).
+// Push constants of step.comp, step_forces.comp and the flocking passes (grid_*.comp,
+// perceive.comp).
 struct StepConstants {
   AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
   float dt;
-  float time;             // at the start of the frame
-  uint steps;             // steps this dispatch (0: step_forces.comp records the forces only)
+  float time;  // at the start of the frame
+  uint steps;  // steps this dispatch (0: step_forces.comp records the forces only)
   uint bird_count;
-  uint turning;           // TurningModel: 0 tail, 1 fixed-rate
+  uint turning;  // TurningModel: 0 tail, 1 fixed-rate
   uint ground_effect;
-  uint next_targets;      // step_forces.comp: where the targets at the next frame's start begin
-  uint flocking;          // 1: the birds steer by their perception
-  float grid_cell;        // the neighbour grid's cell, cm
-  uint buckets;           // its slots, a power of two, a whole number of kScanBlock
-  uint frame;             // the frame's index (perceive.comp: whose reaction is due)
+  uint next_targets;  // step_forces.comp: where the targets at the next frame's start begin
+  uint flocking;      // 1: the birds steer by their perception
+  float grid_cell;    // the neighbour grid's cell, cm
+  uint buckets;       // its slots, a power of two, a whole number of kScanBlock
+  uint frame;         // the frame's index (perceive.comp: whose reaction is due)
   float frame_seconds;
-  uint wind_profile;      // WindProfile (engine/model/world.h): 0 uniform, 1 power law, 2 logarithmic
-  float wind_height;      // where the wind is wind_ground.xyz, cm above the ground
-  float wind_exponent;    // of the power law
-  float wind_roughness;   // z0 of the logarithmic profile, cm
-  uint targets_base;      // where this frame's targets begin (several frames a submission)
-  uint first_step;        // the frame's steps before this dispatch (a long frame takes several)
-  uint frame_steps;       // the frame's steps: the dispatch that ends it retiles and records forces
+  uint wind_profile;    // WindProfile (engine/model/world.h): 0 uniform, 1 power law, 2 logarithmic
+  float wind_height;    // where the wind is wind_ground.xyz, cm above the ground
+  float wind_exponent;  // of the power law
+  float wind_roughness;  // z0 of the logarithmic profile, cm
+  uint targets_base;     // where this frame's targets begin (several frames a submission)
+  uint first_step;       // the frame's steps before this dispatch (a long frame takes several)
+  uint frame_steps;      // the frame's steps: the dispatch that ends it retiles and records forces
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right
@@ -217,13 +222,13 @@ struct DrawCommand {  // VkDrawIndirectCommand
 
 // Push constants of pose.comp.
 struct PoseConstants {
-  AF_V16 vec4 eye;    // xyz the eye, from the centre of tile (tile_x, tile_z) (FrameConstants)
+  AF_V16 vec4 eye;  // xyz the eye, from the centre of tile (tile_x, tile_z) (FrameConstants)
   uint bird_count;
-  uint capacity;      // of each list
-  float lod_scale;    // a bird farther than its span times this is distant
+  uint capacity;    // of each list
+  float lod_scale;  // a bird farther than its span times this is distant
   int tile_x;
   int tile_z;
-  float min_angle;    // rad: a bird is drawn at least this wide (distant birds grown to it)
+  float min_angle;  // rad: a bird is drawn at least this wide (distant birds grown to it)
   uint pad1, pad2;
 };
 
@@ -240,7 +245,7 @@ struct FrameConstants {
   uint list_offset;       // where the draw's birds start in the lists (bird.vert)
   int tile_x;
   int tile_z;
-  uint shadow_stride;     // every this many-th bird casts a shadow, for that many (shadow.vert)
+  uint shadow_stride;  // every this many-th bird casts a shadow, for that many (shadow.vert)
 };
 
 // A mesh vertex (engine/render/meshes.h), read by vertex index.

@@ -38,7 +38,9 @@ void from_gpu(uint v, E& out) { out = static_cast<E>(v); }
 
 }  // namespace
 
-glm::dvec3 tile_centre(int tile_x, int tile_z) { return glm::dvec3(tile_x * kTile, 0.0, tile_z * kTile); }
+glm::dvec3 tile_centre(int tile_x, int tile_z) {
+  return glm::dvec3(tile_x * kTile, 0.0, tile_z * kTile);
+}
 
 Tiled tiled(const glm::dvec3& world) {
   const glm::ivec2 tile(glm::round(glm::dvec2(world.x, world.z) / kTile));
@@ -122,7 +124,8 @@ Perception unpack(const GpuPerception& g) {
 
 GpuTarget pack_target(const Target& t, const glm::dvec3& centre) {
   const Tiled at = tiled(centre);
-  return {vec4(vec3(centre - at.centre), float(t.radius)), vec4(vec3(t.velocity), 0.0f), at.tile.x, at.tile.y};
+  return {vec4(vec3(centre - at.centre), float(t.radius)), vec4(vec3(t.velocity), 0.0f), at.tile.x,
+          at.tile.y};
 }
 
 std::vector<GpuTarget> pack_targets(const World& w, double time) {
@@ -141,7 +144,8 @@ GpuWorld pack(const World& w) {
   }
   for (const Branch& b : w.branches) {
     const Tiled at = tiled(b.point);
-    g.branches.push_back({vec4(vec3(b.point - at.centre), 0.0f), vec4(vec3(b.direction), 0.0f), at.tile.x, at.tile.y});
+    g.branches.push_back({vec4(vec3(b.point - at.centre), 0.0f), vec4(vec3(b.direction), 0.0f),
+                          at.tile.x, at.tile.y});
   }
   return g;
 }

@@ -18,8 +18,8 @@ namespace aeroflock::gpu {
 // World tiles (host_device.h): the tile a world point is over, and that tile's centre.
 inline constexpr double kTile = double(1u << kTileLog2);  // cm
 struct Tiled {
-  glm::ivec2 tile;     // x, z
-  glm::dvec3 centre;   // world, cm (y 0)
+  glm::ivec2 tile;    // x, z
+  glm::dvec3 centre;  // world, cm (y 0)
 };
 Tiled tiled(const glm::dvec3& world);
 glm::dvec3 tile_centre(int tile_x, int tile_z);

@@ -32,10 +32,10 @@ bool alive(long pid) { return pid > 0 && (::kill(pid_t(pid), 0) == 0 || errno !=
 }  // namespace
 
 // The file's bytes pass through a window of 1 MiB: the bytes at offsets [base_, base_ + filled_),
-// written out (pwrite) when the writer moves outside it or it is full, and at close(). A writer that
-// seeks back to fill in what it reserved (VTK's offsets) and comes back, within the window, costs
-// no system call: a file under 1 MiB is one write, and memory stays bounded whatever the size (a
-// frame of a million birds, a long run's trajectories). flush() writes nothing: the bytes go out
+// written out (pwrite) when the writer moves outside it or it is full, and at close(). A writer
+// that seeks back to fill in what it reserved (VTK's offsets) and comes back, within the window,
+// costs no system call: a file under 1 MiB is one write, and memory stays bounded whatever the size
+// (a frame of a million birds, a long run's trajectories). flush() writes nothing: the bytes go out
 // with the window, and a failure is kept for close() (and shown as the stream's badbit once met).
 class AtomicFile::Buffer : public std::streambuf {
  public:
@@ -73,7 +73,9 @@ class AtomicFile::Buffer : public std::streambuf {
   pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
     mark();
     end_ = std::max(end_, base_ + int64_t(filled_));
-    const int64_t to = off + (dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? here() : end_);
+    const int64_t to = off + (dir == std::ios_base::beg   ? 0
+                              : dir == std::ios_base::cur ? here()
+                                                          : end_);
     if (to < 0) return pos_type(off_type(-1));
     if (to >= base_ && to <= base_ + int64_t(filled_)) {  // inside the window
       setp(bytes_.data(), bytes_.data() + bytes_.size());
@@ -112,8 +114,10 @@ AtomicFile::AtomicFile(fs::path path) : path_(std::move(path)) {
     fs::path tmp = path_;
     tmp += std::string(kTag) + pid + "-" + std::to_string(++g_temporaries) + std::string(kSuffix);
     fd_ = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd_ >= 0) temporary_ = tmp;
-    else if (errno != EEXIST) fail(errno);
+    if (fd_ >= 0)
+      temporary_ = tmp;
+    else if (errno != EEXIST)
+      fail(errno);
   }
   if (fd_ < 0) {
     error_ = "no free temporary name";
@@ -189,7 +193,8 @@ void AtomicFile::close() {
 }
 
 void AtomicFile::commit() {
-  if (temporary_.empty() && error_.empty()) throw std::logic_error("AtomicFile::commit: nothing to commit");
+  if (temporary_.empty() && error_.empty())
+    throw std::logic_error("AtomicFile::commit: nothing to commit");
   close();
   if (::rename(temporary_.c_str(), path_.c_str()) != 0) fail(errno);
   temporary_.clear();

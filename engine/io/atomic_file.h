@@ -76,8 +76,8 @@ class AtomicFile {
   std::unique_ptr<std::ostream> stream_;
 };
 
-// Whether `name` (a file name, no directory) is a temporary of this program's: NAME.aeroflock-PID-N.tmp.
-// Sets *pid to its PID when it is.
+// Whether `name` (a file name, no directory) is a temporary of this program's:
+// NAME.aeroflock-PID-N.tmp. Sets *pid to its PID when it is.
 bool is_temporary_name(std::string_view name, long* pid = nullptr);
 
 // Removes the temporaries in `dir` of processes that no longer run (a killed run's): the files

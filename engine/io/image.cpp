@@ -28,7 +28,8 @@ Rgba read_png(const std::filesystem::path& path) {
   int w = 0, h = 0, channels = 0;
   uint8_t* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
   if (!data) throw std::runtime_error(path.string() + ": " + stbi_failure_reason());
-  Rgba image{uint32_t(w), uint32_t(h), std::vector<uint8_t>(data, data + size_t(w) * size_t(h) * 4)};
+  Rgba image{uint32_t(w), uint32_t(h),
+             std::vector<uint8_t>(data, data + size_t(w) * size_t(h) * 4)};
   stbi_image_free(data);
   return image;
 }

@@ -28,7 +28,8 @@ constexpr std::string_view kSpeedWhy = "the speed of sound";
 constexpr Range kPosition = io::magnitude(kWorldRadius, kWorldWhy);
 constexpr Range kLength = io::positive(kWorldRadius, kWorldWhy);
 constexpr Range kVelocity = io::magnitude(kMaxSpeed, kSpeedWhy);
-constexpr Range kDt = io::between(kMinDt, kMaxDt, "the convergence study's range, docs/convergence.md");
+constexpr Range kDt =
+    io::between(kMinDt, kMaxDt, "the convergence study's range, docs/convergence.md");
 constexpr Range kDuration = io::positive(kMaxDuration, "11.6 days");
 // Any finite number: a direction (normalised on reading), a species' field (validate() checks it
 // against species.def's range, reported at the field).
@@ -36,19 +37,20 @@ constexpr Range kAnyFinite = io::magnitude(std::numeric_limits<double>::max());
 
 using Keys = std::span<const std::string_view>;
 
-constexpr std::string_view kTopKeys[] = {"simulation", "ground",  "units",    "wind",  "species",
+constexpr std::string_view kTopKeys[] = {"simulation", "ground",   "units",  "wind",  "species",
                                          "targets",    "branches", "routes", "flocks"};
 constexpr std::string_view kUnitsKeys[] = {"length"};
 constexpr std::string_view kWindKeys[] = {"velocity", "profile", "height", "exponent", "roughness"};
-constexpr std::string_view kSimulationKeys[] = {
-    "name", "description", "dt", "fidelity", "steps_per_frame", "duration", "seed", "turning", "wind"};
+constexpr std::string_view kSimulationKeys[] = {"name",     "description",     "dt",
+                                                "fidelity", "steps_per_frame", "duration",
+                                                "seed",     "turning",         "wind"};
 constexpr std::string_view kGroundKeys[] = {"height", "effect"};
 constexpr std::string_view kTargetKeys[] = {"name",     "centre",    "radius",
                                             "velocity", "amplitude", "period"};
 constexpr std::string_view kBranchKeys[] = {"name", "point", "direction", "length"};
 constexpr std::string_view kRouteKeys[] = {"name", "targets", "loop", "branch", "path_control"};
 constexpr std::string_view kFlockKeys[] = {
-    "name",  "species",   "route",     "count",    "centre",       "extent",      "heading",
+    "name",  "species",   "route",     "count",    "centre",       "extent",       "heading",
     "speed", "frequency", "amplitude", "standing", "takeoff_time", "random_phase", "flocking"};
 
 // "name", "base" and every Species field.
@@ -68,7 +70,8 @@ struct Lengths {
   std::string_view unit = "cm";
 
   // `range_cm` in cm: the file's numbers are checked in its unit.
-  double number(const TableReader& r, std::string_view key, double fallback_cm, Range range_cm) const {
+  double number(const TableReader& r, std::string_view key, double fallback_cm,
+                Range range_cm) const {
     return r.find(key) ? r.number(key, 0.0, in_file(range_cm)) * cm : fallback_cm;
   }
   glm::dvec3 vec3(const TableReader& r, std::string_view key, const glm::dvec3& fallback_cm,
@@ -94,10 +97,12 @@ Lengths read_units(const TableReader& top) {
   if (!units) return l;
   const auto length = units->located_string("length");
   if (!length) return l;
-  constexpr std::pair<std::string_view, double> kKnown[] = {{"mm", 0.1}, {"cm", 1.0}, {"m", 100.0}, {"km", 1.0e5}};
+  constexpr std::pair<std::string_view, double> kKnown[] = {
+      {"mm", 0.1}, {"cm", 1.0}, {"m", 100.0}, {"km", 1.0e5}};
   for (const auto& [name, cm] : kKnown)
     if (length->value == name) return {cm, name};
-  io::fail(length->where, "expected \"mm\", \"cm\", \"m\" or \"km\", got \"" + length->value + "\"");
+  io::fail(length->where,
+           "expected \"mm\", \"cm\", \"m\" or \"km\", got \"" + length->value + "\"");
 }
 
 // 64-bit FNV-1a of the scenario's text, as "fnv1a64:" and 16 hex digits: enough to tell which
@@ -114,7 +119,8 @@ std::string stem(std::string_view source_name) {
   return std::filesystem::path(source_name).stem().string();
 }
 
-void read_simulation(const TableReader& top, std::string_view source_name, const Lengths& L, Scenario& s) {
+void read_simulation(const TableReader& top, std::string_view source_name, const Lengths& L,
+                     Scenario& s) {
   s.name = stem(source_name);
   const auto sim = top.table("simulation", kSimulationKeys);
   if (!sim) return;
@@ -132,8 +138,8 @@ void read_simulation(const TableReader& top, std::string_view source_name, const
     s.steps_per_frame = steps_in(kFrameSeconds, s.dt);
   }
   s.dt = sim->number("dt", s.dt, kDt);
-  s.steps_per_frame =
-      static_cast<uint32_t>(sim->integer("steps_per_frame", s.steps_per_frame, 1, kMaxStepsPerFrame));
+  s.steps_per_frame = static_cast<uint32_t>(
+      sim->integer("steps_per_frame", s.steps_per_frame, 1, kMaxStepsPerFrame));
   s.duration = sim->number("duration", s.duration, kDuration);
   s.seed = static_cast<uint64_t>(sim->integer("seed", static_cast<int64_t>(s.seed), 0));
   if (auto turning = sim->located_string("turning")) {
@@ -164,13 +170,15 @@ void read_wind(const TableReader& top, const Lengths& L, World& world) {
     else if (profile->value == "logarithmic")
       world.wind_profile = WindProfile::logarithmic;
     else
-      io::fail(profile->where, "expected \"uniform\", \"power-law\" or \"logarithmic\", got \"" + profile->value + "\"");
+      io::fail(profile->where, "expected \"uniform\", \"power-law\" or \"logarithmic\", got \"" +
+                                   profile->value + "\"");
   }
   world.wind_height = L.number(*wind, "height", world.wind_height, kLength);
   world.wind_exponent = wind->number("exponent", world.wind_exponent, io::between(0.0, 1.0));
   world.wind_roughness = L.number(*wind, "roughness", world.wind_roughness, kLength);
   if (world.wind_roughness >= world.wind_height)
-    wind->fail(wind->find("roughness") ? "roughness" : "height", "the roughness length must be below the reference height");
+    wind->fail(wind->find("roughness") ? "roughness" : "height",
+               "the roughness length must be below the reference height");
 }
 
 void read_ground(const TableReader& top, const Lengths& L, World& world) {
@@ -211,8 +219,9 @@ void validate_species(const TableReader& r, const Species& s) {
       }
     }
     if (field.empty())
-      io::fail(r.where(),
-               what + (r.find("base") ? "" : " (without a base, the fields of Table 1 start at 0)"));
+      io::fail(
+          r.where(),
+          what + (r.find("base") ? "" : " (without a base, the fields of Table 1 start at 0)"));
     r.fail(field, what + ", got " + io::describe(*r.find(field)));
   }
 }
@@ -262,8 +271,8 @@ Target read_target(const TableReader& r, const Lengths& L, const World& world, i
   t.radius = L.number(r, "radius", t.radius, kLength);
   t.velocity = L.vec3(r, "velocity", t.velocity, kVelocity);
   t.amplitude = L.vec3(r, "amplitude", t.amplitude, kPosition);
-  t.period = r.number("period", t.period,
-                      {kMinTargetPeriod, kMaxDuration, false, true, "11.6 days"});
+  t.period =
+      r.number("period", t.period, {kMinTargetPeriod, kMaxDuration, false, true, "11.6 days"});
   return t;
 }
 
@@ -296,12 +305,12 @@ Route read_route(const TableReader& r, Known& known) {
     r.fail("targets", "expected at least one target name (or a branch to land on)");
   if (route.loop && route.targets.size() < 2)
     r.fail("loop", "a looping route needs at least two targets");
-  if (route.loop && route.branch >= 0)
-    r.fail("loop", "a route that lands on a branch cannot loop");
+  if (route.loop && route.branch >= 0) r.fail("loop", "a route that lands on a branch cannot loop");
   return route;
 }
 
-Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Lengths& L, Known& known) {
+Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Lengths& L,
+                 Known& known) {
   r.require("species");
   r.require("route");
   Flock f;
@@ -322,18 +331,20 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
   f.frequency = r.number("frequency", f.frequency, io::non_negative(1000.0));
   f.amplitude = r.number("amplitude", f.amplitude, io::non_negative(10.0));
   f.standing = r.boolean("standing", f.standing);
-  f.takeoff_time = r.number("takeoff_time", f.takeoff_time, io::non_negative(kMaxDuration, "11.6 days"));
+  f.takeoff_time =
+      r.number("takeoff_time", f.takeoff_time, io::non_negative(kMaxDuration, "11.6 days"));
   f.random_phase = r.boolean("random_phase", f.random_phase);
   f.flocking = r.boolean("flocking", f.flocking);
   // Nothing starts under the ground (validate() checks the same, unlocated): a standing flock
   // stands at its species' stand_height whatever its centre, a flying one anywhere in its box.
   const Species& sp = s.species[f.species];
   if (f.standing && !(sp.stand_height > 0.0))
-    r.fail("standing", "species '" + sp.name + "' has stand_height 0: its birds would stand in the ground");
+    r.fail("standing",
+           "species '" + sp.name + "' has stand_height 0: its birds would stand in the ground");
   if (!f.standing)
-    check_above_ground(r, r.find("centre") ? "centre" : "extent",
-                       "the spawn box's lowest point, centre - extent",
-                       f.spawn_centre.y - spawn_extent(f, sp, f.count, s.world.ground_height).y, s.world, L);
+    check_above_ground(
+        r, r.find("centre") ? "centre" : "extent", "the spawn box's lowest point, centre - extent",
+        f.spawn_centre.y - spawn_extent(f, sp, f.count, s.world.ground_height).y, s.world, L);
   return f;
 }
 
@@ -348,7 +359,8 @@ void read_all(const TableReader& top, std::string_view key, Keys keys, std::vect
 
 Scenario parse_scenario(std::string_view text, std::string_view source_name) {
   if (text.size() > kMaxScenarioBytes)
-    io::fail({source_name, {}, ""}, "the scenario is larger than " + std::to_string(kMaxScenarioBytes) +
+    io::fail({source_name, {}, ""}, "the scenario is larger than " +
+                                        std::to_string(kMaxScenarioBytes) +
                                         " bytes (16 MiB), the most a scenario may be");
   toml::table doc;
   try {
@@ -402,7 +414,8 @@ Scenario read_scenario_file(const std::filesystem::path& path) {
     cannot_read("it is not a regular file (a device, a pipe or a socket)");
   std::ifstream in(path, std::ios::binary);
   if (!in) cannot_read(std::strerror(errno));
-  const std::string limit = std::to_string(kMaxScenarioBytes) + " bytes (16 MiB) a scenario file may be";
+  const std::string limit =
+      std::to_string(kMaxScenarioBytes) + " bytes (16 MiB) a scenario file may be";
   if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxScenarioBytes)
     cannot_read("it is " + std::to_string(size) + " bytes, more than the " + limit);
   // Read in chunks up to the limit, whatever the size said: the file may grow meanwhile.

@@ -4,7 +4,8 @@ namespace aeroflock::io {
 namespace {
 
 constexpr SpeciesField kFields[] = {
-#define AF_SPECIES_PARAM(param, default_value, unit, rule, max) {#param, &Species::param, Unit::unit},
+#define AF_SPECIES_PARAM(param, default_value, unit, rule, max) \
+  {#param, &Species::param, Unit::unit},
 #include "model/species.def"
 #undef AF_SPECIES_PARAM
 };

@@ -35,14 +35,17 @@ FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   return s;
 }
 
-std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const std::vector<BirdState>& birds) {
+std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
+                                              const std::vector<BirdState>& birds) {
   std::vector<FlockingSummary> out;
   for (uint32_t f = 0; f < scenario.flocks.size(); ++f) {
     if (!scenario.flocks[f].flocking) continue;
     std::vector<uint32_t> members;
     for (uint32_t i = 0; i < birds.size(); ++i)
       if (birds[i].flock == f) members.push_back(i);
-    out.push_back({scenario.flocks[f].name, members.empty() ? FlockMetrics{} : flock_metrics(birds, scenario.species, members)});
+    out.push_back({scenario.flocks[f].name, members.empty()
+                                                ? FlockMetrics{}
+                                                : flock_metrics(birds, scenario.species, members)});
   }
   return out;
 }
@@ -50,8 +53,10 @@ std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const st
 std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, size_t most) {
   std::vector<QuarantinedBird> out;
   for (uint64_t i = 0; i < birds.size(); ++i)
-    if (birds[i].mode == FlightMode::quarantined) out.push_back({i, birds[i].quarantined_at, birds[i]});
-  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.time < b.time; });
+    if (birds[i].mode == FlightMode::quarantined)
+      out.push_back({i, birds[i].quarantined_at, birds[i]});
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.time < b.time; });
   if (out.size() > most) out.resize(most);
   return out;
 }
@@ -117,10 +122,11 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"quarantined", quarantined},
       {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
       {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},
-      {"vtk_queue", r.vtk_queue_bound == 0 ? nlohmann::ordered_json()
-                                           : nlohmann::ordered_json{{"high_water_frames", r.vtk_queue_frames},
-                                                                    {"high_water_bytes", r.vtk_queue_bytes},
-                                                                    {"bound_frames", r.vtk_queue_bound}}},
+      {"vtk_queue", r.vtk_queue_bound == 0
+                        ? nlohmann::ordered_json()
+                        : nlohmann::ordered_json{{"high_water_frames", r.vtk_queue_frames},
+                                                 {"high_water_bytes", r.vtk_queue_bytes},
+                                                 {"bound_frames", r.vtk_queue_bound}}},
   };
 }
 

@@ -28,13 +28,14 @@ struct FlockStatistics {
 // Pure: statistics of a set of bird states (zeros for none).
 FlockStatistics flock_statistics(const std::vector<BirdState>& birds);
 
-// A flock that flocks, measured as MODEL.md's "What a flock must show" does.
+// A flock that flocks, measured as docs/MODEL.md's "What a flock must show" does.
 struct FlockingSummary {
   std::string name;
   FlockMetrics metrics;
 };
 // Every flock of the scenario that flocks, from the birds' states.
-std::vector<FlockingSummary> flocking_summary(const Scenario& scenario, const std::vector<BirdState>& birds);
+std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
+                                              const std::vector<BirdState>& birds);
 
 // A bird quarantined (NaN quarantine, step.cpp): its state became non-finite in the step that
 // began at `time`; frozen at its last finite state since.
@@ -54,7 +55,7 @@ struct RunSummary {
   std::string scenario;
   std::string scenario_hash;  // Scenario::hash
   bool interrupted = false;   // stopped early (Ctrl-C): sim_seconds is where
-  uint64_t steps = 0;  // steps per bird
+  uint64_t steps = 0;         // steps per bird
   double dt = 0.0;
   uint32_t steps_per_frame = 0;
   double sim_seconds = 0.0;

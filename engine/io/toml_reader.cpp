@@ -25,10 +25,12 @@ std::string number_text(Number v) {
 
 // "a positive number", "a number from 1e-05 to 0.01", "0 or a number from 0.1 to 1e+06".
 std::string range_phrase(const Range& range) {
-  std::string phrase = range.min == 0 && range.above_min ? "a positive number"
-                       : range.min == 0                  ? "a number >= 0"
-                       : range.min == -range.max         ? "a number from " + number_text(-range.max) + " to " + number_text(range.max)
-                                                         : "a number from " + number_text(range.min) + " to " + number_text(range.max);
+  std::string phrase =
+      range.min == 0 && range.above_min ? "a positive number"
+      : range.min == 0                  ? "a number >= 0"
+      : range.min == -range.max
+          ? "a number from " + number_text(-range.max) + " to " + number_text(range.max)
+          : "a number from " + number_text(range.min) + " to " + number_text(range.max);
   return range.or_zero ? "0 or " + phrase : phrase;
 }
 
@@ -44,13 +46,15 @@ Checked check_number(const toml::node& node, const Range& range) {
   if (!std::isfinite(v)) return {v, "a finite number"};
   if (range.or_zero && v == 0) return {v, ""};
   if (v > range.max)
-    return {v, range.why.empty() ? (range.or_zero ? "0 or " : "") + std::string("a number from ") +
-                                       number_text(range.min) + " to " + number_text(range.max)
-                                 : "at most " + number_text(range.max) + " (" + std::string(range.why) + ")"};
+    return {v, range.why.empty()
+                   ? (range.or_zero ? "0 or " : "") + std::string("a number from ") +
+                         number_text(range.min) + " to " + number_text(range.max)
+                   : "at most " + number_text(range.max) + " (" + std::string(range.why) + ")"};
   if (v < range.min || (range.above_min && v == range.min)) return {v, range_phrase(range)};
   // Within the range: the device computes in float, where below FLT_MIN a number is subnormal
   // (flushed to 0, or its digits lost), so a direction or a parameter that is not 0 would be.
-  const bool zero_allowed = range.or_zero || (range.min < 0 || (range.min == 0 && !range.above_min));
+  const bool zero_allowed =
+      range.or_zero || (range.min < 0 || (range.min == 0 && !range.above_min));
   if (v != 0 && std::fabs(v) < std::numeric_limits<float>::min())
     return {v, (zero_allowed ? "0 or a number at least " : "a number at least ") +
                    number_text(std::numeric_limits<float>::min()) +
@@ -187,7 +191,8 @@ glm::dvec3 TableReader::vec3(std::string_view key, glm::dvec3 fallback, Range ra
   const toml::node* node = find(key);
   if (!node) return fallback;
   const toml::array* array = node->as_array();
-  if (!array || array->size() != 3) fail(key, "expected an array of 3 numbers, got " + describe(*node));
+  if (!array || array->size() != 3)
+    fail(key, "expected an array of 3 numbers, got " + describe(*node));
   glm::dvec3 out;
   for (int i = 0; i < 3; ++i) {
     const Checked c = check_number((*array)[i], range);

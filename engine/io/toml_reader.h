@@ -46,11 +46,19 @@ struct Range {
   bool or_zero = false;
   std::string_view why = {};
 };
-constexpr Range positive(double max, std::string_view why = {}) { return {0.0, max, true, false, why}; }
-constexpr Range non_negative(double max, std::string_view why = {}) { return {0.0, max, false, false, why}; }
+constexpr Range positive(double max, std::string_view why = {}) {
+  return {0.0, max, true, false, why};
+}
+constexpr Range non_negative(double max, std::string_view why = {}) {
+  return {0.0, max, false, false, why};
+}
 // From -max to max.
-constexpr Range magnitude(double max, std::string_view why = {}) { return {-max, max, false, false, why}; }
-constexpr Range between(double min, double max, std::string_view why = {}) { return {min, max, false, false, why}; }
+constexpr Range magnitude(double max, std::string_view why = {}) {
+  return {-max, max, false, false, why};
+}
+constexpr Range between(double min, double max, std::string_view why = {}) {
+  return {min, max, false, false, why};
+}
 
 // One TOML table. The constructor rejects keys not in `keys` (naming the valid ones). Getters
 // return the fallback when a key is absent and throw ScenarioError when it is present but of the

@@ -24,7 +24,8 @@ namespace {
 std::vector<std::string> container_args(const fs::path& video) {
   std::string ext = video.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  const std::vector<std::string> fragmented = {"-movflags", "+frag_keyframe+empty_moov+default_base_moof"};
+  const std::vector<std::string> fragmented = {"-movflags",
+                                               "+frag_keyframe+empty_moov+default_base_moof"};
   if (ext == ".mkv") return {"-f", "matroska"};
   if (ext == ".webm") return {"-f", "webm"};
   std::vector<std::string> args = fragmented;
@@ -35,7 +36,8 @@ std::vector<std::string> container_args(const fs::path& video) {
 // A pipe whose two ends are closed on exec (the child gets its end by dup2, which clears that).
 void make_pipe(int fds[2]) {
   if (::pipe2(fds, O_CLOEXEC) != 0)
-    throw std::runtime_error(std::string("--video: cannot make a pipe to ffmpeg: ") + std::strerror(errno));
+    throw std::runtime_error(std::string("--video: cannot make a pipe to ffmpeg: ") +
+                             std::strerror(errno));
 }
 
 void close_fd(int& fd) {
@@ -45,11 +47,18 @@ void close_fd(int& fd) {
 
 }  // namespace
 
-VideoWriter::VideoWriter(const fs::path& path, uint32_t width, uint32_t height, const std::string& rate)
+VideoWriter::VideoWriter(const fs::path& path, uint32_t width, uint32_t height,
+                         const std::string& rate)
     : path_(path), frame_bytes_(size_t(width) * height * 4), file_(path) {
-  std::vector<std::string> args = {"ffmpeg", "-nostdin", "-loglevel", "error", "-f", "rawvideo",
-                                   "-pix_fmt", "rgba", "-s", std::to_string(width) + "x" + std::to_string(height),
-                                   "-r", rate, "-i", "pipe:0", "-pix_fmt", "yuv420p"};
+  std::vector<std::string> args = {
+      "ffmpeg",    "-nostdin",
+      "-loglevel", "error",
+      "-f",        "rawvideo",
+      "-pix_fmt",  "rgba",
+      "-s",        std::to_string(width) + "x" + std::to_string(height),
+      "-r",        rate,
+      "-i",        "pipe:0",
+      "-pix_fmt",  "yuv420p"};
   for (std::string& a : container_args(path)) args.push_back(std::move(a));
   args.push_back("pipe:1");
   std::vector<char*> argv;
@@ -123,7 +132,8 @@ void VideoWriter::stop() {
 }
 
 void VideoWriter::frame(std::span<const uint8_t> rgba) {
-  if (rgba.size() != frame_bytes_) throw std::invalid_argument("VideoWriter::frame: pixel count does not match the size");
+  if (rgba.size() != frame_bytes_)
+    throw std::invalid_argument("VideoWriter::frame: pixel count does not match the size");
   const uint8_t* data = rgba.data();
   size_t left = rgba.size();
   while (left > 0) {
@@ -143,8 +153,9 @@ void VideoWriter::frame(std::span<const uint8_t> rgba) {
 void VideoWriter::finish() {
   stop();
   if (file_.error().empty() && !(WIFEXITED(status_) && WEXITSTATUS(status_) == 0)) {
-    const std::string how = WIFEXITED(status_) ? "exit status " + std::to_string(WEXITSTATUS(status_))
-                                               : "signal " + std::to_string(WTERMSIG(status_));
+    const std::string how = WIFEXITED(status_)
+                                ? "exit status " + std::to_string(WEXITSTATUS(status_))
+                                : "signal " + std::to_string(WTERMSIG(status_));
     throw std::runtime_error("--video: ffmpeg failed writing " + path_.string() + " (" + how + ")");
   }
   file_.commit();  // or throws the failing call's reason

@@ -48,7 +48,7 @@ class VideoWriter {
   AtomicFile file_;
   int to_ffmpeg_ = -1;  // ffmpeg's stdin
   pid_t ffmpeg_ = -1;
-  int status_ = 0;  // ffmpeg's wait status once stopped
+  int status_ = 0;      // ffmpeg's wait status once stopped
   std::thread copier_;  // ffmpeg's stdout into file_
 };
 

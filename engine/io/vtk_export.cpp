@@ -8,15 +8,15 @@
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPointData.h>
-#include <vtkFieldData.h>
 #include <vtkPoints.h>
-#include <vtkStringArray.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkType.h>
 #include <vtkUnsignedIntArray.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -78,7 +78,8 @@ std::string shortest(double value) {
 }
 
 // The time after `steps` steps of `dt`, as the decimal a person would write: steps x dt rounded
-// to 12 significant digits, so that 0.03 s is 0.03, not 0.029999999999999999 or 0.030000000000000002.
+// to 12 significant digits, so that 0.03 s is 0.03, not 0.029999999999999999 or
+// 0.030000000000000002.
 double step_time(uint64_t steps, double dt) {
   char text[32];
   std::snprintf(text, sizeof text, "%.12g", double(steps) * dt);
@@ -106,14 +107,17 @@ class PolyDataStreamWriter : public vtkXMLPolyDataWriter {
  public:
   static PolyDataStreamWriter* New();
   vtkTypeMacro(PolyDataStreamWriter, vtkXMLPolyDataWriter)
-  // For the next Write() (which rewinds it and forgets it at the end).
-  void SetOutputStream(std::ostream* stream) { this->Stream = stream; }
+      // For the next Write() (which rewinds it and forgets it at the end).
+      void SetOutputStream(std::ostream* stream) {
+    this->Stream = stream;
+  }
 };
 vtkStandardNewMacro(PolyDataStreamWriter)
 
-// Writes `data` to `path` through an AtomicFile: the reason of a failure is the failing system
-// call's; VTK's own message only when no call failed.
-void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compression compression) {
+    // Writes `data` to `path` through an AtomicFile: the reason of a failure is the failing system
+    // call's; VTK's own message only when no call failed.
+    void write_polydata(vtkPolyData* data, const fs::path& path,
+                        VtkOptions::Compression compression) {
   AtomicFile file(path);
   std::string message;
   vtkNew<vtkCallbackCommand> on_error;
@@ -150,10 +154,12 @@ void write_polydata(vtkPolyData* data, const fs::path& path, VtkOptions::Compres
   // VTK's messages start with the object ("vtkXMLPolyDataWriter (0x...): "): drop it.
   while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
   if (const size_t nl = message.rfind('\n'); nl != std::string::npos) message.erase(0, nl + 1);
-  if (const size_t colon = message.find("): "); message.starts_with("vtk") && colon != std::string::npos)
+  if (const size_t colon = message.find("): ");
+      message.starts_with("vtk") && colon != std::string::npos)
     message.erase(0, colon + 3);
-  throw std::runtime_error("cannot write " + path.string() + ": " +
-                           (message.empty() ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()) : message));
+  throw std::runtime_error(
+      "cannot write " + path.string() + ": " +
+      (message.empty() ? vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()) : message));
 }
 
 template <typename Array>
@@ -192,11 +198,13 @@ struct PointArray {
 void put(double* out, const glm::dvec3& v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
 
 const PointArray kPointArrays[] = {
-    {"bird_id", Value::unsigned_integer, 1, "-", [](const ExportedBird& e, double* v) { v[0] = e.id; }},
+    {"bird_id", Value::unsigned_integer, 1, "-",
+     [](const ExportedBird& e, double* v) { v[0] = e.id; }},
     {"species", Value::integer, 1, "- (code: species_names)",
      [](const ExportedBird& e, double* v) { v[0] = e.state.species; }},
     {"time", Value::time, 1, "s", [](const ExportedBird& e, double* v) { v[0] = e.time; }},
-    {"velocity", Value::real, 3, "cm/s", [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
+    {"velocity", Value::real, 3, "cm/s",
+     [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
     {"speed", Value::real, 1, "cm/s",
      [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
     {"attitude", Value::real, 4, "- (unit quaternion w, x, y, z: body to world)",
@@ -210,12 +218,16 @@ const PointArray kPointArrays[] = {
        put(v, {degrees(std::atan2(head.z, head.x)), degrees(pitch_angle(e.state.attitude)),
                degrees(bank_angle(e.state.attitude))});
      }},
-    {"wingbeat_phase", Value::real, 1, "rad", [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
-    {"frequency", Value::real, 1, "Hz", [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
+    {"wingbeat_phase", Value::real, 1, "rad",
+     [](const ExportedBird& e, double* v) { v[0] = e.state.phase; }},
+    {"frequency", Value::real, 1, "Hz",
+     [](const ExportedBird& e, double* v) { v[0] = e.state.frequency; }},
     {"amplitude", Value::real, 1, "- (factor of the wingbeat's joint angles)",
      [](const ExportedBird& e, double* v) { v[0] = e.state.amplitude; }},
-    {"tail_bend", Value::real, 1, "deg", [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
-    {"tail_twist", Value::real, 1, "deg", [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
+    {"tail_bend", Value::real, 1, "deg",
+     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_bend); }},
+    {"tail_twist", Value::real, 1, "deg",
+     [](const ExportedBird& e, double* v) { v[0] = degrees(e.state.tail_twist); }},
     {"tail_opening", Value::real, 1, "deg",
      [](const ExportedBird& e, double* v) { v[0] = degrees(tail_opening(e.species, e.state)); }},
     {"aero_force", Value::real, 3, "dyn",
@@ -223,13 +235,16 @@ const PointArray kPointArrays[] = {
        const StepForces& f = e.forces;
        put(v, f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3] + f.tail);
      }},
-    {"tail_force", Value::real, 3, "dyn", [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
+    {"tail_force", Value::real, 3, "dyn",
+     [](const ExportedBird& e, double* v) { put(v, e.forces.tail); }},
     {"flight_state", Value::integer, 1, "- (code: flight_state_names)",
      [](const ExportedBird& e, double* v) { v[0] = double(e.state.mode); }},
     {"target", Value::integer, 1, "- (index into the bird's route)",
      [](const ExportedBird& e, double* v) { v[0] = e.state.target; }},
-    {"neighbours", Value::integer, 1, "-", [](const ExportedBird& e, double* v) { v[0] = e.seen.neighbours; }},
-    {"nearest_neighbour", Value::real, 1, "cm", [](const ExportedBird& e, double* v) { v[0] = e.seen.nearest; }},
+    {"neighbours", Value::integer, 1, "-",
+     [](const ExportedBird& e, double* v) { v[0] = e.seen.neighbours; }},
+    {"nearest_neighbour", Value::real, 1, "cm",
+     [](const ExportedBird& e, double* v) { v[0] = e.seen.nearest; }},
     {"social_direction", Value::real, 3, "- (unit vector, world)",
      [](const ExportedBird& e, double* v) { put(v, e.seen.direction); }},
 };
@@ -263,7 +278,8 @@ std::vector<std::string> flight_state_names() {
   return names;
 }
 
-vtkSmartPointer<vtkStringArray> string_array(const char* name, const std::vector<std::string>& values) {
+vtkSmartPointer<vtkStringArray> string_array(const char* name,
+                                             const std::vector<std::string>& values) {
   auto a = vtkSmartPointer<vtkStringArray>::New();
   a->SetName(name);
   for (const std::string& v : values) a->InsertNextValue(v);
@@ -271,7 +287,8 @@ vtkSmartPointer<vtkStringArray> string_array(const char* name, const std::vector
 }
 
 // A numeric array of VTK type `type` (VTK_FLOAT, ...), sized.
-vtkSmartPointer<vtkDataArray> data_array(const char* name, int type, int components, vtkIdType tuples) {
+vtkSmartPointer<vtkDataArray> data_array(const char* name, int type, int components,
+                                         vtkIdType tuples) {
   auto a = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(type));
   a->SetName(name);
   a->SetNumberOfComponents(components);
@@ -353,8 +370,8 @@ std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count
 struct VtkExporter::Writer {
   struct Frame {
     double time = 0.0;
-    std::vector<BirdState> birds;    // the selected birds, in the order of `ids`
-    std::vector<StepForces> forces;  // theirs, of the next step
+    std::vector<BirdState> birds;        // the selected birds, in the order of `ids`
+    std::vector<StepForces> forces;      // theirs, of the next step
     std::vector<Perception> perception;  // theirs, as last perceived
     size_t bytes() const {
       return birds.size() * sizeof(BirdState) + forces.size() * sizeof(StepForces) +
@@ -486,7 +503,8 @@ struct VtkExporter::Writer {
     for (vtkIdType i = 0; i < n; ++i) {
       const size_t k = static_cast<size_t>(i);
       const BirdState& b = frame.birds[k];
-      const ExportedBird e{ids[k], frame.time, b, species[b.species], frame.forces[k], frame.perception[k]};
+      const ExportedBird e{ids[k],          frame.time,         b, species[b.species],
+                           frame.forces[k], frame.perception[k]};
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
       for (size_t a = 0; a < std::size(kPointArrays); ++a) {
         kPointArrays[a].value(e, value);
@@ -615,15 +633,18 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
         if (std::find(earlier.begin(), earlier.end(), dir_ / name) != earlier.end())
           what += std::string(what.empty() ? "" : ", ") + name;
       if (frames > 0)
-        what += (what.empty() ? "" : ", ") + std::to_string(frames) + " frame" + (frames == 1 ? "" : "s");
-      throw std::runtime_error("VTK export directory " + dir_.string() + " holds an earlier run's export (" +
-                               what + "): --overwrite replaces it, or choose another directory");
+        what += (what.empty() ? "" : ", ") + std::to_string(frames) + " frame" +
+                (frames == 1 ? "" : "s");
+      throw std::runtime_error("VTK export directory " + dir_.string() +
+                               " holds an earlier run's export (" + what +
+                               "): --overwrite replaces it, or choose another directory");
     }
     for (const fs::path& f : earlier) {
       std::error_code ec;
       fs::remove(f, ec);
-      if (ec) throw std::runtime_error("VTK export directory " + dir_.string() + ": cannot remove " +
-                                       f.string() + " of an earlier run: " + ec.message());
+      if (ec)
+        throw std::runtime_error("VTK export directory " + dir_.string() + ": cannot remove " +
+                                 f.string() + " of an earlier run: " + ec.message());
     }
   }
   queue_frames_ = std::max<size_t>(options.queue_frames, 1);
@@ -640,7 +661,8 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   w.scenario_hash = scenario.hash;
   for (const Species& sp : scenario.species) w.species_names.push_back(sp.name);
   w.state_names = flight_state_names();
-  for (const PointArray& a : kPointArrays) w.frame_units.push_back(std::string(a.name) + ": " + a.unit);
+  for (const PointArray& a : kPointArrays)
+    w.frame_units.push_back(std::string(a.name) + ": " + a.unit);
   w.dt = scenario.dt;
   w.steps_per_frame = scenario.steps_per_frame;
   w.before_frame_write = options.before_frame_write;
@@ -710,7 +732,8 @@ std::vector<fs::path> earlier_export_files(const fs::path& dir) {
   for (const char* name : {"flock.pvd", "trajectories.vtp"})
     if (fs::is_regular_file(dir / name, ec)) files.push_back(dir / name);
   for (fs::directory_iterator it(dir / "frames", ec), end; !ec && it != end; it.increment(ec))
-    if (std::error_code ignored; is_frame_name(it->path().filename().string()) && it->is_regular_file(ignored))
+    if (std::error_code ignored;
+        is_frame_name(it->path().filename().string()) && it->is_regular_file(ignored))
       files.push_back(it->path());
   std::sort(files.begin(), files.end());
   return files;

@@ -14,10 +14,11 @@
 //
 // Files are written by a thread of the exporter, so the simulation waits for the disk only when
 // the queue of frames for it is full (VtkOptions::queue_frames, queue_bytes). Every file is written
-// to a temporary name and renamed (io/atomic_file.h): at every moment each is complete and readable,
-// the .pvd lists exactly the frame files written (a frame whose .pvd cannot be written is removed
-// again), and the trajectories are at most about 2 s of wall time behind. A write error stops the
-// writer (finish() throws "cannot write PATH: why") and leaves the files so far as they are.
+// to a temporary name and renamed (io/atomic_file.h): at every moment each is complete and
+// readable, the .pvd lists exactly the frame files written (a frame whose .pvd cannot be written is
+// removed again), and the trajectories are at most about 2 s of wall time behind. A write error
+// stops the writer (finish() throws "cannot write PATH: why") and leaves the files so far as they
+// are.
 //
 // A directory that holds an earlier export (earlier_export_files) is refused, or with
 // VtkOptions::overwrite cleared of those files (and no others) before the run.

@@ -39,13 +39,14 @@ dvec3 aerodynamic_force(const Species& s, const dvec3& air_velocity, const dvec3
   const double cos_a = -u_chord / speed;
   const Coefficients c = coefficients(s, sin_a, cos_a);
   const double q_area = 0.5 * kAirDensity * speed2 * area;  // eqs. 1, 2 without the coefficient
-  const dvec3 lift_dir = chord * sin_a + normal * cos_a;    // the in-plane air direction turned 90 deg
+  const dvec3 lift_dir =
+      chord * sin_a + normal * cos_a;  // the in-plane air direction turned 90 deg
   const dvec3 drag_dir = (chord * -cos_a) + (normal * sin_a);
   return q_area * (c.lift * lift_dir + c.drag * drag_dir);
 }
 
-WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
-                       const dvec3& body_air, const dvec3& omega) {
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
+                       double incidence, const dvec3& body_air, const dvec3& omega) {
   WingForces out{};
   WingPoint right[2];
   right_wing_points(s, phase, amp, frequency, sweep, incidence, right);

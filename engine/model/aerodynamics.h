@@ -1,4 +1,4 @@
-// Quasi-steady lift and drag at a force point (paper eqs. 1, 2; MODEL.md replaces Fig. 8).
+// Quasi-steady lift and drag at a force point (paper eqs. 1, 2; docs/MODEL.md replaces Fig. 8).
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -30,8 +30,8 @@ struct WingForces {
   glm::dvec3 force[4];
   glm::dvec3 torque;
 };
-WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
-                       const glm::dvec3& body_air, const glm::dvec3& omega);
+WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
+                       double incidence, const glm::dvec3& body_air, const glm::dvec3& omega);
 
 // Signed attack angle alpha of the same in-plane air velocity, radians (for tests and export).
 double attack_angle(const glm::dvec3& air_velocity, const glm::dvec3& chord,

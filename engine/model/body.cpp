@@ -43,9 +43,7 @@ double pitch_angle(const dquat& attitude) {
   return std::asin(std::clamp(head.y, -1.0, 1.0));
 }
 
-dquat heading_attitude(double heading) {
-  return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0});
-}
+dquat heading_attitude(double heading) { return glm::angleAxis(-heading, dvec3{0.0, 1.0, 0.0}); }
 
 glm::dquat level_attitude(const glm::dquat& q) { return facing(q * glm::dvec3{1.0, 0.0, 0.0}); }
 

@@ -40,7 +40,8 @@ glm::dquat level_attitude(const glm::dquat& attitude);
 glm::dquat facing(const glm::dvec3& head);
 
 // Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded, its
-// mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the mode.
+// mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the
+// mode.
 void come_to_rest(BirdState& b, const glm::dvec3& at);
 
 }  // namespace aeroflock

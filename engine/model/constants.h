@@ -43,15 +43,16 @@ AF_REAL(kDiveSpeed, 2.25)
 AF_REAL(kSpeedFirst, 0.75)
 // Pitched up this far (rad, 10 degrees) past the most it commands (pitch_max, brake_pitch
 // braking), its tail and sweep have lost to the wingbeat's own nose-up moment: the wingbeat rises
-// no further (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's nose-down moment:
-// the wingbeat, whose downstroke lift the lead-lag carries forward, rises.
+// no further (step.cpp). Pitched down as far past pitch_min, they have lost to the glide's
+// nose-down moment: the wingbeat, whose downstroke lift the lead-lag carries forward, rises.
 AF_REAL(kPitchOverrun, 0.17453292519943295)
 // A bird turning at full bank flies a circle this many times wider than the coordinated turn's
 // v^2 / (g tan bank_max): part of its weight hangs on the wingbeat's thrust, not the banked lift
 // (an eagle at 10 m/s, banked 45 degrees: 15 m, not 10). Sizes the circle a goal inside is never
 // reached from (control.h: circles_goal).
 AF_REAL(kWideTurn, 1.5)
-// A goal more than this far off the heading (rad, 120 degrees) is behind the bird (control.h: turn_on).
+// A goal more than this far off the heading (rad, 120 degrees) is behind the bird (control.h:
+// turn_on).
 AF_REAL(kBehind, 2.0943951023931953)
 // A goal less than this many times its horizontal distance above or below the bird is at about
 // its height (control.h: circles_goal).

@@ -41,25 +41,30 @@ dvec3 crab_aim(const dvec3& to_goal, const dvec3& wind, double ground_speed) {
 double approach_speed(const Species& s, double to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   const double room = std::max(0.0, to_branch - s.perch_radius);
-  return std::min(s.cruise_speed, std::sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
+  return std::min(s.cruise_speed,
+                  std::sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
 }
 
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position, const dvec3& velocity,
-                       const dvec3& goal, const dvec3& wind, double ground_speed, bool by_course) {
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position,
+                       const dvec3& velocity, const dvec3& goal, const dvec3& wind,
+                       double ground_speed, bool by_course) {
   // Braking, the bird steers its course through the air (not its head, which a sideslip turns
   // away from it) onto the crab aim, so that it is not blown off the branch; barely moving
   // through the air, its head.
   const dvec3 air = velocity - wind;
   const double air_speed = std::hypot(air.x, air.z);
-  const dvec3 head = by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
+  const dvec3 head =
+      by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
-  const double heading_error = std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
+  const double heading_error =
+      std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
   // The turn the bank is making, g tan(bank) / v, v the speed through the air (the bank's).
-  const double turn_rate = air_speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / air_speed : 0.0;
-  return {heading_error, heading_error - s.heading_lead * turn_rate, to_goal.y - s.height_lead * velocity.y,
-          glm::length(aim), air_speed};
+  const double turn_rate =
+      air_speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / air_speed : 0.0;
+  return {heading_error, heading_error - s.heading_lead * turn_rate,
+          to_goal.y - s.height_lead * velocity.y, glm::length(aim), air_speed};
 }
 
 namespace {
@@ -91,7 +96,8 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded) {
   const double deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
-  const double height_share = std::clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
+  const double height_share =
+      std::clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
   return {height_error + deficit,
           height_share * std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
 }
@@ -101,14 +107,17 @@ double spool_lead(const Species& s, double amplitude, double air_climb) {
   return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
 }
 
-double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height) {
+double commanded_pitch(const Species& s, double pitch_trim, double balance, double height,
+                       double goal_height) {
   const double pitch = std::clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
   const double floor = std::min(s.clearance, goal_height);
   if (height >= floor) return pitch;
   return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
 }
 
-bool heeds_wind(const Species& s, double speed) { return speed > kTouchdownAim * s.touchdown_speed; }
+bool heeds_wind(const Species& s, double speed) {
+  return speed > kTouchdownAim * s.touchdown_speed;
+}
 
 double perch_airspeed(const Species& s, const dvec3& to_perch, const dvec3& wind) {
   return glm::length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
@@ -116,7 +125,8 @@ double perch_airspeed(const Species& s, const dvec3& to_perch, const dvec3& wind
 
 double flare_share(const Species& s, double airspeed, double to_airspeed, double to_perch) {
   const double room = std::max(to_perch - 0.5 * s.perch_radius, 0.1 * s.perch_radius);
-  const double needed = std::max(0.0, airspeed * airspeed - to_airspeed * to_airspeed) / (2.0 * room);
+  const double needed =
+      std::max(0.0, airspeed * airspeed - to_airspeed * to_airspeed) / (2.0 * room);
   return std::min(needed / s.flare_decel, 1.0);
 }
 
@@ -145,12 +155,14 @@ double bank_rate(const glm::dquat& attitude, const dvec3& omega) {
   return -glm::cross(attitude * omega, right).y / c;
 }
 
-double roll_for_bank(const Species& s, const glm::dquat& attitude, const dvec3& omega, double bank_command) {
+double roll_for_bank(const Species& s, const glm::dquat& attitude, const dvec3& omega,
+                     double bank_command) {
   const double wanted = (bank_command - bank_angle(attitude)) / s.bank_time;
   const dvec3 others{0.0, omega.y, omega.z};
   // The bank rate is linear in omega.x: d(bank rate)/d(omega.x) = bank_rate of a pure roll.
   const double per_roll = bank_rate(attitude, dvec3{1.0, 0.0, 0.0});
-  const double roll = std::fabs(per_roll) > 0.1 ? (wanted - bank_rate(attitude, others)) / per_roll : wanted;
+  const double roll =
+      std::fabs(per_roll) > 0.1 ? (wanted - bank_rate(attitude, others)) / per_roll : wanted;
   return std::clamp(roll, -s.roll_rate, s.roll_rate);
 }
 
@@ -163,12 +175,14 @@ double full_bank_radius(const Species& s, double speed) {
   return kWideTurn * speed * speed / (kGravity * std::tan(s.bank_max));
 }
 
-bool circles_goal(double heading_error, double distance, double radius, double speed, double rise, double wind) {
+bool circles_goal(double heading_error, double distance, double radius, double speed, double rise,
+                  double wind) {
   // In a wind the circle drifts over the goal: by more than its radius each turn (2 pi radius /
   // speed long) once the wind is faster than speed / (2 pi).
   if (2.0 * kPi * wind >= speed) return false;
   // The circle's centre lies `radius` abeam; the goal inside it when d < 2 radius |sin(phi)|.
-  return std::fabs(rise) < kLevelGoal * distance && distance < 2.0 * radius * std::fabs(std::sin(heading_error));
+  return std::fabs(rise) < kLevelGoal * distance &&
+         distance < 2.0 * radius * std::fabs(std::sin(heading_error));
 }
 
 double heading_bank(const Species& s, double heading_error, double distance, double speed) {
@@ -191,7 +205,8 @@ double recovery_bank(const Species& s, double pitch, double descent, double airs
 }
 
 double descent_angle(double air_climb, double airspeed) {
-  return airspeed > 0.0 ? std::max(0.0, -std::asin(std::clamp(air_climb / airspeed, -1.0, 1.0))) : 0.0;
+  return airspeed > 0.0 ? std::max(0.0, -std::asin(std::clamp(air_climb / airspeed, -1.0, 1.0)))
+                        : 0.0;
 }
 
 double ground_bank(const Species& s, double height) {

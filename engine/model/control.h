@@ -16,10 +16,11 @@ double sign_outside(double x, double band);
 // heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
 // target on the right > 0; in a wind, to where the head must point for the bird to fly over the
 // ground towards the goal at `ground_speed` (crab_aim): it crabs. With `by_course` (braking) the
-// angle is from its course through the air instead of its head (kSteerAirspeed). heading_error_ahead: the
-// same, less the turn the bank is making (g tan(bank) / v) over heading_lead seconds; the tail
-// twist steers by it, which damps the body's yaw. height_error: y_p - y_i of eqs. 4, 5, with the
-// bird's height predicted height_lead seconds ahead so that the height control settles.
+// angle is from its course through the air instead of its head (kSteerAirspeed).
+// heading_error_ahead: the same, less the turn the bank is making (g tan(bank) / v) over
+// heading_lead seconds; the tail twist steers by it, which damps the body's yaw. height_error: y_p
+// - y_i of eqs. 4, 5, with the bird's height predicted height_lead seconds ahead so that the height
+// control settles.
 struct Steering {
   double heading_error;
   double heading_error_ahead;
@@ -27,8 +28,9 @@ struct Steering {
   double aim_speed;  // |crab_aim|, cm/s: the airspeed that makes ground_speed towards the goal
   double air_speed;  // cm/s, the bird's horizontal speed through the air (what a turn banks for)
 };
-Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position, const glm::dvec3& velocity,
-                       const glm::dvec3& goal, const glm::dvec3& wind, double ground_speed, bool by_course);
+Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position,
+                       const glm::dvec3& velocity, const glm::dvec3& goal, const glm::dvec3& wind,
+                       double ground_speed, bool by_course);
 
 // With the target well behind (more than kBehind off the heading), a bird banked more than half
 // bank_max keeps turning the way it banks: either way round is about as long, and a goal passing
@@ -57,8 +59,8 @@ double amplitude_step(const Species& s, double amplitude, double dy, double dt);
 
 // The tail's commanded twist (4.1; the bend is the elevator's): the goal on the right rolls it
 // right side down, towards the turn. The air, meeting the body from below, then presses on the
-// tail's upper surface and pushes it left: the nose turns right (MODEL.md: pushing the tail left
-// turns the nose right). With fixed-rate turning (eq. 3 turns the body) the twist follows
+// tail's upper surface and pushes it left: the nose turns right (docs/MODEL.md: pushing the tail
+// left turns the nose right). With fixed-rate turning (eq. 3 turns the body) the twist follows
 // heading_error instead.
 double tail_twist_command(const Species& s, const Steering& steering, bool fixed_rate);
 
@@ -78,7 +80,8 @@ double full_bank_radius(const Species& s, double speed);
 // height (|rise| < kLevelGoal distance), in air calm enough (`wind`, horizontal, slower than
 // speed / 2 pi) that the circle does not drift over it: turning, the bird would circle it for
 // ever. A goal far above or below is spiralled to.
-bool circles_goal(double heading_error, double distance, double radius, double speed, double rise, double wind);
+bool circles_goal(double heading_error, double distance, double radius, double speed, double rise,
+                  double wind);
 
 // The largest bank at `pitch`, `descent` (the flight path's angle below the horizontal through
 // the air, rad, >= 0) and `airspeed`: bank_max up to kSteepPitch / 2 of pitch, kSteepDescent / 2
@@ -125,7 +128,8 @@ double spool_lead(const Species& s, double amplitude, double air_climb);
 // The pitch the bird holds: its integral trim plus balance_gain times the balance, within
 // [pitch_min, pitch_max]; `height` (cm above the ground) below the clearance, and the goal not
 // lower, no less than climb_pitch in proportion to how far below.
-double commanded_pitch(const Species& s, double pitch_trim, double balance, double height, double goal_height);
+double commanded_pitch(const Species& s, double pitch_trim, double balance, double height,
+                       double goal_height);
 
 // Whether a bird heeds a wind of `speed` (cm/s) when it lands or takes off: it lands and takes off
 // into one faster than kTouchdownAim touchdown_speed (downwind, it could not slow to grip).
@@ -135,7 +139,8 @@ bool heeds_wind(const Species& s, double speed);
 // perch (`to_perch` away) in the wind: what it brakes to.
 double perch_airspeed(const Species& s, const glm::dvec3& to_perch, const glm::dvec3& wind);
 // Braking for the branch (the flare): how hard, in [0, 1]: the deceleration through the air that
-// slows the bird from `airspeed` to `to_airspeed` (perch_airspeed) by half perch_radius from its perch
+// slows the bird from `airspeed` to `to_airspeed` (perch_airspeed) by half perch_radius from its
+// perch
 // (`to_perch` cm away), over flare_decel.
 double flare_share(const Species& s, double airspeed, double to_airspeed, double to_perch);
 // The flare's pitch: from the pitch trim towards brake_pitch by the share; within
@@ -157,7 +162,8 @@ double bank_rate(const glm::dquat& attitude, const glm::dvec3& omega);
 
 // The body roll rate omega.x that turns the bank towards `bank_command` with time constant
 // bank_time (at most roll_rate), allowing for the bank the other two body rates make.
-double roll_for_bank(const Species& s, const glm::dquat& attitude, const glm::dvec3& omega, double bank_command);
+double roll_for_bank(const Species& s, const glm::dquat& attitude, const glm::dvec3& omega,
+                     double bank_command);
 
 // Landing path control (paper 4.4, Fig. 14): Q1 the bird, Q2 the branch point, Q3 where the line
 // from Q1 along the bird's horizontal heading meets the horizontal line from Q2 perpendicular to

@@ -16,11 +16,12 @@ namespace {
 
 using glm::dvec3;
 
-constexpr double kStartHeight = 20000.0;   // cm: flights start 200 m up, 50 m above the lowest target
-constexpr double kBranchHeight = 500.0;    // cm
-constexpr double kTargetRadius = 300.0;    // cm
-constexpr double kCruise = 1000.0;         // cm/s: the time limits allow 1.5 times the path at it
-constexpr double kJudgeEvery = 0.006;      // s: the flights are judged every 6 ms (or every step)
+constexpr double kStartHeight =
+    20000.0;                             // cm: flights start 200 m up, 50 m above the lowest target
+constexpr double kBranchHeight = 500.0;  // cm
+constexpr double kTargetRadius = 300.0;  // cm
+constexpr double kCruise = 1000.0;       // cm/s: the time limits allow 1.5 times the path at it
+constexpr double kJudgeEvery = 0.006;    // s: the flights are judged every 6 ms (or every step)
 
 double time_limit(const EnvelopeCase& c) {
   if (c.kind == EnvelopeCase::Kind::landing) return 60.0;
@@ -29,19 +30,26 @@ double time_limit(const EnvelopeCase& c) {
 
 // Where the case's target (branch) is, from a bird starting at the origin heading +x.
 dvec3 goal(const EnvelopeCase& c, double start_height) {
-  return {c.distance * std::cos(c.bearing), start_height + c.rise, c.distance * std::sin(c.bearing)};
+  return {c.distance * std::cos(c.bearing), start_height + c.rise,
+          c.distance * std::sin(c.bearing)};
 }
 
 }  // namespace
 
 const char* name(Outcome o) {
   switch (o) {
-    case Outcome::reached: return "reached";
-    case Outcome::late: return "late";
-    case Outcome::over_bank: return "over_bank";
-    case Outcome::over_pitch: return "over_pitch";
-    case Outcome::below_ground: return "below_ground";
-    case Outcome::not_finite: return "not_finite";
+    case Outcome::reached:
+      return "reached";
+    case Outcome::late:
+      return "late";
+    case Outcome::over_bank:
+      return "over_bank";
+    case Outcome::over_pitch:
+      return "over_pitch";
+    case Outcome::below_ground:
+      return "below_ground";
+    case Outcome::not_finite:
+      return "not_finite";
   }
   return "?";
 }
@@ -49,11 +57,12 @@ const char* name(Outcome o) {
 std::string EnvelopeCase::describe() const {
   char text[200];
   const char* k = kind == Kind::flight ? "flight" : kind == Kind::takeoff ? "takeoff" : "landing";
-  std::snprintf(text, sizeof text,
-                "%s speed %.0f m/s pitch %.0f bank %.0f deg, target %+.0f m up %.0f deg off %.0f m away, "
-                "crosswind %.0f m/s",
-                k, speed / 100, degrees(pitch), degrees(bank), rise / 100, degrees(bearing), distance / 100,
-                crosswind / 100);
+  std::snprintf(
+      text, sizeof text,
+      "%s speed %.0f m/s pitch %.0f bank %.0f deg, target %+.0f m up %.0f deg off %.0f m away, "
+      "crosswind %.0f m/s",
+      k, speed / 100, degrees(pitch), degrees(bank), rise / 100, degrees(bearing), distance / 100,
+      crosswind / 100);
   return text;
 }
 
@@ -122,7 +131,8 @@ std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest) {
   return cases;
 }
 
-std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
+std::vector<EnvelopeResult> fly_envelope(const Species& species,
+                                         const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
                                          const std::function<void(double)>& progress, double dt) {
   std::vector<EnvelopeResult> results(cases.size());
@@ -156,7 +166,8 @@ std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vect
         s.world.branches.push_back(br);
         b.position = dvec3{0.0, start, 0.0};
       } else {
-        const double start = c.kind == EnvelopeCase::Kind::takeoff ? species.stand_height : kStartHeight;
+        const double start =
+            c.kind == EnvelopeCase::Kind::takeoff ? species.stand_height : kStartHeight;
         Target t;
         t.name = r.name;
         t.centre = goal(c, start);
@@ -170,7 +181,8 @@ std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vect
         b.mode = FlightMode::standing;
         b.attitude = heading_attitude(0.0);
       } else {
-        b.attitude = glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
+        b.attitude =
+            glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
         b.velocity = b.attitude * dvec3{c.speed, 0.0, 0.0};
       }
       birds.push_back(b);
@@ -223,7 +235,7 @@ std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vect
           }
         }
         const bool there = r.c.kind == EnvelopeCase::Kind::landing ? b.mode == FlightMode::perched
-                                                                     : b.targets_reached >= 1;
+                                                                   : b.targets_reached >= 1;
         if (there) {
           verdict(Outcome::reached);
         } else if (t >= time_limit(r.c)) {

@@ -18,19 +18,19 @@ namespace aeroflock {
 
 struct EnvelopeCase {
   enum class Kind { flight, takeoff, landing } kind = Kind::flight;
-  double speed = 1000.0;    // at the start, along the head, cm/s (take-off: 0)
-  double pitch = 0.0;       // at the start, rad
-  double bank = 0.0;        // at the start, rad (right wing down > 0)
-  double rise = 0.0;        // the target (branch) above the start, cm
-  double bearing = 0.0;     // the target (branch) off the start heading, rad (right > 0)
-  double distance = 0.0;    // to the target (branch), horizontal, cm
-  double crosswind = 0.0;   // from the bird's left at the start, cm/s
+  double speed = 1000.0;   // at the start, along the head, cm/s (take-off: 0)
+  double pitch = 0.0;      // at the start, rad
+  double bank = 0.0;       // at the start, rad (right wing down > 0)
+  double rise = 0.0;       // the target (branch) above the start, cm
+  double bearing = 0.0;    // the target (branch) off the start heading, rad (right > 0)
+  double distance = 0.0;   // to the target (branch), horizontal, cm
+  double crosswind = 0.0;  // from the bird's left at the start, cm/s
   std::string describe() const;
 };
 
 // The limits a flight keeps once settled (the envelope's judge; the convergence study's too).
-inline constexpr double kSettleTime = 3.0;                 // s: the limits hold from then on
-inline constexpr double kBankMargin = radians(5.0);   // beyond the species' bank_max
+inline constexpr double kSettleTime = 3.0;           // s: the limits hold from then on
+inline constexpr double kBankMargin = radians(5.0);  // beyond the species' bank_max
 inline constexpr double kPitchLimit = radians(60.0);
 
 enum class Outcome {
@@ -67,8 +67,10 @@ using SimulationFactory =
     std::function<std::unique_ptr<Simulation>(Scenario scenario, std::vector<BirdState> birds)>;
 
 // Flies every case (one bird each; the birds do not meet) and judges it, one simulation per
-// crosswind, stepped by `dt`. `progress` (may be empty) is told the simulated seconds of each frame.
-std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
+// crosswind, stepped by `dt`. `progress` (may be empty) is told the simulated seconds of each
+// frame.
+std::vector<EnvelopeResult> fly_envelope(const Species& species,
+                                         const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
                                          const std::function<void(double)>& progress = {},
                                          double dt = kPaperDt);

@@ -24,7 +24,8 @@ dvec3 unit_or_zero(const dvec3& v) {
 
 // Where a bird flies: along its velocity (its head's direction while it is still).
 dvec3 flight_direction(const BirdState& b) {
-  return glm::length(b.velocity) > 0.0 ? glm::normalize(b.velocity) : b.attitude * dvec3{1.0, 0.0, 0.0};
+  return glm::length(b.velocity) > 0.0 ? glm::normalize(b.velocity)
+                                       : b.attitude * dvec3{1.0, 0.0, 0.0};
 }
 
 // The k nearest seen so far, nearest first, ties by index: one insertion step.
@@ -41,7 +42,8 @@ struct Nearest {
   void offer(uint32_t j, double d2) {
     if (k == 0 || !beats_worst(j, d2)) return;
     size_t at = index.size();
-    while (at > 0 && (distance2[at - 1] > d2 || (distance2[at - 1] == d2 && index[at - 1] > j))) --at;
+    while (at > 0 && (distance2[at - 1] > d2 || (distance2[at - 1] == d2 && index[at - 1] > j)))
+      --at;
     index.insert(index.begin() + static_cast<std::ptrdiff_t>(at), j);
     distance2.insert(distance2.begin() + static_cast<std::ptrdiff_t>(at), d2);
     if (index.size() > k) {
@@ -55,8 +57,8 @@ struct Nearest {
 bool may_see(const BirdState& i, const BirdState& j) { return j.flock == i.flock && flocks_now(j); }
 
 // Offers bird j to bird i's list if i sees it.
-void consider(Nearest& nearest, const Species& s, const std::vector<BirdState>& birds, uint32_t i, uint32_t j,
-              const dvec3& ahead) {
+void consider(Nearest& nearest, const Species& s, const std::vector<BirdState>& birds, uint32_t i,
+              uint32_t j, const dvec3& ahead) {
   if (j == i || !may_see(birds[i], birds[j])) return;
   const dvec3 offset = birds[j].position - birds[i].position;
   if (sees(s, ahead, offset)) nearest.offer(j, glm::dot(offset, offset));
@@ -71,7 +73,8 @@ bool flocks_now(const BirdState& b) {
 bool sees(const Species& s, const dvec3& ahead, const dvec3& offset) {
   const double distance2 = glm::dot(offset, offset);
   if (distance2 > s.perception_radius * s.perception_radius) return false;
-  // Blind within half the blind angle of straight back: cos(angle from straight back) > cos(blind / 2).
+  // Blind within half the blind angle of straight back: cos(angle from straight back) > cos(blind /
+  // 2).
   return -glm::dot(offset, ahead) <= std::cos(0.5 * s.blind_angle) * std::sqrt(distance2);
 }
 
@@ -110,11 +113,13 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   p.nearest = glm::length(birds[seen[0]].position - b.position);
   for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
   const dvec3 d = s.w_route * unit_or_zero(route_goal - b.position) + s.w_separation * separation +
-                  s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
+                  s.w_alignment * unit_or_zero(heading_sum) +
+                  s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
   const double faster = faster_sum / double(seen.size());
-  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster, s.min_speed, s.max_speed);
+  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster,
+                          s.min_speed, s.max_speed);
   return p;
 }
 
@@ -136,7 +141,8 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
   GridShape g;
   g.cell = std::max(0.6 * separation, perception / 12.0);
   g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
-  g.buckets = std::bit_ceil(static_cast<uint32_t>(std::clamp<size_t>(4 * birds.size(), 1024, size_t{1} << 31)));
+  g.buckets = std::bit_ceil(
+      static_cast<uint32_t>(std::clamp<size_t>(4 * birds.size(), 1024, size_t{1} << 31)));
   return g;
 }
 
@@ -148,18 +154,22 @@ std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius,
     for (int dy = -rings; dy <= rings; ++dy)
       for (int dx = -rings; dx <= rings; ++dx) {
         const glm::ivec3 gap = glm::max(glm::abs(glm::ivec3(dx, dy, dz)) - 1, 0);
-        if ((gap.x * gap.x + gap.y * gap.y + gap.z * gap.z) * shape.cell * shape.cell <= radius * radius)
+        if ((gap.x * gap.x + gap.y * gap.y + gap.z * gap.z) * shape.cell * shape.cell <=
+            radius * radius)
           around.push_back({dx, dy, dz});
       }
   // Nearest first, then ring by ring: the order never depends on the sort's whims.
-  auto ring = [](const glm::ivec4& c) { return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}); };
+  auto ring = [](const glm::ivec4& c) {
+    return std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)});
+  };
   auto before = [&](const glm::ivec4& a, const glm::ivec4& b) {
     return std::tuple(a.w, ring(a), a.z, a.y, a.x) < std::tuple(b.w, ring(b), b.z, b.y, b.x);
   };
   std::vector<glm::ivec4> order;
   order.reserve(size_t(parts) * parts * parts * around.size());
   for (int part = 0; part < parts * parts * parts; ++part) {
-    // In units of a part: the part [p, p + 1) of the bird's cell [0, parts), cell d [parts d, parts d + parts).
+    // In units of a part: the part [p, p + 1) of the bird's cell [0, parts), cell d [parts d, parts
+    // d + parts).
     const glm::ivec3 p(part % parts, part / parts % parts, part / (parts * parts));
     const size_t first = order.size();
     for (const glm::ivec3& d : around) {
@@ -176,7 +186,8 @@ glm::ivec3 grid_cell(const dvec3& position, double cell) {
 }
 
 uint32_t grid_bucket(const glm::ivec3& c, uint32_t buckets) {
-  const uint32_t h = static_cast<uint32_t>(c.x) * 73856093u ^ static_cast<uint32_t>(c.y) * 19349663u ^
+  const uint32_t h = static_cast<uint32_t>(c.x) * 73856093u ^
+                     static_cast<uint32_t>(c.y) * 19349663u ^
                      static_cast<uint32_t>(c.z) * 83492791u;
   return h & (buckets - 1u);
 }
@@ -197,7 +208,8 @@ NeighbourGrid::NeighbourGrid(const std::vector<BirdState>& birds, GridShape shap
     if (bucket[i] < shape.buckets) sorted_[next[bucket[i]]++] = static_cast<uint32_t>(i);
 }
 
-std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Species>& species) const {
+std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i,
+                                             const std::vector<Species>& species) const {
   const BirdState& b = birds_[i];
   const Species& s = species[b.species];
   Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
@@ -224,7 +236,8 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Speci
           const dvec3 low = dvec3(c) * cell, high = low + cell;
           const dvec3 gap = glm::max(glm::max(low - b.position, b.position - high), dvec3{0.0});
           const double gap2 = glm::dot(gap, gap);
-          if (gap2 > s.perception_radius * s.perception_radius || (nearest.full() && gap2 > nearest.worst2()))
+          if (gap2 > s.perception_radius * s.perception_radius ||
+              (nearest.full() && gap2 > nearest.worst2()))
             continue;
           const uint32_t k = grid_bucket(c, shape_.buckets);
           for (uint32_t e = start_[k]; e < start_[k + 1]; ++e) {
@@ -249,8 +262,9 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
   return nearest.index;
 }
 
-void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species, const World& world,
-              uint64_t frame, double frame_seconds, std::vector<Perception>& perception) {
+void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
+              const World& world, uint64_t frame, double frame_seconds,
+              std::vector<Perception>& perception) {
   perception.resize(birds.size());
   const NeighbourGrid grid(birds, grid_shape(species, birds));
   const int64_t n = static_cast<int64_t>(birds.size());
@@ -261,8 +275,8 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
     const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species);
     BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
-    perception[static_cast<size_t>(i)] =
-        social_goal(s, b, seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world), seen, birds);
+    perception[static_cast<size_t>(i)] = social_goal(
+        s, b, seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world), seen, birds);
   }
 }
 

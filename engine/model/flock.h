@@ -1,4 +1,4 @@
-// Flocking (MODEL.md "Flocking", beyond the paper): what a bird sees of its flock, once per
+// Flocking (docs/MODEL.md "Flocking", beyond the paper): what a bird sees of its flock, once per
 // reaction time, and the social goal it then steers for through the paper's controller. No social
 // force acts on a body.
 #pragma once
@@ -39,7 +39,7 @@ bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
 uint32_t reaction_frames(const Species& s, double frame_seconds);
 
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
-// index): the desired direction d of MODEL.md from separation (fall-off (1 - distance /
+// index): the desired direction d of docs/MODEL.md from separation (fall-off (1 - distance /
 // separation_radius)^2), alignment, cohesion and the route
 // (towards `route_goal`), and the airspeed: cruise_speed plus speed_gain times how far the seen
 // birds are along its flight from where they would be at separation_radius (offset (1 -
@@ -106,7 +106,8 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 
 // Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
 // get a new one from the grid, due birds that do not get none, the rest keep theirs.
-void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species, const World& world,
-              uint64_t frame, double frame_seconds, std::vector<Perception>& perception);
+void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
+              const World& world, uint64_t frame, double frame_seconds,
+              std::vector<Perception>& perception);
 
 }  // namespace aeroflock

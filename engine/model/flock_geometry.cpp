@@ -39,14 +39,17 @@ class CellMap {
  private:
   glm::ivec3 cell_of(const glm::dvec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
   static uint64_t key(const glm::ivec3& c) {
-    const auto part = [](int v) { return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu); };
+    const auto part = [](int v) {
+      return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu);
+    };
     return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
   }
   double cell_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
 };
 
-std::vector<uint32_t> finite_members(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
+std::vector<uint32_t> finite_members(const std::vector<BirdState>& birds,
+                                     const std::vector<uint32_t>& members) {
   std::vector<uint32_t> out;
   if (members.empty()) {
     for (uint32_t i = 0; i < birds.size(); ++i)
@@ -67,8 +70,9 @@ uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
 
 bool is_finite(const BirdState& bird) {
   const glm::dquat& q = bird.attitude;
-  return bird.mode != FlightMode::quarantined && is_finite(bird.position) && is_finite(bird.velocity) && std::isfinite(q.w) &&
-         std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+  return bird.mode != FlightMode::quarantined && is_finite(bird.position) &&
+         is_finite(bird.velocity) && std::isfinite(q.w) && std::isfinite(q.x) &&
+         std::isfinite(q.y) && std::isfinite(q.z);
 }
 
 FlockExtent flock_extent(const std::vector<BirdState>& birds) {
@@ -121,8 +125,8 @@ FlockCore flock_core(const std::vector<BirdState>& birds, double fraction) {
 namespace {
 
 // Each of the `finite` birds' distance to its nearest other, found through `map` (of those birds).
-std::vector<double> nearest_in(const std::vector<BirdState>& birds, const std::vector<uint32_t>& finite,
-                               const CellMap& map) {
+std::vector<double> nearest_in(const std::vector<BirdState>& birds,
+                               const std::vector<uint32_t>& finite, const CellMap& map) {
   std::vector<double> out(finite.size(), std::numeric_limits<double>::infinity());
   if (finite.size() < 2) return out;
 #pragma omp parallel for schedule(dynamic, 64)
@@ -146,7 +150,8 @@ std::vector<double> nearest_in(const std::vector<BirdState>& birds, const std::v
 
 }  // namespace
 
-std::vector<double> nearest_distances(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members) {
+std::vector<double> nearest_distances(const std::vector<BirdState>& birds,
+                                      const std::vector<uint32_t>& members) {
   const std::vector<uint32_t> finite = finite_members(birds, members);
   return nearest_in(birds, finite, CellMap(birds, finite, kClusterLink));
 }
@@ -164,7 +169,8 @@ FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vecto
   m.largest_cluster = 1.0;
   if (finite.size() < 2) return m;
 
-  // One map of the birds in cells of the cluster link serves the nearest distances and the clusters.
+  // One map of the birds in cells of the cluster link serves the nearest distances and the
+  // clusters.
   const CellMap map(birds, finite, kClusterLink);
   std::vector<double> nearest = nearest_in(birds, finite, map);
   size_t close = 0;
@@ -174,7 +180,8 @@ FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vecto
   const auto middle = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2);
   std::nth_element(nearest.begin(), middle, nearest.end());
   m.median_nearest = *middle;
-  if (nearest.size() % 2 == 0) m.median_nearest = 0.5 * (m.median_nearest + *std::max_element(nearest.begin(), middle));
+  if (nearest.size() % 2 == 0)
+    m.median_nearest = 0.5 * (m.median_nearest + *std::max_element(nearest.begin(), middle));
 
   // Clusters: birds linked within kClusterLink, by union-find over the cells around each bird.
   std::vector<uint32_t> parent(birds.size());

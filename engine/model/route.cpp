@@ -35,12 +35,14 @@ dvec3 landing_gate(const Species& s, const dvec3& across, const dvec3& q2, doubl
 // Flown past the branch: moving away from it horizontally, out of perch_radius (a braking bird
 // may sink a little, and one nearly still over the branch in a wind drift to and fro).
 bool flown_past(const BirdState& b, const Species& s, const dvec3& to_perch) {
-  return glm::dot(horizontal(to_perch), horizontal(b.velocity)) <= 0.0 && glm::length(horizontal(to_perch)) > s.perch_radius;
+  return glm::dot(horizontal(to_perch), horizontal(b.velocity)) <= 0.0 &&
+         glm::length(horizontal(to_perch)) > s.perch_radius;
 }
 
 // Sunk under the perch and still sinking fast: braking, it could not climb back onto it.
 bool sunk_under(const BirdState& b, const Species& s, const dvec3& to_perch) {
-  return to_perch.y > kSunkPerchRadii * s.perch_radius && b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
+  return to_perch.y > kSunkPerchRadii * s.perch_radius &&
+         b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
 }
 
 // Landing with path control (paper 4.4): P and the curve Q1 Q3 Q2 are placed when the branch
@@ -67,7 +69,8 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     // Into the wind the bird must be well out on its side to come in along the perpendicular.
     const double out = windward ? s.approach_distance : 0.0;
     const bool on_side = glm::dot(b.position - q2, across) * side >= out;
-    b.landing_stage = on_side && (b.via_point != q2 || heading_in) ? LandingStage::curve : LandingStage::gate;
+    b.landing_stage =
+        on_side && (b.via_point != q2 || heading_in) ? LandingStage::curve : LandingStage::gate;
   }
   if (b.landing_stage == LandingStage::gate) {
     // Reached within approach_distance, or flown past close by (as a target, route_goal), unless
@@ -77,7 +80,8 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
     const dvec3 to_gate = horizontal(gate - b.position);
     const double distance = glm::length(to_gate);
     const bool gone_by = glm::dot(to_gate, b.velocity) < 0.0;
-    const bool heading_out = glm::dot(track, inward) < -kGateHeadingOut * glm::length(track) * glm::length(inward);
+    const bool heading_out =
+        glm::dot(track, inward) < -kGateHeadingOut * glm::length(track) * glm::length(inward);
     if (heading_out || (distance > s.approach_distance &&
                         !(gone_by && distance <= kMissedTargetRadii * s.approach_distance)))
       return gate;
@@ -130,7 +134,8 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   if (b.target < n) return w.target_now[r.targets[b.target]];
   if (r.branch < 0) return w.target_now[r.targets[n - 1]];
   const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
-  return r.path_control ? landing_goal(b, s, br, wind_at(w, b.position.y)) : perch_point(s, br);  // or straight in
+  return r.path_control ? landing_goal(b, s, br, wind_at(w, b.position.y))
+                        : perch_point(s, br);  // or straight in
 }
 
 std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const World& w) {
@@ -141,8 +146,10 @@ std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const Wo
 
 namespace {
 // Whether the flare needs starting now to touch down at perch_radius (the wind where the bird is).
-bool braking_due(const Species& s, const BirdState& b, const dvec3& to_perch, const dvec3& wind, double distance) {
-  return flare_share(s, glm::length(b.velocity - wind), perch_airspeed(s, to_perch, wind), distance) >= kBrakeShare;
+bool braking_due(const Species& s, const BirdState& b, const dvec3& to_perch, const dvec3& wind,
+                 double distance) {
+  return flare_share(s, glm::length(b.velocity - wind), perch_airspeed(s, to_perch, wind),
+                     distance) >= kBrakeShare;
 }
 }  // namespace
 

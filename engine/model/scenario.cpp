@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -47,9 +47,9 @@ void set_dt(Scenario& s, double dt) {
   check_dt(dt);
   const double steps = std::round(s.frame_seconds() / dt);
   if (steps > kMaxStepsPerFrame)
-    throw std::invalid_argument("a frame of " + number(s.frame_seconds()) + " s takes " + number(steps) +
-                                " steps of " + number(dt) + " s; steps_per_frame must be <= " +
-                                std::to_string(kMaxStepsPerFrame));
+    throw std::invalid_argument(
+        "a frame of " + number(s.frame_seconds()) + " s takes " + number(steps) + " steps of " +
+        number(dt) + " s; steps_per_frame must be <= " + std::to_string(kMaxStepsPerFrame));
   s.steps_per_frame = steps_in(s.frame_seconds(), dt);
   s.dt = dt;
 }
@@ -65,7 +65,8 @@ void validate(const Scenario& s) {
   for (const Species& sp : s.species) validate(sp);
   const World& w = s.world;
   if (!(w.wind_height > 0.0) || !std::isfinite(w.wind_height)) fail("wind_height must be > 0");
-  if (!(w.wind_exponent >= 0.0 && w.wind_exponent <= 1.0)) fail("wind_exponent must be within [0, 1]");
+  if (!(w.wind_exponent >= 0.0 && w.wind_exponent <= 1.0))
+    fail("wind_exponent must be within [0, 1]");
   if (!(w.wind_roughness > 0.0 && w.wind_roughness < w.wind_height))
     fail("wind_roughness must be > 0 and below wind_height");
   // The world the device keeps exact (gpu/host_device.h: world tiles).
@@ -76,13 +77,14 @@ void validate(const Scenario& s) {
   // Nothing starts under the ground (the birds would stay down there); a target may lie on it.
   auto require_above_ground = [&](const glm::dvec3& p, const std::string& what, bool on = false) {
     if (!above_ground(p.y, w, on))
-      fail(what + " is not above the ground (y " + number(p.y) + " cm, the ground " + number(w.ground_height) +
-           " cm)");
+      fail(what + " is not above the ground (y " + number(p.y) + " cm, the ground " +
+           number(w.ground_height) + " cm)");
   };
   for (const Target& t : w.targets) {
     if (!(t.radius > 0.0)) fail("target '" + t.name + "': radius must be > 0");
     within_world(t.centre, "target '" + t.name + "'");
-    require_above_ground(t.centre, "target '" + t.name + "'", true);  // Fig. 17's lies on the ground
+    require_above_ground(t.centre, "target '" + t.name + "'",
+                         true);  // Fig. 17's lies on the ground
   }
   for (const Branch& b : w.branches) {
     within_world(b.point, "branch '" + b.name + "'");
@@ -93,7 +95,8 @@ void validate(const Scenario& s) {
   }
   for (const Route& r : w.routes) {
     if (r.targets.empty() && r.branch < 0) fail("route '" + r.name + "' has no targets");
-    if (r.loop && r.targets.size() < 2) fail("route '" + r.name + "' loops over fewer than 2 targets");
+    if (r.loop && r.targets.size() < 2)
+      fail("route '" + r.name + "' loops over fewer than 2 targets");
     if (r.loop && r.branch >= 0) fail("route '" + r.name + "' both loops and lands on a branch");
     for (uint32_t t : r.targets)
       if (t >= w.targets.size()) fail("route '" + r.name + "': target index out of range");
@@ -111,10 +114,12 @@ void validate(const Scenario& s) {
     // A standing flock stands its birds' centres stand_height above the ground, whatever its
     // box's height; a flying one starts anywhere in its box.
     if (f.standing && !(sp.stand_height > 0.0))
-      fail("flock '" + f.name + "': its species '" + sp.name + "' stands at stand_height 0, on the ground");
+      fail("flock '" + f.name + "': its species '" + sp.name +
+           "' stands at stand_height 0, on the ground");
     if (!f.standing)
-      require_above_ground(f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count, w.ground_height).y, 0.0},
-                   "flock '" + f.name + "': the lowest point of its spawn box");
+      require_above_ground(
+          f.spawn_centre - glm::dvec3{0.0, spawn_extent(f, sp, f.count, w.ground_height).y, 0.0},
+          "flock '" + f.name + "': the lowest point of its spawn box");
   }
 }
 
@@ -154,9 +159,11 @@ void resize_flock(Scenario& s, size_t index, uint32_t count) {
 glm::dvec3 spawn_extent(const Flock& f, const Species& sp, uint32_t count, double ground_height) {
   const bool own_box = f.spawn_extent != glm::dvec3{0.0};
   if (count == f.count && (own_box || count <= 1)) return f.spawn_extent;
-  glm::dvec3 e = own_box ? f.spawn_extent * std::cbrt(static_cast<double>(std::max(count, 1u)) /
-                                                      static_cast<double>(f.count))
-                         : glm::dvec3{count > 1 ? 2.0 * sp.wing_length * std::cbrt(static_cast<double>(count)) : 0.0};
+  glm::dvec3 e =
+      own_box ? f.spawn_extent * std::cbrt(static_cast<double>(std::max(count, 1u)) /
+                                           static_cast<double>(f.count))
+              : glm::dvec3{count > 1 ? 2.0 * sp.wing_length * std::cbrt(static_cast<double>(count))
+                                     : 0.0};
   // A grown box keeps its lowest point above the ground (at most 90 % of the centre's height
   // over it) and widens instead, as dense as before.
   const double room = 0.9 * (f.spawn_centre.y - ground_height);

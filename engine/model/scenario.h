@@ -27,10 +27,10 @@ struct Flock {
   // middle of the range.
   double frequency = std::numeric_limits<double>::quiet_NaN();
   double amplitude = std::numeric_limits<double>::quiet_NaN();
-  bool standing = false;         // start standing on the ground, take off at takeoff_time
-  double takeoff_time = 0.0;     // s
-  bool random_phase = true;      // spread the wingbeat phase over the flock
-  bool flocking = false;         // its birds see one another and steer by it (MODEL.md "Flocking")
+  bool standing = false;      // start standing on the ground, take off at takeoff_time
+  double takeoff_time = 0.0;  // s
+  bool random_phase = true;   // spread the wingbeat phase over the flock
+  bool flocking = false;  // its birds see one another and steer by it (docs/MODEL.md "Flocking")
 };
 
 // How far out (x, z) a scenario may place anything: 20,000 km, in cm; no length of a scenario is
@@ -40,25 +40,25 @@ inline constexpr double kWorldRadius = 2.0e9;
 // How finely a scenario is stepped: the paper's dt, or the largest dt at which every behaviour and
 // envelope case still holds and positions stay within 1 % of the flight (docs/convergence.md).
 enum class Fidelity { paper, fast };
-inline constexpr double kPaperDt = 0.0003;      // s (paper, section 6)
-inline constexpr double kFastDt = 0.002;        // s (docs/convergence.md)
-inline constexpr double kFrameSeconds = 0.03;   // s: a frame, whatever the dt
+inline constexpr double kPaperDt = 0.0003;     // s (paper, section 6)
+inline constexpr double kFastDt = 0.002;       // s (docs/convergence.md)
+inline constexpr double kFrameSeconds = 0.03;  // s: a frame, whatever the dt
 
 // The steps a scenario may take, checked before any work (validate(), set_dt, the scenario files
 // and the command line's --dt): the convergence study measured 0.1 to 10 ms and found 2 ms the
 // largest at which everything holds (docs/convergence.md); below 10 us a second takes 10^5 steps
 // and the rounding of t + dt grows, above 10 ms the flight is not resolved (at 1 s a step the
 // birds go NaN).
-inline constexpr double kMinDt = 1.0e-5;        // s
-inline constexpr double kMaxDt = 0.01;          // s
+inline constexpr double kMinDt = 1.0e-5;  // s
+inline constexpr double kMaxDt = 0.01;    // s
 // Steps a frame: a frame of the slowest step (kMaxDt) is then at most 1,000 s.
 inline constexpr uint32_t kMaxStepsPerFrame = 100000;
 // The longest flight a run may ask for: 11.6 days, 10^11 steps at kMinDt, frame counts far from
 // any overflow.
-inline constexpr double kMaxDuration = 1.0e6;   // s
+inline constexpr double kMaxDuration = 1.0e6;  // s
 // Speeds (flocks, wind, targets): below the speed of sound, as the model's incompressible air
 // (eq. 1's constant density) assumes.
-inline constexpr double kMaxSpeed = 34300.0;    // cm/s
+inline constexpr double kMaxSpeed = 34300.0;  // cm/s
 // A target's oscillation period: 0 (none) or from a tenth of a second, the frame's order (a target
 // moves between frames), to kMaxDuration.
 inline constexpr double kMinTargetPeriod = 0.1;  // s
@@ -71,10 +71,10 @@ Fidelity parse_fidelity(const std::string& name);
 struct Scenario {
   std::string name;
   std::string description;
-  std::string hash;              // of the text it was read from (engine/io): which run this was
-  double dt = kPaperDt;          // s
+  std::string hash;      // of the text it was read from (engine/io): which run this was
+  double dt = kPaperDt;  // s
   uint32_t steps_per_frame = 100;
-  double duration = 10.0;        // s
+  double duration = 10.0;  // s
   uint64_t seed = 1;
   std::vector<Species> species;
   World world;
@@ -104,12 +104,12 @@ inline bool above_ground(double y, const World& w, bool on_allowed = false) {
 // or duration out of its range, a target, branch or spawn centre not above the ground, ...).
 void validate(const Scenario& s);
 
-
 // The same scenario moved by `offset` (cm): targets, branches, spawn boxes and the ground.
 Scenario moved_by(Scenario s, const glm::dvec3& offset);
 
 // Gives flock `index` `count` birds, its spawn box scaled (cube root) to keep its density, as
-// spawn_extent() grows it; a count of 0 removes the flock. Throws std::out_of_range for a bad index.
+// spawn_extent() grows it; a count of 0 removes the flock. Throws std::out_of_range for a bad
+// index.
 void resize_flock(Scenario& s, size_t index, uint32_t count);
 
 // The half-size of flock `f`'s spawn box for `count` birds of species `sp`: its own extent, grown

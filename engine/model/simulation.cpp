@@ -127,7 +127,6 @@ double Simulation::begin_frame() {
   return start;
 }
 
-
 CpuSimulation::CpuSimulation(Scenario scenario, uint32_t birds_override)
     : Simulation(std::move(scenario)), birds_(spawn_birds(this->scenario(), birds_override)) {}
 
@@ -147,8 +146,9 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   const int64_t n = static_cast<int64_t>(birds_.size());
   // The birds see their flock at the frame's start, as they were after the last frame.
   const bool flocking = any_flocking(scenario());
-  if (flocking) perceive(birds_, species, world, frames() - 1, scenario().frame_seconds(), perception_);
-  // Each bird runs all the frame's steps before the next bird: its state stays in cache.
+  if (flocking)
+    perceive(birds_, species, world, frames() - 1, scenario().frame_seconds(), perception_);
+    // Each bird runs all the frame's steps before the next bird: its state stays in cache.
 #pragma omp parallel for schedule(static)
   for (int64_t i = 0; i < n; ++i) {
     BirdState& b = birds_[static_cast<size_t>(i)];
@@ -166,7 +166,11 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
 }
 
 Snapshot CpuSimulation::snapshot() {
-  return {frames(), this->steps(), time(), &birds_, forces_current_ ? &forces_ : nullptr,
+  return {frames(),
+          this->steps(),
+          time(),
+          &birds_,
+          forces_current_ ? &forces_ : nullptr,
           perception_.empty() ? nullptr : &perception_};
 }
 

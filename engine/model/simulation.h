@@ -31,7 +31,7 @@ struct Snapshot {
   // Each bird's forces of the step it takes next from this state, computed by the backend that
   // flies it; null unless the frame was stepped with record_forces.
   const std::vector<StepForces>* forces = nullptr;
-  // Each bird's last perception (what it saw at the start of this state's frame: MODEL.md
+  // Each bird's last perception (what it saw at the start of this state's frame: docs/MODEL.md
   // "Flocking"); null unless a flock of the scenario flocks.
   const std::vector<Perception>* perception = nullptr;
 };
@@ -97,7 +97,7 @@ class Simulation {
   Scenario scenario_;
   uint64_t steps_ = 0;
   uint64_t frames_ = 0;
-  std::vector<StepForces> start_forces_;      // start_snapshot()'s
+  std::vector<StepForces> start_forces_;  // start_snapshot()'s
   std::vector<Perception> start_perception_;
 };
 

@@ -42,7 +42,7 @@ Species eagle() {
   // sweep gain: the tail bend does more of the work.
   s.sweep_gain = 0.5;
   s.pitch_gain = 1.5;
-  s.min_speed = 800;          // the airspeeds it holds level (7 and 14 m/s: it sinks)
+  s.min_speed = 800;  // the airspeeds it holds level (7 and 14 m/s: it sinks)
   s.max_speed = 1300;
   s.stand_height = 25;
   s.crouch_depth = 8;
@@ -125,7 +125,10 @@ void validate(const Species& s) {
     }
     if (!(std::fabs(v) <= from_unit(max, unit))) {
       std::ostringstream bound;
-      bound << max << (unit == Unit::degrees ? " degrees" : unit == Unit::degrees_per_second ? " deg/s" : "");
+      bound << max
+            << (unit == Unit::degrees              ? " degrees"
+                : unit == Unit::degrees_per_second ? " deg/s"
+                                                   : "");
       fail(k + (rule == Rule::any ? " must be within +-" : " must be <= ") + bound.str());
     }
   };

@@ -1,4 +1,4 @@
-// A species: Table 1 of the paper plus the parameters MODEL.md adds (kinematics, coefficient
+// A species: Table 1 of the paper plus the parameters docs/MODEL.md adds (kinematics, coefficient
 // curves, control and take-off/landing constants), listed in species.def. Angles in radians,
 // lengths in cm.
 #pragma once

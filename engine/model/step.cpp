@@ -35,7 +35,8 @@ struct Commands {
   bool circling;        // the goal lies inside the full-bank circle
 };
 
-Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal, double airspeed_command) {
+Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal,
+                 double airspeed_command) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
   const double ground = w.ground_height + sp.stand_height;
   goal.y = std::max(goal.y, ground);
@@ -48,7 +49,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   const double to_perch = way ? glm::length(*way) : -1.0;
   const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind, approach_speed(sp, to_perch), braking);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
+                             approach_speed(sp, to_perch), braking);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
@@ -58,38 +60,42 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // gate have their own go-rounds (route.cpp).
   const bool to_target = !way && b.landing_stage == LandingStage::none;
   if (to_target && !fixed_rate) turn_on(sp, bank, c.steering);
-  c.twist = std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
-                       std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
+  c.twist =
+      std::clamp(tail_twist_command(sp, c.steering, fixed_rate),
+                 std::min(0.0, -sp.tail_roll_max - bank), std::max(0.0, sp.tail_roll_max - bank));
   c.opening = tail_opening(sp, b);
 
   // Energy: the wingbeat feeds the total, the pitch shares it between height and airspeed.
   const double airspeed = glm::length(b.velocity - wind);
   const double air_climb = b.velocity.y - wind.y;
-  const double commanded = commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
+  const double commanded =
+      commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).
-  c.energy_error = braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, air_climb);
+  c.energy_error =
+      braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, air_climb);
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
   // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
-  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun) c.energy_error = std::min(c.energy_error, 0.0);
+  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun)
+    c.energy_error = std::min(c.energy_error, 0.0);
   // Pitched down well past the least it commands, the glide's nose-down moment is winning: the
   // bird beats its wings harder rather than dive on.
   if (pitch < sp.pitch_min - kPitchOverrun) c.energy_error = std::max(c.energy_error, 1.0);
   c.balance = e.balance;
-  // Braking, the wings meet the air at a high angle of attack (MODEL.md) as the body pitches up:
-  // the arms' incidence rises by brake_incidence at full flare, over bank_time.
+  // Braking, the wings meet the air at a high angle of attack (docs/MODEL.md) as the body pitches
+  // up: the arms' incidence rises by brake_incidence at full flare, over bank_time.
   const double flare =
       braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, wind), to_perch) : 0.0;
   c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up.
-  const double pitch_command =
-      on_legs   ? pitch
-      : braking ? flare_pitch(sp, b.pitch_trim, flare)
-                : commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground, goal.y - ground);
+  const double pitch_command = on_legs   ? pitch
+                               : braking ? flare_pitch(sp, b.pitch_trim, flare)
+                                         : commanded_pitch(sp, b.pitch_trim, e.balance,
+                                                           b.position.y - ground, goal.y - ground);
   const PitchControl p = pitch_control(sp, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
   c.sweep = p.sweep;
@@ -111,15 +117,17 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   else {
     const double distance = glm::length(horizontal(goal - b.position));
     const double circle = full_bank_radius(sp, speed);
-    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y,
-                                           glm::length(horizontal(wind)));
+    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed,
+                                           goal.y - b.position.y, glm::length(horizontal(wind)));
     // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }
-  const double most = std::min(ground_bank(sp, b.position.y - w.ground_height), recovery_bank(sp, pitch, descent_angle(air_climb, airspeed), airspeed));
+  const double most =
+      std::min(ground_bank(sp, b.position.y - w.ground_height),
+               recovery_bank(sp, pitch, descent_angle(air_climb, airspeed), airspeed));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
@@ -138,7 +146,8 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * wind_at(w, b.position.y);
-  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_wind - body_velocity, c.omega);
+  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence,
+                                       body_wind - body_velocity, c.omega);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
@@ -176,8 +185,8 @@ void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
 }
 
 // One step of a bird that is not quarantined (step_bird).
-void advance(BirdState& b, const Species& sp, const World& w, double time, double dt, StepForces* out,
-             const Perception* seen) {
+void advance(BirdState& b, const Species& sp, const World& w, double time, double dt,
+             StepForces* out, const Perception* seen) {
   if (b.mode == FlightMode::perched ||
       (b.mode == FlightMode::standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
@@ -195,7 +204,7 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
   dvec3 goal = route_goal(b, sp, w);
   if (approach_branch(b, sp, w)) return;
   // A bird that sees its flock steers for its social goal, lookahead along u(d), at the airspeed
-  // that goal commands (MODEL.md "Flocking"); alone, it flies its route.
+  // that goal commands (docs/MODEL.md "Flocking"); alone, it flies its route.
   double airspeed = b.airspeed;
   if (seen && seen->neighbours > 0 && flocks_now(b)) {
     goal = b.position + sp.lookahead * seen->direction;
@@ -218,8 +227,8 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
   b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
   // The pitch trim integrates the energy balance.
   if (!on_legs)
-    b.pitch_trim = std::clamp(b.pitch_trim + sp.balance_gain * c.balance / sp.trim_time * dt, sp.pitch_min,
-                              sp.pitch_max);
+    b.pitch_trim = std::clamp(b.pitch_trim + sp.balance_gain * c.balance / sp.trim_time * dt,
+                              sp.pitch_min, sp.pitch_max);
   b.tail_bend = approach(b.tail_bend, c.bend, sp.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, c.twist, sp.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, sp.sweep_rate, dt);
@@ -229,8 +238,8 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
     b.mode = FlightMode::flying;
     b.mode_time = 0.0;
   }
-  // The ground is solid: a bird in the air whose legs reach it on the way down touches down, stands, and takes
-  // off again when it has rested (its route goes on).
+  // The ground is solid: a bird in the air whose legs reach it on the way down touches down,
+  // stands, and takes off again when it has rested (its route goes on).
   if (!on_legs && b.position.y < w.ground_height + sp.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, dvec3{b.position.x, w.ground_height + sp.stand_height, b.position.z});
     b.mode = FlightMode::standing;

@@ -12,10 +12,10 @@ namespace aeroflock {
 
 // The forces of one step, for tests, cross-checks and export. World frame unless noted.
 struct StepForces {
-  glm::dvec3 wing[4]{};     // right arm, right hand, left arm, left hand
+  glm::dvec3 wing[4]{};  // right arm, right hand, left arm, left hand
   glm::dvec3 tail{0.0};
-  glm::dvec3 ground{0.0};   // eq. 15
-  glm::dvec3 legs{0.0};     // take-off push
+  glm::dvec3 ground{0.0};  // eq. 15
+  glm::dvec3 legs{0.0};    // take-off push
   glm::dvec3 gravity{0.0};
   glm::dvec3 total{0.0};
   glm::dvec3 tail_torque{0.0};  // the tail's r x F_t, body frame, eq. 11
@@ -26,7 +26,7 @@ struct StepForces {
 // bird's last perception (flocking), none for a bird that flies its route alone. A step whose
 // result is not finite (all_finite) is undone: the bird is quarantined at `time` (FlightMode::
 // quarantined, quarantined_at), frozen at its last finite state with no forces from then on.
-void step_bird(BirdState& bird, const Species& species, const World& world, double time,
-               double dt, StepForces* forces = nullptr, const Perception* seen = nullptr);
+void step_bird(BirdState& bird, const Species& species, const World& world, double time, double dt,
+               StepForces* forces = nullptr, const Perception* seen = nullptr);
 
 }  // namespace aeroflock

@@ -18,7 +18,8 @@ WingbeatAverage average_wing_force(const Species& s, double speed, double freque
   const dvec3 body_velocity = glm::conjugate(attitude) * dvec3{speed, 0.0, 0.0};
   dvec3 sum{0.0}, torque{0.0};
   for (int k = 0; k < phases; ++k) {
-    const WingForces w = wing_forces(s, 2.0 * kPi * k / phases, amp, frequency, sweep, 0.0, -body_velocity, dvec3{0.0});
+    const WingForces w = wing_forces(s, 2.0 * kPi * k / phases, amp, frequency, sweep, 0.0,
+                                     -body_velocity, dvec3{0.0});
     for (const dvec3& f : w.force) sum += attitude * f;
     torque += w.torque;
   }

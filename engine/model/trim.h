@@ -1,4 +1,4 @@
-// Wingbeat-averaged forces of a body held at a fixed attitude and speed: the check of MODEL.md
+// Wingbeat-averaged forces of a body held at a fixed attitude and speed: the check of docs/MODEL.md
 // that level cruise exists inside Table 1's ranges, and the tool to calibrate the kinematics.
 #pragma once
 

@@ -36,7 +36,8 @@ void feather(const Frame& f, double angle, dvec3& chord, dvec3& normal) {
 
 }  // namespace
 
-WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep, double incidence) {
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep,
+                               double incidence) {
   const double hand_phase = phase - s.lag_hand;
   return {
       amp * s.A_arm * std::cos(phase) + s.flap_bias,
@@ -47,8 +48,8 @@ WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, doubl
   };
 }
 
-void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
-                       WingPoint out[2]) {
+void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
+                       double incidence, WingPoint out[2]) {
   const WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, incidence);
   const double phase_rate = 2.0 * kPi * frequency;
   const double hand_phase = phase - s.lag_hand;

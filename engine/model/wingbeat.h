@@ -1,4 +1,5 @@
-// Wingbeat kinematics (paper 3.2; MODEL.md replaces the lost Fig. 6) and the wing force points.
+// Wingbeat kinematics (paper 3.2; docs/MODEL.md replaces the lost Fig. 6) and the wing force
+// points.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -15,7 +16,8 @@ namespace aeroflock {
 struct WingbeatAngles {
   double flap_arm, flap_hand, feather_arm, feather_hand, leadlag;
 };
-WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep, double incidence);
+WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep,
+                               double incidence);
 
 // One force point of a wing segment (paper Fig. 9), body frame, relative to the centre of mass.
 struct WingPoint {
@@ -28,8 +30,8 @@ struct WingPoint {
 
 // The right wing's points: [0] the middle of the arm, [1] the middle of the hand. The sweep moves
 // slowly against the wingbeat: its rate is left out of the points' velocities.
-void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep, double incidence,
-                       WingPoint out[2]);
+void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
+                       double incidence, WingPoint out[2]);
 // The left wing is the right wing mirrored through the body's x-y plane.
 WingPoint mirror_to_left(const WingPoint& p);
 

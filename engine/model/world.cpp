@@ -20,7 +20,8 @@ glm::dvec3 wind_at(const World& w, double y) {
     case WindProfile::power_law:
       return h > 0.0 ? w.wind * std::pow(h / w.wind_height, w.wind_exponent) : glm::dvec3(0.0);
     case WindProfile::logarithmic:
-      return h > w.wind_roughness ? w.wind * (std::log(h / w.wind_roughness) / std::log(w.wind_height / w.wind_roughness))
+      return h > w.wind_roughness ? w.wind * (std::log(h / w.wind_roughness) /
+                                              std::log(w.wind_height / w.wind_roughness))
                                   : glm::dvec3(0.0);
   }
   return w.wind;

@@ -13,7 +13,7 @@ namespace aeroflock {
 struct Target {
   std::string name;
   glm::dvec3 centre{0.0};
-  double radius = 200.0;  // cm
+  double radius = 200.0;      // cm
   glm::dvec3 velocity{0.0};   // cm/s
   glm::dvec3 amplitude{0.0};  // cm
   double period = 0.0;        // s (0: no oscillation)
@@ -33,8 +33,8 @@ struct Route {
   std::string name;
   std::vector<uint32_t> targets;  // indices into World::targets
   bool loop = false;
-  int32_t branch = -1;            // index into World::branches to land on at the end, -1: none
-  bool path_control = true;       // landing through the Bezier point P (paper 4.4)
+  int32_t branch = -1;       // index into World::branches to land on at the end, -1: none
+  bool path_control = true;  // landing through the Bezier point P (paper 4.4)
 };
 
 enum class TurningModel : uint32_t { tail = 0, fixed_rate = 1 };
@@ -51,11 +51,11 @@ struct World {
   double ground_height = 0.0;  // cm
   bool ground_effect = true;   // eq. 15 on or off
   TurningModel turning = TurningModel::tail;
-  glm::dvec3 wind{0.0};        // cm/s, at wind_height (every height: uniform)
+  glm::dvec3 wind{0.0};  // cm/s, at wind_height (every height: uniform)
   WindProfile wind_profile = WindProfile::uniform;
-  double wind_height = 1000.0;    // h_ref, cm above the ground
+  double wind_height = 1000.0;       // h_ref, cm above the ground
   double wind_exponent = 1.0 / 7.0;  // alpha of the power law (open country)
-  double wind_roughness = 3.0;    // z0 of the logarithmic profile, cm (short grass)
+  double wind_roughness = 3.0;       // z0 of the logarithmic profile, cm (short grass)
   // Where each target is now: the host moves targets between frames.
   std::vector<glm::dvec3> target_now;
   void move_targets(double time);

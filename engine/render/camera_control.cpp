@@ -12,14 +12,14 @@ namespace aeroflock::render {
 namespace {
 
 constexpr float kRadiansPerPixel = 0.005f;
-constexpr float kMaxPitch = 1.5f;    // rad, short of straight up or down
-constexpr float kGlideRate = 3.0f;   // 1/s: how fast follow catches up with its bird
-constexpr float kFrameRate = 1.0f;   // 1/s: how fast auto and orbit follow the flock's changes
-constexpr float kOrbitRate = 0.1f;   // rad/s: a turn round the flock a minute
-constexpr float kAutoSide = 1.0f;    // rad: auto looks from behind and to the side
-constexpr float kAutoPitch = 0.25f; // rad: auto and orbit look down on the flock this much
-constexpr float kMinRadius = 150.0f; // cm: one bird is framed as a flock this wide
-constexpr float kFill = 0.6f;        // of the vertical field of view, the flock's core
+constexpr float kMaxPitch = 1.5f;     // rad, short of straight up or down
+constexpr float kGlideRate = 3.0f;    // 1/s: how fast follow catches up with its bird
+constexpr float kFrameRate = 1.0f;    // 1/s: how fast auto and orbit follow the flock's changes
+constexpr float kOrbitRate = 0.1f;    // rad/s: a turn round the flock a minute
+constexpr float kAutoSide = 1.0f;     // rad: auto looks from behind and to the side
+constexpr float kAutoPitch = 0.25f;   // rad: auto and orbit look down on the flock this much
+constexpr float kMinRadius = 150.0f;  // cm: one bird is framed as a flock this wide
+constexpr float kFill = 0.6f;         // of the vertical field of view, the flock's core
 constexpr float kZoomPerClick = 0.9f;
 constexpr float kPi = 3.14159265f;
 
@@ -32,9 +32,7 @@ glm::vec3 direction(float yaw, float pitch) {
 float glide(float seconds, float rate = kGlideRate) { return 1.0f - std::exp(-rate * seconds); }
 
 // `a` moved the fraction `f` of the way to `b` round the circle.
-float glide_angle(float a, float b, float f) {
-  return a + f * std::remainder(b - a, 2.0f * kPi);
-}
+float glide_angle(float a, float b, float f) { return a + f * std::remainder(b - a, 2.0f * kPi); }
 
 }  // namespace
 
@@ -62,10 +60,14 @@ std::optional<CameraControl::Mode> CameraControl::mode_named(const std::string& 
 
 const char* CameraControl::name(Mode mode) {
   switch (mode) {
-    case Mode::automatic: return "auto";
-    case Mode::orbit: return "orbit";
-    case Mode::follow: return "follow";
-    case Mode::free: return "free";
+    case Mode::automatic:
+      return "auto";
+    case Mode::orbit:
+      return "orbit";
+    case Mode::follow:
+      return "follow";
+    case Mode::free:
+      return "free";
   }
   return "?";
 }
@@ -77,7 +79,8 @@ CameraControl::CameraControl(const CameraOptions& options, const Subject& subjec
   if (mode == Mode::free) {
     // Placed where asked; what is not given comes from the automatic camera's first framing.
     const glm::dvec3 eye = options.eye.value_or(camera_.eye_world());
-    const glm::dvec3 target = options.target.value_or(options.eye ? subject.centre : camera_.target_world());
+    const glm::dvec3 target =
+        options.target.value_or(options.eye ? subject.centre : camera_.target_world());
     if (glm::distance(eye, target) < 1.0)
       throw std::invalid_argument("the fixed camera's eye and target are the same point");
     camera_.origin = eye;
@@ -117,8 +120,9 @@ void CameraControl::set_mode(Mode mode) {
     centre_ = camera_.target_world();
     const glm::vec3 offset = camera_.eye - camera_.target;
     distance_ = std::max(glm::length(offset), 1.0f) / zoom_;
-    pitch_ = std::clamp(std::asin(std::clamp(offset.y / std::max(glm::length(offset), 1e-6f), -1.0f, 1.0f)),
-                        -kMaxPitch, kMaxPitch);
+    pitch_ = std::clamp(
+        std::asin(std::clamp(offset.y / std::max(glm::length(offset), 1e-6f), -1.0f, 1.0f)),
+        -kMaxPitch, kMaxPitch);
     view_yaw_ = orbit_yaw_ = std::atan2(offset.z, offset.x);
     drag_yaw_ = 0.0f;
   } else if (mode == Mode::orbit && mode_ == Mode::automatic) {
@@ -139,7 +143,8 @@ void CameraControl::drag(float dx, float dy) {
 
 void CameraControl::zoom(float clicks) {
   const float factor = std::pow(kZoomPerClick, clicks);
-  if (mode_ == Mode::automatic || mode_ == Mode::orbit) zoom_ = std::clamp(zoom_ * factor, 0.01f, 100.0f);
+  if (mode_ == Mode::automatic || mode_ == Mode::orbit)
+    zoom_ = std::clamp(zoom_ * factor, 0.01f, 100.0f);
   if (mode_ == Mode::follow)
     follow_distance_ = std::clamp(follow_distance_ * factor, 50.0f, 1.0e5f);
   if (mode_ == Mode::free) free_speed_ = std::clamp(free_speed_ / factor, 10.0f, 1.0e6f);
@@ -166,7 +171,8 @@ void CameraControl::frame(float seconds, const Subject& subject, double time, bo
   distance_ += f * (fit - distance_);
   const glm::dvec3 v = subject.velocity;
   if (v.x * v.x + v.z * v.z > 100.0 * 100.0) heading_ = float(std::atan2(v.z, v.x));
-  view_yaw_ = snap ? heading_ + kPi + kAutoSide : glide_angle(view_yaw_, heading_ + kPi + kAutoSide, f);
+  view_yaw_ =
+      snap ? heading_ + kPi + kAutoSide : glide_angle(view_yaw_, heading_ + kPi + kAutoSide, f);
   orbit_yaw_ += kOrbitRate * seconds;
   const float yaw = (mode_ == Mode::orbit ? orbit_yaw_ : view_yaw_) + drag_yaw_;
   move_origin(centre_);
@@ -188,7 +194,8 @@ const Camera& CameraControl::update(float seconds, const Subject& subject, doubl
       const glm::vec3 velocity(subject.bird_velocity);
       const glm::vec3 ahead(velocity.x, 0.0f, velocity.z);
       if (glm::length(ahead) > 10.0f) heading_ = std::atan2(ahead.z, ahead.x);
-      const glm::vec3 offset = follow_distance_ * direction(heading_ + kPi + follow_yaw_, follow_pitch_);
+      const glm::vec3 offset =
+          follow_distance_ * direction(heading_ + kPi + follow_yaw_, follow_pitch_);
       follow_offset_ += (offset - follow_offset_) * glide(seconds);
       move_origin(subject.bird_at(time));
       camera_.eye = follow_offset_;

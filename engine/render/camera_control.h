@@ -79,17 +79,17 @@ class CameraControl {
 
   Mode mode_ = Mode::automatic;
   Camera camera_;
-  bool framed_ = false;            // auto and orbit have framed the flock once
-  double framed_time_ = 0.0;       // s: the simulated time they last framed it at
-  glm::dvec3 centre_{0.0};         // auto and orbit: the gliding point looked at, world
-  float distance_ = 3000.0f;       // cm, gliding towards the framing distance
-  float zoom_ = 1.0f;              // the wheel's factor on it
-  float heading_ = 0.0f;           // rad: the flock's (auto) or the bird's (follow) last heading
-  float view_yaw_ = 0.0f;          // rad: auto, gliding towards behind the heading
-  float orbit_yaw_ = -1.5708f;     // rad: where orbit sees the flock from, turning slowly
-  float drag_yaw_ = 0.0f;          // rad: the user's turn on auto and orbit
-  float pitch_ = 0.25f;            // rad above the horizontal: auto and orbit
-  float follow_yaw_ = 0.0f;        // rad: around the bird, 0 straight behind it
+  bool framed_ = false;         // auto and orbit have framed the flock once
+  double framed_time_ = 0.0;    // s: the simulated time they last framed it at
+  glm::dvec3 centre_{0.0};      // auto and orbit: the gliding point looked at, world
+  float distance_ = 3000.0f;    // cm, gliding towards the framing distance
+  float zoom_ = 1.0f;           // the wheel's factor on it
+  float heading_ = 0.0f;        // rad: the flock's (auto) or the bird's (follow) last heading
+  float view_yaw_ = 0.0f;       // rad: auto, gliding towards behind the heading
+  float orbit_yaw_ = -1.5708f;  // rad: where orbit sees the flock from, turning slowly
+  float drag_yaw_ = 0.0f;       // rad: the user's turn on auto and orbit
+  float pitch_ = 0.25f;         // rad above the horizontal: auto and orbit
+  float follow_yaw_ = 0.0f;     // rad: around the bird, 0 straight behind it
   float follow_pitch_ = 0.3f;
   float follow_distance_ = 800.0f;
   glm::vec3 follow_offset_{0.0f};  // eye - bird, gliding towards behind and above the bird

@@ -20,7 +20,8 @@ void vertex(std::vector<MeshVertex>& out, vec3 p, vec3 n, float part, Tint tint)
 }
 
 // A triangle with one normal, its face's.
-void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part, Tint tint = Tint::plumage) {
+void triangle(std::vector<MeshVertex>& out, vec3 a, vec3 b, vec3 c, float part,
+              Tint tint = Tint::plumage) {
   vec3 n = glm::cross(b - a, c - a);
   n = glm::length(n) > 0.0f ? glm::normalize(n) : vec3(0, 1, 0);
   for (const vec3& p : {a, b, c}) vertex(out, p, n, part, tint);
@@ -37,12 +38,19 @@ vec3 flat(vec2 xz) { return {xz.x, 0.0f, xz.y}; }
 // The body and head as one smooth lathe along x (unit length, -0.5 tail to +0.5 crown, radius in
 // units of the body's width), with a beak; normals from the profile's slope.
 void body(std::vector<MeshVertex>& out) {
-  struct Ring { float x, r, y; };  // y: the axis raised at the head
-  const std::array<Ring, 10> profile = {{{-0.50f, 0.08f, 0.00f}, {-0.38f, 0.26f, 0.00f},
-                                         {-0.18f, 0.44f, 0.00f}, {0.02f, 0.50f, 0.00f},
-                                         {0.18f, 0.43f, 0.02f},  {0.29f, 0.28f, 0.06f},
-                                         {0.35f, 0.27f, 0.09f},  {0.43f, 0.28f, 0.10f},
-                                         {0.50f, 0.18f, 0.09f},  {0.54f, 0.09f, 0.08f}}};
+  struct Ring {
+    float x, r, y;
+  };  // y: the axis raised at the head
+  const std::array<Ring, 10> profile = {{{-0.50f, 0.08f, 0.00f},
+                                         {-0.38f, 0.26f, 0.00f},
+                                         {-0.18f, 0.44f, 0.00f},
+                                         {0.02f, 0.50f, 0.00f},
+                                         {0.18f, 0.43f, 0.02f},
+                                         {0.29f, 0.28f, 0.06f},
+                                         {0.35f, 0.27f, 0.09f},
+                                         {0.43f, 0.28f, 0.10f},
+                                         {0.50f, 0.18f, 0.09f},
+                                         {0.54f, 0.09f, 0.08f}}};
   constexpr int kSides = 10;
   auto point = [&](size_t i, int k) {
     const float a = 2.0f * kPi * float(k) / kSides;
@@ -59,13 +67,15 @@ void body(std::vector<MeshVertex>& out) {
     for (int k = 0; k < kSides; ++k) {
       const std::array<std::pair<size_t, int>, 6> corners = {
           {{i, k}, {i + 1, k}, {i + 1, k + 1}, {i, k}, {i + 1, k + 1}, {i, k + 1}}};
-      for (const auto& [ring, side] : corners) vertex(out, point(ring, side), normal(ring, side), 0.0f, Tint::plumage);
+      for (const auto& [ring, side] : corners)
+        vertex(out, point(ring, side), normal(ring, side), 0.0f, Tint::plumage);
     }
   // The tail end closed; the beak a cone from the last ring.
   const vec3 rump(-0.52f, 0.0f, 0.0f), tip(0.72f, 0.06f, 0.0f);
   for (int k = 0; k < kSides; ++k) {
     triangle(out, rump, point(0, k + 1), point(0, k), 0.0f);
-    triangle(out, point(profile.size() - 1, k), point(profile.size() - 1, k + 1), tip, 0.0f, Tint::beak);
+    triangle(out, point(profile.size() - 1, k), point(profile.size() - 1, k + 1), tip, 0.0f,
+             Tint::beak);
   }
 }
 
@@ -75,23 +85,27 @@ void body(std::vector<MeshVertex>& out) {
 void arm(std::vector<MeshVertex>& out, float part) {
   constexpr int kFeathers = 6;
   for (int i = 0; i < kFeathers; ++i) {
-    const float z0 = i == 0 ? -0.25f : float(i) / kFeathers, z1 = float(i + 1) / kFeathers, zm = 0.5f * (z0 + z1);
+    const float z0 = i == 0 ? -0.25f : float(i) / kFeathers, z1 = float(i + 1) / kFeathers,
+                zm = 0.5f * (z0 + z1);
     const float lead0 = 0.5f - 0.04f * z0 * z0, lead1 = 0.5f - 0.04f * z1 * z1;
     quad(out, flat({lead0, z0}), flat({lead1, z1}), flat({-0.42f, z1}), flat({-0.42f, z0}), part);
-    triangle(out, flat({-0.42f, z0}), flat({-0.42f, z1}), flat({-0.6f, zm}), part, Tint::flight_feathers);
+    triangle(out, flat({-0.42f, z0}), flat({-0.42f, z1}), flat({-0.6f, zm}), part,
+             Tint::flight_feathers);
   }
 }
 
 // The hand: a plate from the wrist, then five primaries fanned out to the tip (slotted).
 void hand(std::vector<MeshVertex>& out, float part) {
-  quad(out, flat({0.5f, 0.0f}), flat({0.36f, 0.55f}), flat({-0.44f, 0.55f}), flat({-0.5f, 0.0f}), part);
+  quad(out, flat({0.5f, 0.0f}), flat({0.36f, 0.55f}), flat({-0.44f, 0.55f}), flat({-0.5f, 0.0f}),
+       part);
   constexpr int kPrimaries = 5;
-  const std::array<vec2, kPrimaries> tips = {{{0.12f, 1.0f}, {-0.04f, 0.98f}, {-0.2f, 0.93f},
-                                             {-0.36f, 0.85f}, {-0.52f, 0.76f}}};
+  const std::array<vec2, kPrimaries> tips = {
+      {{0.12f, 1.0f}, {-0.04f, 0.98f}, {-0.2f, 0.93f}, {-0.36f, 0.85f}, {-0.52f, 0.76f}}};
   for (int i = 0; i < kPrimaries; ++i) {
     const float base_x = 0.36f - 0.8f * (float(i) + 0.5f) / kPrimaries, half = 0.085f;
     const vec2 l(base_x + half, 0.5f), r(base_x - half, 0.5f), tip = tips[size_t(i)];
-    const vec2 l2 = glm::mix(l, tip + vec2(half, 0.0f) * 0.8f, 0.7f), r2 = glm::mix(r, tip - vec2(half, 0.0f) * 0.8f, 0.7f);
+    const vec2 l2 = glm::mix(l, tip + vec2(half, 0.0f) * 0.8f, 0.7f),
+               r2 = glm::mix(r, tip - vec2(half, 0.0f) * 0.8f, 0.7f);
     quad(out, flat(l), flat(l2), flat(r2), flat(r), part);
     triangle(out, flat(l2), flat(tip), flat(r2), part, Tint::flight_feathers);
   }
@@ -102,9 +116,11 @@ void hand(std::vector<MeshVertex>& out, float part) {
 void tail(std::vector<MeshVertex>& out) {
   constexpr int kFeathers = 6;
   for (int i = 0; i < kFeathers; ++i) {
-    const float z0 = -0.5f + float(i) / kFeathers, z1 = z0 + 1.0f / kFeathers, zm = 0.5f * (z0 + z1);
+    const float z0 = -0.5f + float(i) / kFeathers, z1 = z0 + 1.0f / kFeathers,
+                zm = 0.5f * (z0 + z1);
     triangle(out, flat({0.0f, 0.0f}), flat({0.88f, z0}), flat({0.88f, z1}), 3.0f);
-    triangle(out, flat({0.88f, z0}), flat({1.0f, zm}), flat({0.88f, z1}), 3.0f, Tint::flight_feathers);
+    triangle(out, flat({0.88f, z0}), flat({1.0f, zm}), flat({0.88f, z1}), 3.0f,
+             Tint::flight_feathers);
   }
 }
 

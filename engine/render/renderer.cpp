@@ -30,9 +30,9 @@ using gpu::PoseConstants;
 
 // What the draws read (host_device.h): the targets and branches, each bird's pose and the draw
 // lists, the mesh drawn, the route lines.
-constexpr std::array<uint32_t, 6> kDrawBindings = {gpu::kBindingTargets,   gpu::kBindingBranches,
-                                                   gpu::kBindingPoses,     gpu::kBindingDrawLists,
-                                                   gpu::kBindingMesh,      gpu::kBindingSegments};
+constexpr std::array<uint32_t, 6> kDrawBindings = {gpu::kBindingTargets, gpu::kBindingBranches,
+                                                   gpu::kBindingPoses,   gpu::kBindingDrawLists,
+                                                   gpu::kBindingMesh,    gpu::kBindingSegments};
 constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 65536 bytes
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with a few triangles
@@ -97,8 +97,7 @@ struct Renderer::Impl {
   VkExtent2D extent;
   // Buffers the renderer owns: species, targets now, branches, meshes, route lines.
   Buffer species, targets, branches, bird_mesh, box, segments;
-  uint32_t bird_vertices, distant_vertices, box_vertices, target_count, branch_count,
-      segment_count;
+  uint32_t bird_vertices, distant_vertices, box_vertices, target_count, branch_count, segment_count;
   float ground_height;
   // Each bird's pose for drawing, computed once a frame by pose.comp.
   std::unique_ptr<Buffer> poses, lists, draws;
@@ -113,7 +112,9 @@ struct Renderer::Impl {
   // The draws' pipelines, one set of them per final layout of the image drawn.
   struct Pipelines {
     VkPipeline sky, birds, branches, rings, routes, posts, shadows;
-    std::array<VkPipeline, 7> all() const { return {sky, birds, branches, rings, routes, posts, shadows}; }
+    std::array<VkPipeline, 7> all() const {
+      return {sky, birds, branches, rings, routes, posts, shadows};
+    }
   };
   std::map<VkImageLayout, Pipelines> pipelines;
   VkSampleCountFlagBits samples;
@@ -131,18 +132,21 @@ struct Renderer::Impl {
       : device(d),
         format(f),
         extent(e),
-        species(buffer_of(d, [&] {
-          std::vector<gpu::GpuSpecies> out;
-          for (const Species& s : scenario.species) out.push_back(gpu::pack(s));
-          return out;
-        }())),
+        species(buffer_of(d,
+                          [&] {
+                            std::vector<gpu::GpuSpecies> out;
+                            for (const Species& s : scenario.species) out.push_back(gpu::pack(s));
+                            return out;
+                          }())),
         targets(d, kMaxTargets * sizeof(gpu::GpuTarget), Memory::device_local),
         branches(buffer_of(d, gpu::pack(scenario.world).branches)),
-        bird_mesh(buffer_of(d, [] {
-          std::vector<MeshVertex> both = render::bird_mesh(), distant = distant_bird_mesh();
-          both.insert(both.end(), distant.begin(), distant.end());
-          return both;
-        }())),
+        bird_mesh(buffer_of(d,
+                            [] {
+                              std::vector<MeshVertex> both = render::bird_mesh(),
+                                                      distant = distant_bird_mesh();
+                              both.insert(both.end(), distant.begin(), distant.end());
+                              return both;
+                            }())),
         box(buffer_of(d, box_mesh())),
         segments(buffer_of(d, route_segments(scenario.world))),
         bird_vertices(uint32_t(render::bird_mesh().size())),
@@ -156,8 +160,8 @@ struct Renderer::Impl {
                       {gpu::kBindingBirds, gpu::kBindingSpecies, gpu::kBindingPoses,
                        gpu::kBindingDrawLists, gpu::kBindingDraws},
                       sizeof(PoseConstants), 16),
-        depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT,
-              sample_count(d, msaa)),
+        depth(d, e, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+              VK_IMAGE_ASPECT_DEPTH_BIT, sample_count(d, msaa)),
         samples(sample_count(d, msaa)) {
     if (samples != VK_SAMPLE_COUNT_1_BIT)
       color = std::make_unique<gpu::Image>(
@@ -190,7 +194,8 @@ struct Renderer::Impl {
     VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set.bindingCount = uint32_t(kDrawBindings.size());
     set.pBindings = bindings.data();
-    check(vkCreateDescriptorSetLayout(dev, &set, nullptr, &set_layout), "vkCreateDescriptorSetLayout");
+    check(vkCreateDescriptorSetLayout(dev, &set, nullptr, &set_layout),
+          "vkCreateDescriptorSetLayout");
     VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                              sizeof(FrameConstants)};
     VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -199,7 +204,8 @@ struct Renderer::Impl {
     info.pushConstantRangeCount = 1;
     info.pPushConstantRanges = &push;
     check(vkCreatePipelineLayout(dev, &info, nullptr, &layout), "vkCreatePipelineLayout");
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, uint32_t(4 * kDrawBindings.size())};
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                              uint32_t(4 * kDrawBindings.size())};
     VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     pool_info.maxSets = 4;
     pool_info.poolSizeCount = 1;
@@ -247,14 +253,16 @@ struct Renderer::Impl {
     deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
     deps[0].dstSubpass = 0;
     deps[0].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                           VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    deps[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                           VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+                           VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT |
+                           VK_PIPELINE_STAGE_TRANSFER_BIT;
+    deps[0].dstStageMask =
+        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
     deps[0].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-    deps[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT |
                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
-                            VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+                            VK_ACCESS_TRANSFER_READ_BIT;
+    deps[0].dstAccessMask =
+        VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_READ_BIT |
+        VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
     deps[1].srcSubpass = 0;
     deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
     deps[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
@@ -288,20 +296,26 @@ struct Renderer::Impl {
     stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
     stages[1].module = frag;
     stages[1].pName = "main";
-    VkPipelineVertexInputStateCreateInfo input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    VkPipelineVertexInputStateCreateInfo input{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{
+        VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = spec.topology;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    VkPipelineViewportStateCreateInfo viewport{
+        VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     viewport.viewportCount = 1;
     viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    VkPipelineRasterizationStateCreateInfo raster{
+        VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     raster.polygonMode = VK_POLYGON_MODE_FILL;
     raster.cullMode = VK_CULL_MODE_NONE;
     raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    VkPipelineMultisampleStateCreateInfo multisample{
+        VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
     multisample.rasterizationSamples = samples;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    VkPipelineDepthStencilStateCreateInfo depth{
+        VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     depth.depthTestEnable = VK_TRUE;
     depth.depthWriteEnable = spec.depth_write;
     depth.depthCompareOp = spec.depth_compare;
@@ -317,10 +331,12 @@ struct Renderer::Impl {
       attachment.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA;
       attachment.alphaBlendOp = VK_BLEND_OP_ADD;
     }
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    VkPipelineColorBlendStateCreateInfo blend{
+        VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &attachment;
-    const std::array<VkDynamicState, 2> dynamic_states = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    const std::array<VkDynamicState, 2> dynamic_states = {VK_DYNAMIC_STATE_VIEWPORT,
+                                                          VK_DYNAMIC_STATE_SCISSOR};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
     dynamic.dynamicStateCount = uint32_t(dynamic_states.size());
     dynamic.pDynamicStates = dynamic_states.data();
@@ -352,12 +368,17 @@ struct Renderer::Impl {
     Pipelines list;
     list.sky = make_pipeline(rp, {"sky_vert", "sky_frag", 0, true, VK_COMPARE_OP_ALWAYS, false});
     list.birds = make_pipeline(rp, {"bird_vert", "bird_frag", 0, true, VK_COMPARE_OP_LESS, false});
-    list.branches = make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false});
-    list.rings = make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true, kLines});
-    list.routes = make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true, kLines});
-    list.posts = make_pipeline(rp, {"solid_vert", "solid_frag", 3, true, VK_COMPARE_OP_LESS, false});
+    list.branches =
+        make_pipeline(rp, {"solid_vert", "solid_frag", 1, true, VK_COMPARE_OP_LESS, false});
+    list.rings =
+        make_pipeline(rp, {"solid_vert", "solid_frag", 0, false, VK_COMPARE_OP_LESS, true, kLines});
+    list.routes =
+        make_pipeline(rp, {"solid_vert", "solid_frag", 2, false, VK_COMPARE_OP_LESS, true, kLines});
+    list.posts =
+        make_pipeline(rp, {"solid_vert", "solid_frag", 3, true, VK_COMPARE_OP_LESS, false});
     // Shadows lie on the ground, under everything but the ground itself.
-    list.shadows = make_pipeline(rp, {"shadow_vert", "shadow_frag", 0, false, VK_COMPARE_OP_ALWAYS, true});
+    list.shadows =
+        make_pipeline(rp, {"shadow_vert", "shadow_frag", 0, false, VK_COMPARE_OP_ALWAYS, true});
     return pipelines[final_layout] = list;
   }
 
@@ -382,9 +403,12 @@ struct Renderer::Impl {
     if (count <= pose_capacity && poses) return;
     vkDeviceWaitIdle(device.handle());
     pose_capacity = std::max({count, 2 * pose_capacity, 1024u});
-    poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * sizeof(gpu::Pose), Memory::device_local);
-    lists = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * 2 * sizeof(uint32_t), Memory::device_local);
-    draws = std::make_unique<Buffer>(device, 2 * sizeof(VkDrawIndirectCommand), Memory::device_local);
+    poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * sizeof(gpu::Pose),
+                                     Memory::device_local);
+    lists = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * 2 * sizeof(uint32_t),
+                                     Memory::device_local);
+    draws =
+        std::make_unique<Buffer>(device, 2 * sizeof(VkDrawIndirectCommand), Memory::device_local);
     check(vkResetDescriptorPool(device.handle(), pool, 0), "vkResetDescriptorPool");
     sets.reset();
     pose_sets.clear();
@@ -408,12 +432,13 @@ struct Renderer::Impl {
     alloc.pSetLayouts = &set_layout;
     VkDescriptorSet set = VK_NULL_HANDLE;
     check(vkAllocateDescriptorSets(device.handle(), &alloc, &set), "vkAllocateDescriptorSets");
-    const std::array<gpu::Bound, kDrawBindings.size()> bound = {{{gpu::kBindingTargets, &targets},
-                                                                 {gpu::kBindingBranches, &branches},
-                                                                 {gpu::kBindingPoses, poses.get()},
-                                                                 {gpu::kBindingDrawLists, lists.get()},
-                                                                 {gpu::kBindingMesh, &mesh},
-                                                                 {gpu::kBindingSegments, &segments}}};
+    const std::array<gpu::Bound, kDrawBindings.size()> bound = {
+        {{gpu::kBindingTargets, &targets},
+         {gpu::kBindingBranches, &branches},
+         {gpu::kBindingPoses, poses.get()},
+         {gpu::kBindingDrawLists, lists.get()},
+         {gpu::kBindingMesh, &mesh},
+         {gpu::kBindingSegments, &segments}}};
     std::array<VkDescriptorBufferInfo, kDrawBindings.size()> infos{};
     std::array<VkWriteDescriptorSet, kDrawBindings.size()> writes{};
     for (size_t i = 0; i < bound.size(); ++i) {
@@ -469,7 +494,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   // The previous frame's reads of the buffers written below are done before they are written.
   vkCmdPipelineBarrier(cmd,
                        VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0,
                        nullptr, 0, nullptr, 0, nullptr);
   // Each bird's pose, once, and into the detailed or the distant draw by its size on screen
@@ -485,21 +511,29 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   const glm::vec4 eye_in_tile(glm::vec3(eye_world - tile.centre), view.time);
   const Camera camera = view.camera.from(eye_world);
   const float focal_pixels = 0.5f * float(r.extent.height) / std::tan(0.5f * camera.fov_y);
-  const PoseConstants pose{eye_in_tile,       bird_count,  r.pose_capacity,          focal_pixels / kDetailPixels,
-                           tile.tile.x,       tile.tile.y, kMinPixels / focal_pixels, 0,
+  const PoseConstants pose{eye_in_tile,
+                           bird_count,
+                           r.pose_capacity,
+                           focal_pixels / kDetailPixels,
+                           tile.tile.x,
+                           tile.tile.y,
+                           kMinPixels / focal_pixels,
+                           0,
                            0};
   if (bird_count > 0)
-    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds), gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose,
-                             sizeof pose);
+    r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds),
+                             gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose, sizeof pose);
 
   // The targets where they are now, written in the command stream (no host race with frames in
   // flight); then every earlier write (compute, transfer) before the vertex shaders read.
   if (r.target_count > 0) {
     std::vector<gpu::GpuTarget> placed(r.target_count);
     for (uint32_t i = 0; i < r.target_count; ++i)
-      placed[i] = gpu::pack_target(world.targets[i],
-                                   world.target_now.size() > i ? world.target_now[i] : world.targets[i].centre);
-    vkCmdUpdateBuffer(cmd, r.targets.handle(), 0, placed.size() * sizeof(gpu::GpuTarget), placed.data());
+      placed[i] =
+          gpu::pack_target(world.targets[i], world.target_now.size() > i ? world.target_now[i]
+                                                                         : world.targets[i].centre);
+    vkCmdUpdateBuffer(cmd, r.targets.handle(), 0, placed.size() * sizeof(gpu::GpuTarget),
+                      placed.data());
   }
   VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -528,7 +562,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   frame.eye = eye_in_tile;
   frame.tile_x = tile.tile.x;
   frame.tile_z = tile.tile.y;
-  const float haze = -std::log(1.0f - kHazeAtSubject) / std::max(view.scene_distance, kMinHazeDistance);
+  const float haze =
+      -std::log(1.0f - kHazeAtSubject) / std::max(view.scene_distance, kMinHazeDistance);
   frame.sun = glm::vec4(kSun, haze);
   frame.fog_color = glm::vec4(0.72f, 0.80f, 0.88f, r.ground_height);
   vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -543,16 +578,19 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
   // The birds' shadows: of every bird, or of every shadow_stride-th.
   const uint32_t casters = view.shadow_casters > 0 ? view.shadow_casters : std::max(bird_count, 1u);
   frame.shadow_stride = std::max(1u, (bird_count + casters - 1) / casters);
-  vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof frame, &frame);
-  draw(pipelines.shadows, sets.birds, 6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
+  vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                     sizeof frame, &frame);
+  draw(pipelines.shadows, sets.birds,
+       6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
   // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
   if (bird_count > 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.birds);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets.birds, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets.birds, 0,
+                            nullptr);
     for (uint32_t list = 0; list < 2; ++list) {
       frame.list_offset = list * r.pose_capacity;
-      vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                         sizeof frame, &frame);
+      vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
+                         0, sizeof frame, &frame);
       vkCmdDrawIndirect(cmd, r.draws->handle(), list * sizeof(VkDrawIndirectCommand), 1, 0);
     }
   }

@@ -20,8 +20,8 @@ namespace aeroflock::render {
 struct View {
   Camera camera;
   bool show_targets = true;
-  float time = 0.0f;              // s, for anything animated independently of the birds
-  float scene_distance = 3000.0f; // cm from the eye to what it looks at: the fog scales with it
+  float time = 0.0f;               // s, for anything animated independently of the birds
+  float scene_distance = 3000.0f;  // cm from the eye to what it looks at: the fog scales with it
   // At most this many birds cast shadows, each for the birds after it up to the next (0: all):
   // the shadows' fill is what costs in a window on the CPU.
   uint32_t shadow_casters = 0;

@@ -140,10 +140,11 @@ void Viewer::run() {
     if (options_.frames > 0 && frames_drawn_ >= options_.frames) window_.close();
   }
   const double wall = seconds_between(start, Clock::now());
-  std::printf("%llu frames in %.2f s (%.1f frames/s), %.2f s simulated, %ux%u, %u sample%s a pixel\n",
-              (unsigned long long)frames_drawn_, wall, wall > 0 ? frames_drawn_ / wall : 0.0,
-              sim_.time(), renderer_->extent().width, renderer_->extent().height, renderer_->samples(),
-              renderer_->samples() == 1 ? "" : "s");
+  std::printf(
+      "%llu frames in %.2f s (%.1f frames/s), %.2f s simulated, %ux%u, %u sample%s a pixel\n",
+      (unsigned long long)frames_drawn_, wall, wall > 0 ? frames_drawn_ / wall : 0.0, sim_.time(),
+      renderer_->extent().width, renderer_->extent().height, renderer_->samples(),
+      renderer_->samples() == 1 ? "" : "s");
 }
 
 void Viewer::handle(const Input& input, float seconds) {
@@ -256,9 +257,9 @@ void Viewer::update_title(Clock::time_point now) {
   std::snprintf(text, sizeof text,
                 "aeroflock  %s  |  %u bird%s  |  t = %.1f s  |  %.1f fps  |  step %s  |  x%g%s  |  "
                 "%s camera%s",
-                sim_.scenario().name.c_str(), uint32_t(sim_.bird_count()), sim_.bird_count() == 1 ? "" : "s",
-                sim_.time(), title_frames_ / elapsed, step, speed_, paused_ ? " paused" : "",
-                camera, follow.c_str());
+                sim_.scenario().name.c_str(), uint32_t(sim_.bird_count()),
+                sim_.bird_count() == 1 ? "" : "s", sim_.time(), title_frames_ / elapsed, step,
+                speed_, paused_ ? " paused" : "", camera, follow.c_str());
   window_.set_title(text);
   title_time_ = now;
   title_frames_ = 0;

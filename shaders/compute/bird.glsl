@@ -8,11 +8,13 @@
 // for the angles the model uses, so that the shader follows the double-precision reference.
 
 vec2 sin_cos(float x) {
-  precise float k = round(x * 0.636619772);            // x / (pi / 2)
+  precise float k = round(x * 0.636619772);                    // x / (pi / 2)
   precise float r = (x - k * 1.57079637) + k * 4.37113883e-8;  // x - k pi / 2, two-part pi / 2
   precise float r2 = r * r;
+  // clang-format off
   precise float s = r + r * r2 * (-1.66666667e-1 + r2 * (8.33333333e-3 + r2 * (-1.98412698e-4 + r2 * 2.75573192e-6)));
   precise float c = 1.0 + r2 * (-0.5 + r2 * (4.16666667e-2 + r2 * (-1.38888889e-3 + r2 * 2.48015873e-5)));
+  // clang-format on
   int q = int(k) & 3;
   if (q == 0) return vec2(s, c);
   if (q == 1) return vec2(c, -s);
@@ -35,8 +37,10 @@ float atan_p(float y, float x) {
   bool shift = t > 0.414213562;
   precise float u = shift ? (t - 1.0) / (t + 1.0) : t;
   precise float u2 = u * u;
+  // clang-format off
   precise float a = u + u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * (0.111111111 +
                     u2 * (-0.0909090909 + u2 * (0.0769230769 + u2 * (-0.0666666667)))))));
+  // clang-format on
   if (shift) a += 0.785398163;
   if (swap) a = 1.57079633 - a;
   if (x < 0.0) a = 3.14159265 - a;
@@ -61,7 +65,7 @@ struct WingAngles {
 };
 
 // The right wing's joint angles at wingbeat phase `phase`, amplitude `amp`, mean lead-lag `sweep`
-// and the arm's added incidence (MODEL.md; wingbeat.cpp).
+// and the arm's added incidence (docs/MODEL.md; wingbeat.cpp).
 WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep, float incidence) {
   WingAngles w;
   vec2 p = sin_cos(phase), h = sin_cos(phase - s.lag_hand);

@@ -6,8 +6,14 @@
 #define BIRDS_ACCESS
 #endif
 layout(std430, set = 0, binding = kBindingBirds) BIRDS_ACCESS buffer Birds { GpuBird birds[]; };
-layout(std430, set = 0, binding = kBindingSpecies) readonly buffer SpeciesTable { GpuSpecies species[]; };
+layout(std430, set = 0, binding = kBindingSpecies) readonly buffer SpeciesTable {
+  GpuSpecies species[];
+};
 layout(std430, set = 0, binding = kBindingTargets) readonly buffer Targets { GpuTarget targets[]; };
 layout(std430, set = 0, binding = kBindingRoutes) readonly buffer Routes { GpuRoute routes[]; };
-layout(std430, set = 0, binding = kBindingRouteTargets) readonly buffer RouteTargets { uint route_targets[]; };
-layout(std430, set = 0, binding = kBindingBranches) readonly buffer Branches { GpuBranch branches[]; };
+layout(std430, set = 0, binding = kBindingRouteTargets) readonly buffer RouteTargets {
+  uint route_targets[];
+};
+layout(std430, set = 0, binding = kBindingBranches) readonly buffer Branches {
+  GpuBranch branches[];
+};

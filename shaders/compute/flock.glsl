@@ -24,14 +24,18 @@ uint near_count;
 const float kFar = 3.4e38;  // an empty place's distance squared: every bird seen is nearer
 
 // Nearer, ties by index (flock.cpp: Nearest).
-bool nearer(float d2, uint j, float than_d2, uint than_j) { return d2 < than_d2 || (d2 == than_d2 && j < than_j); }
+bool nearer(float d2, uint j, float than_d2, uint than_j) {
+  return d2 < than_d2 || (d2 == than_d2 && j < than_j);
+}
 
 // The range of the sorted birds in cell c of a flock, empty when no bird of it is there. Its
 // search in the table starts at its slot (grid.glsl): a slot holding the cell, or an empty one,
 // ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
-// `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would run
-// the probing loop's body for every cell, though a compact flock never needs it).
-bool holds_another(ivec4 key, ivec3 c, uint flock) { return key.w != kNoFlock && (key.w != int(flock) || key.xyz != c); }
+// `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would
+// run the probing loop's body for every cell, though a compact flock never needs it).
+bool holds_another(ivec4 key, ivec3 c, uint flock) {
+  return key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
+}
 
 uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   uint slot = grid_slot(c, flock, pc.buckets);
@@ -57,9 +61,9 @@ uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
 // Written for a CPU device's lanes as much as for a GPU: where the invocations diverge, a CPU
 // device (lavapipe) runs every branch under a mask and a loop's body once more than its longest
 // lane, so it is the loops' trips that cost. The cells are searched nearest first, in the order
-// made for the part of its cell the bird is in (flock.h: grid_search_order), and a bird stops at the
-// first cell that cannot hold a nearer bird than its k-th: few cells are searched in vain. The k
-// nearest stay in registers (constant indices, kSeen of them), a bird moving down them without a
+// made for the part of its cell the bird is in (flock.h: grid_search_order), and a bird stops at
+// the first cell that cannot hold a nearer bird than its k-th: few cells are searched in vain. The
+// k nearest stay in registers (constant indices, kSeen of them), a bird moving down them without a
 // branch. The grid is read as texels, fetched for all lanes at once.
 //
 // Without `probing` the search gives up, returning true, at the first cell whose slot holds
@@ -80,16 +84,18 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
   const int parts = int(kSearchParts);
-  int cells = textureSize(grid_search) / (parts * parts * parts);  // the list of the bird's part of its cell
-  ivec3 part = min(ivec3(inside * (float(parts) / cell)), parts - 1);  // exact: cell / parts is a power of two
+  int cells = textureSize(grid_search) /
+              (parts * parts * parts);  // the list of the bird's part of its cell
+  ivec3 part = min(ivec3(inside * (float(parts) / cell)),
+                   parts - 1);  // exact: cell / parts is a power of two
   int first = cells * (part.x + parts * (part.y + parts * part.z));
   float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
   bool blocked = false;
   for (int n = 0; n < cells && !blocked; ++n) {
     ivec4 around = texelFetch(grid_search, first + n);
-    float least2 = float(around.w) * part2;  // exact
+    float least2 = float(around.w) * part2;            // exact
     if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
-    vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
+    vec3 low = vec3(around.xyz) * cell;                // the cell's low corner
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
     float gap2 = dot(gap, gap);
     if (gap2 > radius2 || gap2 > worst_d2) continue;
@@ -100,7 +106,8 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
       vec3 offset = low + point.xyz - inside;
       float d2 = dot(offset, offset);
       // Within sight, not itself, nearer than the k-th kept, not in the blind sector.
-      bool sees = d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) && outside_blind(ahead, offset, d2, cos_blind);
+      bool sees = d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) &&
+                  outside_blind(ahead, offset, d2, cos_blind);
       [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
         bool takes = sees && m < k && nearer(d2, j, kept_d2[m], kept[m]);
         float was_d2 = kept_d2[m];
@@ -162,6 +169,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   float faster = faster_sum / float(near_count);
-  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster, s.min_speed, s.max_speed);
+  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster,
+                     s.min_speed, s.max_speed);
   return p;
 }

@@ -13,9 +13,9 @@ ivec3 grid_cell(GpuBird b, float cell, out vec3 inside) {
 // table's sides, the flock's (an odd multiplier) mixed in by xor. The sides share the slots' bits,
 // y's 4 to 8 times shorter than x's and z's (the built-in flocks are about 4 x 1 x 4 when spawned):
 // with four slots a bird and cells of 2.56 m, 82 x 10 x 82 m for 1,000 birds, 164 x 41 x 164 m for
-// 10,000, 328 x 82 x 328 m for 100,000, 655 x 164 x 655 m for 760,000. Cells nearer than a side apart
-// never start at one slot, so a flock within the sides finds its cells' slots at the first look;
-// and cells side by side along x have slots side by side, so that neighbouring invocations
+// 10,000, 328 x 82 x 328 m for 100,000, 655 x 164 x 655 m for 760,000. Cells nearer than a side
+// apart never start at one slot, so a flock within the sides finds its cells' slots at the first
+// look; and cells side by side along x have slots side by side, so that neighbouring invocations
 // (perceive.comp: one bird each, in slot order) search the same cells.
 uint grid_slot(ivec3 c, uint flock, uint slots) {
   uint bits = uint(findMSB(slots));
@@ -28,7 +28,8 @@ uint grid_slot(ivec3 c, uint flock, uint slots) {
 // step, so that every slot is tried, from a hash of the cell (flock.cpp: grid_bucket's, and the
 // flock's), so that the cells of a dense block of slots jump out of it rather than queue along it.
 uint grid_probe_step(ivec3 c, uint flock, uint slots) {
-  uint h = (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u) ^ (flock * 2654435761u);
+  uint h = (uint(c.x) * 73856093u) ^ (uint(c.y) * 19349663u) ^ (uint(c.z) * 83492791u) ^
+           (flock * 2654435761u);
   return ((h >> 11u) | 1u) & (slots - 1u);
 }
 

@@ -1,18 +1,24 @@
 #version 450
 // The neighbour grid, 1 of 5: each bird that flocks now finds its cell's slot in the table,
 // claiming an empty one if its cell has none yet (the table has more slots than birds and its
-// probing step is odd: a search always ends), and counts itself into it; its rank there is the count before it.
-// A bird that does not, and whose reaction is due, sees no one (perceive.comp perceives for the
-// birds in the grid).
+// probing step is odd: a search always ends), and counts itself into it; its rank there is the
+// count before it. A bird that does not, and whose reaction is due, sees no one (perceive.comp
+// perceives for the birds in the grid).
 #extension GL_GOOGLE_include_directive : require
 #include "buffers.glsl"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingGridPlace) writeonly buffer GridPlace { uvec2 grid_place[]; };
+layout(std430, set = 0, binding = kBindingGridPlace) writeonly buffer GridPlace {
+  uvec2 grid_place[];
+};
 layout(std430, set = 0, binding = kBindingGridCounts) buffer GridCounts { uint grid_counts[]; };
-layout(std430, set = 0, binding = kBindingGridKeys) writeonly buffer GridKeys { ivec4 grid_keys[]; };
+layout(std430, set = 0, binding = kBindingGridKeys) writeonly buffer GridKeys {
+  ivec4 grid_keys[];
+};
 layout(std430, set = 0, binding = kBindingGridOwners) buffer GridOwners { uint grid_owners[]; };
-layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptions { GpuPerception perception[]; };
+layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptions {
+  GpuPerception perception[];
+};
 #include "model.glsl"
 #include "grid.glsl"
 
@@ -28,7 +34,8 @@ uint claim_slot(uint i, ivec3 c, uint flock) {
       return slot;
     }
     vec3 unused;
-    if (birds[owner].flock == flock && grid_cell(birds[owner], pc.grid_cell, unused) == c) return slot;
+    if (birds[owner].flock == flock && grid_cell(birds[owner], pc.grid_cell, unused) == c)
+      return slot;
     slot = (slot + step) & (pc.buckets - 1u);
   }
   return kNoBucket;  // never: the table cannot fill

@@ -5,10 +5,18 @@
 #include "gpu/host_device.h"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts { uint grid_counts[]; };
-layout(std430, set = 0, binding = kBindingGridStarts) readonly buffer GridStarts { uint grid_starts[]; };
-layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks { uint grid_blocks[]; };
-layout(std430, set = 0, binding = kBindingGridRanges) writeonly buffer GridRanges { uvec2 grid_ranges[]; };
+layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts {
+  uint grid_counts[];
+};
+layout(std430, set = 0, binding = kBindingGridStarts) readonly buffer GridStarts {
+  uint grid_starts[];
+};
+layout(std430, set = 0, binding = kBindingGridBlocks) readonly buffer GridBlocks {
+  uint grid_blocks[];
+};
+layout(std430, set = 0, binding = kBindingGridRanges) writeonly buffer GridRanges {
+  uvec2 grid_ranges[];
+};
 
 void main() {
   // As many slots an invocation as it takes (a device dispatches at most 65,535 workgroups a row).

@@ -5,7 +5,9 @@
 #include "gpu/host_device.h"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts { uint grid_counts[]; };
+layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts {
+  uint grid_counts[];
+};
 layout(std430, set = 0, binding = kBindingGridStarts) buffer GridStarts { uint grid_starts[]; };
 layout(std430, set = 0, binding = kBindingGridBlocks) buffer GridBlocks { uint grid_blocks[]; };
 

@@ -6,9 +6,15 @@
 #include "buffers.glsl"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingGridPlace) readonly buffer GridPlace { uvec2 grid_place[]; };
-layout(std430, set = 0, binding = kBindingGridRanges) readonly buffer GridRanges { uvec2 grid_ranges[]; };
-layout(std430, set = 0, binding = kBindingGridPoints) writeonly buffer GridPoints { vec4 grid_points[]; };
+layout(std430, set = 0, binding = kBindingGridPlace) readonly buffer GridPlace {
+  uvec2 grid_place[];
+};
+layout(std430, set = 0, binding = kBindingGridRanges) readonly buffer GridRanges {
+  uvec2 grid_ranges[];
+};
+layout(std430, set = 0, binding = kBindingGridPoints) writeonly buffer GridPoints {
+  vec4 grid_points[];
+};
 #include "bird.glsl"
 #include "grid.glsl"
 

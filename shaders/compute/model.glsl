@@ -32,7 +32,9 @@ vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
 
 // eq. 15, h no less than the body box's half height (body.cpp: ground_effect_floor)
 float ground_effect_force(GpuSpecies s, float height) {
-  return height > 0.0 && height < s.wing_length ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b) : 0.0;
+  return height > 0.0 && height < s.wing_length
+             ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b)
+             : 0.0;
 }
 
 // --- Aerodynamics (eqs. 1, 2; aerodynamics.cpp) ---------------------------------------------
@@ -77,8 +79,8 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
   normal = s * fx + c * fy;
 }
 
-void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep, float incidence,
-                       out WingPoint arm, out WingPoint hand) {
+void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep,
+                       float incidence, out WingPoint arm, out WingPoint hand) {
   WingAngles w = wing_angles(s, phase, amp, sweep, incidence);
   float phase_rate = 2.0 * kPi * frequency;
   float leadlag_rate = s.C_leadlag * w.cos_phase * phase_rate;
@@ -100,7 +102,8 @@ void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, fl
   vec3 omega_shoulder = vec3(0.0, leadlag_rate, 0.0) - sx * flap_arm_rate;
   vec3 omega_wrist = -ax * flap_hand_rate;
   arm.velocity = cross(omega_shoulder, arm.position - shoulder);
-  hand.velocity = cross(omega_shoulder, hand.position - shoulder) + cross(omega_wrist, hand.position - wrist);
+  hand.velocity =
+      cross(omega_shoulder, hand.position - shoulder) + cross(omega_wrist, hand.position - wrist);
   feather(ax, ay, w.feather_arm, arm.chord, arm.normal);
   feather(hx, hy, w.feather_arm + w.feather_hand, hand.chord, hand.normal);
   arm.area = s.arm_area;
@@ -152,12 +155,14 @@ vec2 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
 float approach_speed(GpuSpecies s, float to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   float room = max(0.0, to_branch - s.perch_radius);
-  return min(s.cruise_speed, sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
+  return min(s.cruise_speed,
+             sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
 }
 
-Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity, vec3 goal, vec3 wind,
-                       float ground_speed, bool by_course) {
-  // Braking: the course through the air, or the head's direction when the bird barely moves through it.
+Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity,
+                       vec3 goal, vec3 wind, float ground_speed, bool by_course) {
+  // Braking: the course through the air, or the head's direction when the bird barely moves through
+  // it.
   vec3 air = velocity - wind;
   Steering st;
   st.air_speed = length(air.xz);
@@ -165,7 +170,8 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, v
   vec3 to_goal = goal - position;
   vec2 aim = crab_aim(to_goal, wind, ground_speed);
   st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
-  float turn_rate = st.air_speed > 1.0 ? kGravity * tan_p(bank) / st.air_speed : 0.0;  // as the bank (control.cpp)
+  float turn_rate = st.air_speed > 1.0 ? kGravity * tan_p(bank) / st.air_speed
+                                       : 0.0;  // as the bank (control.cpp)
   st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
   st.height_error = to_goal.y - s.height_lead * velocity.y;
   st.aim_speed = length(aim);
@@ -193,9 +199,12 @@ float coordinated_bank(GpuSpecies s, float turn_rate, float speed) {
   return clamp(atan_p(speed * turn_rate / kGravity), -s.bank_max, s.bank_max);
 }
 
-float full_bank_radius(GpuSpecies s, float speed) { return kWideTurn * speed * speed / (kGravity * s.tan_bank_max); }
+float full_bank_radius(GpuSpecies s, float speed) {
+  return kWideTurn * speed * speed / (kGravity * s.tan_bank_max);
+}
 
-bool circles_goal(float heading_error, float distance, float radius, float speed, float rise, float wind) {
+bool circles_goal(float heading_error, float distance, float radius, float speed, float rise,
+                  float wind) {
   if (2.0 * kPi * wind >= speed) return false;  // control.cpp
   return abs(rise) < kLevelGoal * distance && distance < 2.0 * radius * abs(sin_p(heading_error));
 }
@@ -221,7 +230,9 @@ float descent_angle(float air_climb, float airspeed) {
   return airspeed > 0.0 ? max(0.0, -asin_p(clamp(air_climb / airspeed, -1.0, 1.0))) : 0.0;
 }
 
-float ground_bank(GpuSpecies s, float height) { return asin_p(clamp(height / s.wing_length, 0.0, 1.0)); }
+float ground_bank(GpuSpecies s, float height) {
+  return asin_p(clamp(height / s.wing_length, 0.0, 1.0));
+}
 
 // --- Airspeed, pitch and sweep (control.cpp) ---
 
@@ -234,8 +245,10 @@ float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_b
 // x: the total energy error, y: the balance, cm.
 vec2 energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
   precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
-  float height_share = clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
-  return vec2(height_error + deficit, height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
+  float height_share =
+      clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
+  return vec2(height_error + deficit,
+              height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
 }
 
 float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
@@ -243,14 +256,17 @@ float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
   return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
 }
 
-float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height, float goal_height) {
+float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height,
+                      float goal_height) {
   float pitch = clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
   float floor_height = min(s.clearance, goal_height);
   if (height >= floor_height) return pitch;
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
 
-bool heeds_wind(GpuSpecies s, float speed) { return speed > kTouchdownAim * s.touchdown_speed; }  // control.cpp
+bool heeds_wind(GpuSpecies s, float speed) {
+  return speed > kTouchdownAim * s.touchdown_speed;
+}  // control.cpp
 
 float perch_airspeed(GpuSpecies s, vec3 to_perch, vec3 wind) {
   return length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
@@ -270,7 +286,8 @@ float flare_pitch(GpuSpecies s, float pitch_trim, float share) {
 vec2 pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
   float error = pitch_command - pitch - s.pitch_damping * rate;
   float beyond = error - clamp(error, -s.pitch_band, s.pitch_band);
-  return vec2(clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max), clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max));
+  return vec2(clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max),
+              clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max));
 }
 
 float pitch_rate(vec4 attitude, vec3 omega) {
@@ -286,7 +303,9 @@ float bank_rate(vec4 attitude, vec3 omega) {
 float roll_for_bank(GpuSpecies s, vec4 attitude, vec3 omega, float bank, float bank_command) {
   float wanted = (bank_command - bank) / s.bank_time;
   float per_roll = bank_rate(attitude, vec3(1, 0, 0));
-  float roll = abs(per_roll) > 0.1 ? (wanted - bank_rate(attitude, vec3(0.0, omega.y, omega.z))) / per_roll : wanted;
+  float roll = abs(per_roll) > 0.1
+                   ? (wanted - bank_rate(attitude, vec3(0.0, omega.y, omega.z))) / per_roll
+                   : wanted;
   return clamp(roll, -s.roll_rate, s.roll_rate);
 }
 
@@ -329,8 +348,10 @@ float landing_progress(vec3 q1, vec3 p, vec3 q2, float u, vec3 position, float l
 vec3 wind_at(float y) {
   if (pc.wind_profile == 0u) return pc.wind_ground.xyz;
   float h = y - pc.wind_ground.w;
-  if (pc.wind_profile == 1u) return h > 0.0 ? pc.wind_ground.xyz * pow(h / pc.wind_height, pc.wind_exponent) : vec3(0.0);
-  return h > pc.wind_roughness ? pc.wind_ground.xyz * (log(h / pc.wind_roughness) / log(pc.wind_height / pc.wind_roughness))
+  if (pc.wind_profile == 1u)
+    return h > 0.0 ? pc.wind_ground.xyz * pow(h / pc.wind_height, pc.wind_exponent) : vec3(0.0);
+  return h > pc.wind_roughness ? pc.wind_ground.xyz * (log(h / pc.wind_roughness) /
+                                                       log(pc.wind_height / pc.wind_roughness))
                                : vec3(0.0);
 }
 
@@ -343,7 +364,8 @@ vec3 step_wind;
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
   GpuBranch br = branches[branch];
-  return br.point.xyz + tile_shift(br.tile_x, br.tile_z, b.tile_x, b.tile_z) + vec3(0.0, s.stand_height, 0.0);
+  return br.point.xyz + tile_shift(br.tile_x, br.tile_z, b.tile_x, b.tile_z) +
+         vec3(0.0, s.stand_height, 0.0);
 }
 
 // Moving away from the branch horizontally, out of perch_radius (route.cpp).
@@ -353,10 +375,13 @@ bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
 
 // Sunk under the perch and still sinking fast (route.cpp).
 bool sunk_under(GpuBird b, GpuSpecies s, vec3 to_perch) {
-  return to_perch.y > kSunkPerchRadii * s.perch_radius && b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
+  return to_perch.y > kSunkPerchRadii * s.perch_radius &&
+         b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
 }
 
-bool into_wind(GpuSpecies s, vec3 across, vec3 wind) { return heeds_wind(s, abs(dot(wind, across))); }
+bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
+  return heeds_wind(s, abs(dot(wind, across)));
+}
 
 vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
@@ -364,7 +389,8 @@ vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
 
 void place_curve(inout GpuBird b, uint branch, vec3 q2) {
   b.landing_start = b.position;
-  b.via_point = landing_point(b.position, rotate(b.attitude, vec3(1, 0, 0)), q2, branches[branch].direction.xyz);
+  b.via_point = landing_point(b.position, rotate(b.attitude, vec3(1, 0, 0)), q2,
+                              branches[branch].direction.xyz);
   b.landing_progress = 0.0;
 }
 
@@ -380,7 +406,8 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     bool heading_in = dot(track, inward) > 0.0;
     float out_side = windward ? s.approach_distance : 0.0;
     bool on_side = dot(b.position - q2, across) * side >= out_side;
-    b.landing_stage = on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
+    b.landing_stage =
+        on_side && (any(notEqual(b.via_point, q2)) || heading_in) ? stage_curve : stage_gate;
   }
   if (b.landing_stage == stage_gate) {
     vec3 gate = landing_gate(s, across, q2, side);
@@ -388,7 +415,8 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
     float d = length(to_gate);
     bool gone_by = dot(to_gate, b.velocity) < 0.0;
     bool heading_out = dot(track, inward) < -kGateHeadingOut * length(track) * length(inward);
-    if (heading_out || (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
+    if (heading_out ||
+        (d > s.approach_distance && !(gone_by && d <= kMissedTargetRadii * s.approach_distance)))
       return gate;
     place_curve(b, branch, q2);
     b.landing_stage = stage_curve;
@@ -409,7 +437,8 @@ struct Leg {
   GpuRoute route;
   vec4 centre_radius;
   vec3 velocity;
-  uint targets_from;  // pc.targets_base: the targets at the frame's start; + pc.next_targets: at the next one's
+  uint targets_from;  // pc.targets_base: the targets at the frame's start; + pc.next_targets: at
+                      // the next one's
 };
 
 Leg load_leg(GpuBird b, uint targets_from) {
@@ -419,8 +448,10 @@ Leg load_leg(GpuBird b, uint targets_from) {
   l.centre_radius = vec4(0.0);
   l.velocity = vec3(0.0);
   if (l.route.count > 0u) {
-    GpuTarget t = targets[targets_from + route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
-    l.centre_radius = t.centre_radius + vec4(tile_shift(t.tile_x, t.tile_z, b.tile_x, b.tile_z), 0.0);
+    GpuTarget t =
+        targets[targets_from + route_targets[l.route.first + min(b.target, l.route.count - 1u)]];
+    l.centre_radius =
+        t.centre_radius + vec4(tile_shift(t.tile_x, t.tile_z, b.tile_x, b.tile_z), 0.0);
     l.velocity = t.velocity.xyz;
   }
   return l;
@@ -441,7 +472,8 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, step_wind) : perch_point(b, s, branch);
+  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, step_wind)
+                                             : perch_point(b, s, branch);
 }
 
 void come_to_rest(inout GpuBird b, vec3 at) {
@@ -478,7 +510,8 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance ||
-              flare_share(s, length(b.velocity - step_wind), perch_airspeed(s, to_perch, step_wind), d) >= kBrakeShare)) {
+              flare_share(s, length(b.velocity - step_wind), perch_airspeed(s, to_perch, step_wind),
+                          d) >= kBrakeShare)) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }
@@ -496,13 +529,14 @@ struct Commands {
   float incidence;     // the arms' added incidence (braking)
   float opening;
   vec3 omega;
-  bool circling;       // the goal lies inside the full-bank circle (step.cpp)
+  bool circling;  // the goal lies inside the full-bank circle (step.cpp)
 };
 
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
 // (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
 vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
-  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
+  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate)
+    return vec4(0.0, 0.0, 0.0, -1.0);
   vec3 way = perch_point(b, s, leg.route.branch - 1u) - b.position;
   return vec4(way, length(way));
 }
@@ -519,10 +553,12 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   vec3 wind = step_wind;
-  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind, approach_speed(s, to_perch), braking);
+  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind,
+                             approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
-  c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) * s.rot_max;
+  c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) *
+            s.rot_max;
   c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
 
@@ -531,14 +567,18 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
   c.energy_error = braking ? c.steering.height_error : e.x + spool_lead(s, b.amplitude, air_climb);
-  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun) c.energy_error = min(c.energy_error, 0.0);  // step.cpp
+  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
+    c.energy_error = min(c.energy_error, 0.0);                                         // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
   c.balance = e.y;
-  float flare = braking && to_perch >= 0.0 ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch) : 0.0;
+  float flare = braking && to_perch >= 0.0
+                    ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
+                    : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
-  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
-                      : braking ? flare_pitch(s, b.pitch_trim, flare)
-                                : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
+  float pitch_command =
+      on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
+      : braking ? flare_pitch(s, b.pitch_trim, flare)
+                : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
   vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
   c.bend = p.x;
   c.sweep = p.y;
@@ -557,11 +597,13 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   else {
     float distance = length(goal.xz - b.position.xz);
     float circle = full_bank_radius(s, speed);
-    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed, goal.y - b.position.y, length(wind.xz));
+    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed,
+                                           goal.y - b.position.y, length(wind.xz));
     if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))  // step.cpp
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
-  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w), recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed));
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w),
+                   recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
@@ -595,7 +637,8 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   vec3 tail_position, tail_chord, tail_normal;
   tail_geometry(s, b.tail_bend, b.tail_twist, tail_position, tail_chord, tail_normal);
   precise vec3 tail_air = body_air - cross(c.omega, tail_position);
-  vec3 tail = aerodynamic_force(s, tail_air, tail_chord, tail_normal, s.tail_area_per_radian * c.opening);
+  vec3 tail =
+      aerodynamic_force(s, tail_air, tail_chord, tail_normal, s.tail_area_per_radian * c.opening);
   vec3 tail_torque = cross(tail_position, tail);  // eq. 11
   f.tail = vec4(rotate(b.attitude, tail), 0.0);
   f.tail_torque = vec4(tail_torque, 0.0);
@@ -610,7 +653,8 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
     f.ground.y = ground;
     total.y += ground;
   }
-  if (b.mode == mode_taking_off && b.mode_time >= s.crouch_time && b.mode_time < s.crouch_time + s.leg_time) {
+  if (b.mode == mode_taking_off && b.mode_time >= s.crouch_time &&
+      b.mode_time < s.crouch_time + s.leg_time) {
     vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
     vec3 legs = s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
     f.legs = vec4(legs, 0.0);
@@ -643,7 +687,9 @@ GpuForces no_forces() {
 }
 
 // Whether a bird takes part in its flock now (flock.cpp).
-bool flocks_now(GpuBird b) { return b.flocking != 0u && b.mode == mode_flying && b.landing_stage == stage_none; }
+bool flocks_now(GpuBird b) {
+  return b.flocking != 0u && b.mode == mode_flying && b.landing_stage == stage_none;
+}
 
 // Whether every number of a bird's state is finite (bird.h: all_finite).
 bool finite_number(float v) { return !isnan(v) && !isinf(v); }
@@ -652,16 +698,17 @@ bool finite_number(vec4 v) { return !any(isnan(v)) && !any(isinf(v)); }
 bool finite_number(uint v) { return true; }
 bool all_finite(GpuBird b) {
   return true
-#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) && finite_number(b.name)
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&finite_number(b.name)
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
-  ;
+      ;
 }
 
 // One step of dt from `time`; returns the step's forces (zero for a bird at rest or quarantined).
 // `seen`: its last perception (none seen: it flies its route alone). A step whose result is not
 // finite is undone by the caller (step.glsl), which quarantines the bird.
-GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt, GpuPerception seen) {
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt,
+                    GpuPerception seen) {
   if (b.mode == mode_quarantined) return no_forces();
   if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
     b.mode_time += dt;
@@ -689,7 +736,8 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   bool on_legs = b.mode == mode_taking_off;
   precise vec3 position = b.position + b.velocity * dt;
   precise vec3 velocity = b.velocity + f.total.xyz / s.mass * dt;
-  precise vec3 omega = c.omega + f.torque.xyz * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
+  precise vec3 omega =
+      c.omega + f.torque.xyz * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
   b.position = position;
   b.velocity = velocity;
   b.attitude = integrate_attitude(b.attitude, c.omega, dt);
@@ -697,9 +745,13 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   if (on_legs) stand_on_legs(b, s, dt);
 
   b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
-  b.frequency = on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.energy_error, dt);
-  b.amplitude = on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.energy_error, dt);
-  if (!on_legs) b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min, s.pitch_max);
+  b.frequency =
+      on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.energy_error, dt);
+  b.amplitude =
+      on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.energy_error, dt);
+  if (!on_legs)
+    b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min,
+                         s.pitch_max);
   b.tail_bend = approach(b.tail_bend, c.bend, s.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);

@@ -6,7 +6,9 @@
 #include "buffers.glsl"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions { GpuPerception perception[]; };
+layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions {
+  GpuPerception perception[];
+};
 // The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;

@@ -8,6 +8,6 @@ layout(std430, set = 0, binding = 2) writeonly buffer Sum { float sum[]; };
 layout(push_constant) uniform Push { uint n; };
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i < n) sum[i] = a[i] + b[i];
+  uint i = gl_GlobalInvocationID.x;
+  if (i < n) sum[i] = a[i] + b[i];
 }

@@ -10,12 +10,16 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };  // model.glsl reads pc
-layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perceptions { GpuPerception perception[]; };
+layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perceptions {
+  GpuPerception perception[];
+};
 // Counts the birds whose loop ended before its steps were taken: a driver may end a shader's
 // loops (lavapipe after 65,535 turns); the host refuses the frame rather than show it.
 layout(std430, set = 0, binding = kBindingStepsShort) buffer StepsShort { uint steps_short; };
 #ifdef RECORD_FORCES
-layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces { GpuForces forces_out[]; };
+layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
+  GpuForces forces_out[];
+};
 #endif
 
 #include "model.glsl"

@@ -12,11 +12,9 @@ layout(std430, set = 0, binding = kBindingDrawLists) readonly buffer Lists { uin
 // Shaded per vertex, smoothly across the faces: the fragment shader only writes the colour.
 layout(location = 0) out vec3 out_color;
 
-const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),   // eagle: brown
-                                vec3(0.10, 0.10, 0.13),   // starling: glossy black
-                                vec3(0.55, 0.55, 0.60),
-                                vec3(0.60, 0.35, 0.20));
-
+const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),  // eagle: brown
+                                vec3(0.10, 0.10, 0.13),  // starling: glossy black
+                                vec3(0.55, 0.55, 0.60), vec3(0.60, 0.35, 0.20));
 
 const float kClosedTail = 0.25;
 

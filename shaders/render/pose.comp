@@ -15,9 +15,18 @@ layout(std430, set = 0, binding = kBindingDrawLists) writeonly buffer Lists { ui
 layout(std430, set = 0, binding = kBindingDraws) buffer Draws { DrawCommand draws[2]; };
 layout(push_constant) uniform PosePush { PoseConstants pc; };
 
-mat3 rot_x(float a) { float c = cos(a), s = sin(a); return mat3(1, 0, 0, 0, c, s, 0, -s, c); }
-mat3 rot_y(float a) { float c = cos(a), s = sin(a); return mat3(c, 0, -s, 0, 1, 0, s, 0, c); }
-mat3 rot_z(float a) { float c = cos(a), s = sin(a); return mat3(c, s, 0, -s, c, 0, 0, 0, 1); }
+mat3 rot_x(float a) {
+  float c = cos(a), s = sin(a);
+  return mat3(1, 0, 0, 0, c, s, 0, -s, c);
+}
+mat3 rot_y(float a) {
+  float c = cos(a), s = sin(a);
+  return mat3(c, 0, -s, 0, 1, 0, s, 0, c);
+}
+mat3 rot_z(float a) {
+  float c = cos(a), s = sin(a);
+  return mat3(c, s, 0, -s, c, 0, 0, 0, 1);
+}
 
 // The pose's transforms, grown about the bird by `grow` (a distant bird kept visible).
 vec3 g_position;
@@ -41,8 +50,10 @@ void main() {
   bool folded = b.mode == mode_perched || b.mode == mode_standing;
 
   vec4 q = b.attitude;
-  mat3 attitude = mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
-  vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z) - pc.eye.xyz;  // from the eye
+  mat3 attitude =
+      mat3(rotate(q, vec3(1, 0, 0)), rotate(q, vec3(0, 1, 0)), rotate(q, vec3(0, 0, 1)));
+  vec3 position = b.position + tile_shift(b.tile_x, b.tile_z, pc.tile_x, pc.tile_z) -
+                  pc.eye.xyz;  // from the eye
   float span = 2.0 * (s.shoulder_z + s.arm_length + s.hand_length);
   float distance = length(position);
   g_position = position;
@@ -52,9 +63,14 @@ void main() {
   store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), vec3(0.0));
 
   // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
-  WingAngles w = wing_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
+  WingAngles w =
+      wing_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
   if (folded) {
-    w.flap_arm = 0.0; w.flap_hand = 0.0; w.feather_arm = 0.0; w.feather_hand = 0.0; w.leadlag = -1.3;
+    w.flap_arm = 0.0;
+    w.flap_hand = 0.0;
+    w.feather_arm = 0.0;
+    w.feather_hand = 0.0;
+    w.leadlag = -1.3;
   }
   mat3 shoulder = rot_y(w.leadlag) * rot_x(-w.flap_arm);
   vec3 shoulder_at = vec3(s.shoulder_x, 0.0, s.shoulder_z);

@@ -27,7 +27,8 @@ void main() {
   vec3 centre = bird - frame.sun.xyz * (height / frame.sun.y);
   centre.y = ground;
   // A square of two triangles round the centre.
-  const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(-1, 1), vec2(-1, 1), vec2(1, -1), vec2(1, 1));
+  const vec2 kCorners[6] =
+      vec2[](vec2(-1, -1), vec2(1, -1), vec2(-1, 1), vec2(-1, 1), vec2(1, -1), vec2(1, 1));
   vec2 corner = kCorners[corner_index];
   vec3 world = centre + radius * vec3(corner.x, 0.0, corner.y);
   float spread = 0.35 * span / radius;
@@ -36,5 +37,6 @@ void main() {
   out_alpha = height > 0.0 ? alpha * (1.0 - fog_at(length(centre))) : 0.0;
   out_disc = corner;
   // A shadow too faint to see (a bird high up, or far in the haze) is not drawn at all.
-  gl_Position = out_alpha < kFaintest ? vec4(0.0, 0.0, -1.0, 1.0) : frame.view_projection * vec4(world, 1.0);
+  gl_Position =
+      out_alpha < kFaintest ? vec4(0.0, 0.0, -1.0, 1.0) : frame.view_projection * vec4(world, 1.0);
 }

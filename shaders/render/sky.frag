@@ -29,7 +29,8 @@ void main() {
     vec3 sky = mix(frame.fog_color.rgb, kSkyZenith, pow(up, 0.5));
     float towards_sun = max(dot(ray, frame.sun.xyz), 0.0);
     sky += kSunlight * (0.25 * pow(towards_sun, 12.0) + 0.5 * pow(towards_sun, 300.0));
-    sky = mix(sky, vec3(1.0, 0.98, 0.92), smoothstep(0.9999863, 0.9999905, towards_sun));  // cos 0.30, 0.25 deg
+    sky = mix(sky, vec3(1.0, 0.98, 0.92),
+              smoothstep(0.9999863, 0.9999905, towards_sun));  // cos 0.30, 0.25 deg
     out_color = vec4(min(sky, vec3(1.0)), 1.0);
     gl_FragDepth = 1.0;
   }

@@ -14,7 +14,8 @@ layout(location = 0) out vec3 out_normal;
 layout(location = 1) out vec3 out_world;
 layout(location = 2) flat out uint out_kind;
 
-layout(constant_id = 0) const uint kKind = 0u;  // 0 target rings, 1 branches, 2 route lines, 3 posts
+layout(constant_id = 0) const uint kKind =
+    0u;                          // 0 target rings, 1 branches, 2 route lines, 3 posts
 const uint kRingSegments = 64u;  // renderer.cpp: kRingVertices / 2
 // Route lines: pairs of target indices (kind 2 reads these instead of a mesh).
 layout(std430, set = 0, binding = kBindingSegments) readonly buffer Segments { uvec2 segments[]; };
@@ -25,9 +26,11 @@ void main() {
   vec3 world, normal = in_normal;
   if (kKind == 0u) {
     GpuTarget t = targets[gl_InstanceIndex];
-    vec3 centre = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz;
+    vec3 centre = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) -
+                  frame.eye.xyz;
     vec3 view = normalize(centre);
-    vec3 u = normalize(abs(view.y) < 0.99 ? cross(view, vec3(0, 1, 0)) : cross(view, vec3(1, 0, 0)));
+    vec3 u =
+        normalize(abs(view.y) < 0.99 ? cross(view, vec3(0, 1, 0)) : cross(view, vec3(1, 0, 0)));
     vec3 v = cross(u, view);
     uint end = uint(gl_VertexIndex) / 2u + uint(gl_VertexIndex) % 2u;  // segment i: ends i, i + 1
     float a = 6.2831853 * float(end) / float(kRingSegments);
@@ -36,13 +39,15 @@ void main() {
   } else if (kKind == 2u) {
     uvec2 ends = segments[gl_InstanceIndex];
     GpuTarget t = targets[gl_VertexIndex == 0 ? ends.x : ends.y];
-    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz;
+    world = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) -
+            frame.eye.xyz;
     normal = vec3(0.0, 1.0, 0.0);
   } else if (kKind == 3u) {
     // A post 10 cm thick from the ground up to the branch, 45 cm behind the perch point.
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(vec3(br.direction.x, 0.0, br.direction.z) + vec3(1e-6, 0.0, 0.0));
-    vec3 top = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz - 45.0 * along;
+    vec3 top = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) -
+               frame.eye.xyz - 45.0 * along;
     float ground = frame.fog_color.w - frame.eye.y;
     world = vec3(top.x, ground, top.z) + in_position * vec3(10.0, top.y - ground, 10.0);
   } else {
@@ -50,8 +55,8 @@ void main() {
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
     mat3 m = mat3(along, up, across);
     // A branch 1 m long and 4 cm thick, its top at the perch point.
-    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz +
-            m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
+    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) -
+            frame.eye.xyz + m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
     normal = m * in_normal;
   }
   out_normal = normal;
