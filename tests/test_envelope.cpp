@@ -8,7 +8,7 @@
 #include <string>
 
 #include "model/constants.h"
-#include "model/envelope.h"
+#include "run/fly_envelope.h"
 
 namespace aeroflock {
 namespace {

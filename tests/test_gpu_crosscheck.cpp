@@ -24,10 +24,10 @@
 #include "io/scenario_file.h"
 #include "model/body.h"
 #include "model/constants.h"
-#include "model/envelope.h"
 #include "model/route.h"
 #include "model/simulation.h"
 #include "model/step.h"
+#include "run/fly_envelope.h"
 
 namespace aeroflock {
 namespace {

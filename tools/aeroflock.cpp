@@ -341,7 +341,6 @@ int run(const RunOptions& opt) {
   summary.backend = sim->backend();
   summary.device = describe_device(*sim);
 
-  Progress progress;
   const size_t birds = sim->bird_count();
   // Before the run: a directory that cannot be written fails now.
   std::unique_ptr<VtkExporter> vtk;
@@ -360,99 +359,40 @@ int run(const RunOptions& opt) {
     } catch (const std::invalid_argument& e) {
       throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
     }
-    vtk->offer_start(*sim);  // t = 0
   }
-  const auto start = std::chrono::steady_clock::now();
-  auto wall = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  bool interrupted = false;
-  Pace pace;
-  pace.add(0.0, 0.0);
+  // The run's observers, finished in this order: the progress line's last, --strict's error, the
+  // pictures, the VTK files (the first error is the summary's).
+  RunProgress progress(total_seconds);
+  StrictCheck strict;
+  std::vector<RunObserver*> observers = {&progress};
+  if (opt.strict) observers.push_back(&strict);
+  if (images) observers.push_back(images.get());
+  if (vtk) observers.push_back(vtk.get());
+  RunLimits limits;
+  limits.frames = frames;
+  limits.signal = &g_signal;
   // Without pictures or exports nothing reads a frame: a small flock's frames go to the device
   // several at a time (Simulation::step_frames), about kBirdFramesPerSubmission bird-frames each.
-  const uint64_t batch =
-      images || vtk ? 1
-                    : std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1,
-                                           gpu::kFramesPerSubmission);
-  // A write error stops the run; what was written stays valid, and the summary says why.
-  std::vector<std::string> errors;
-  for (uint64_t frame = 0; frame < frames;) {
-    if (g_signal || (vtk && vtk->failed()) || !errors.empty()) {
-      interrupted = g_signal;
-      break;
-    }
-    const uint64_t n = std::min(batch, frames - frame);
-    // Frames due for export record their forces; the exporter takes the newest state that is
-    // ready without waiting (on Vulkan the frame before the last) and writes on its own thread.
-    // The last frame is exported whatever --vtk-every says: the files end where the run does.
-    if (n > 1)
-      sim->step_frames(uint32_t(n));
-    else
-      sim->step_frame(vtk && (vtk->due(sim->frames() + 1) || frame + 1 == frames));
-    if (images) {
-      try {
-        images->frame(*sim, frame);
-      } catch (const std::runtime_error& e) {
-        errors.push_back(e.what());
-      }
-    }
-    if (vtk) vtk->offer_ready(*sim);
-    frame += n;
-    // --strict: the first quarantined bird stops the run, its outputs closed as after Ctrl-C.
-    if (opt.strict && !quarantined_birds(*sim->ready_snapshot().birds, 1).empty()) break;
-    if (progress.due()) {
-      // What the device has finished, not merely what was submitted to it.
-      const double done = double(sim->ready_frame()) * frame_seconds;
-      pace.add(wall(), done);
-      progress.show(run_progress(done, total_seconds, birds, sim->scenario().dt, pace.rate()));
-    }
-  }
-  if (progress.due() || frames > 0) {
-    sim->snapshot();  // waits for the last frame
-    pace.add(wall(), sim->time());
-    progress.show(run_progress(sim->time(), total_seconds, birds, sim->scenario().dt, pace.rate()));
-  }
-  progress.finish();
-  interrupted = interrupted || g_signal;
-  if (vtk) vtk->offer_last(*sim);  // the last frame, if still owed
+  limits.batch = std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1,
+                                      gpu::kFramesPerSubmission);
+  const RunResult run = run_frames(*sim, observers, limits);
+  const bool interrupted = run.end == RunResult::End::signal;
+  std::vector<std::string> errors = run.errors;
 
-  summary.wall_seconds = wall();
+  summary.wall_seconds = run.wall_seconds;
   summary.steps = sim->steps();
   summary.sim_seconds = sim->time();
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
   summary.quarantined = quarantined_birds(sim->birds(), kQuarantinedListed);
-  if (opt.strict && !summary.quarantined.empty()) {
-    const QuarantinedBird& first = summary.quarantined.front();
-    char why[160];
-    std::snprintf(
-        why, sizeof why,
-        "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
-        (unsigned long long)first.bird, first.time, summary.sim_seconds);
-    errors.push_back(why);
-  }
-  // Every output closed valid, whatever stopped the run; the first error is the summary's.
-  if (images) {
-    try {
-      images->finish(*sim);
-    } catch (const std::runtime_error& e) {
-      errors.push_back(e.what());
-    }
-  }
   if (vtk) {
-    try {
-      vtk->finish();  // the writer's error, if any, is thrown here
-    } catch (const std::runtime_error& e) {
-      errors.push_back(e.what());
-    }
     const VtkExporter::QueueUse queue = vtk->queue_high_water();
     summary.vtk_queue_frames = queue.frames;
     summary.vtk_queue_bytes = queue.bytes;
     summary.vtk_queue_bound = vtk->queue_bound();
   }
-  if (interrupted) summary.signal = g_signal == SIGTERM ? "SIGTERM" : "SIGINT";
+  if (interrupted) summary.signal = run.signal == SIGTERM ? "SIGTERM" : "SIGINT";
   if (!errors.empty()) summary.error = errors.front();
   std::string summary_written = opt.summary;
   if (!opt.summary.empty()) {
@@ -472,7 +412,7 @@ int run(const RunOptions& opt) {
     for (const std::string& e : errors) std::cerr << "aeroflock: error: " << e << "\n";
     return 2;
   }
-  return interrupted ? 128 + (g_signal ? int(g_signal) : SIGINT) : 0;
+  return interrupted ? 128 + run.signal : 0;
 }
 
 int view(const ViewOptions& opt) {

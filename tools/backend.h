@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "model/envelope.h"
 #include "model/scenario.h"
 #include "model/simulation.h"
+#include "run/fly_envelope.h"
 
 namespace aeroflock {
 

@@ -36,6 +36,7 @@
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/vtk_export.h"
+#include "model/statistics.h"
 #include "plot.h"
 #include "progress.h"
 #include "render/offscreen.h"
@@ -115,16 +116,6 @@ std::string now_iso8601() {
   char text[64];
   std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S%z", &tm);
   return text;
-}
-
-// The p-th quantile (0..1), linear between the order statistics.
-double quantile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const double x = p * double(v.size() - 1);
-  const size_t i = size_t(std::floor(x));
-  const size_t j = std::min(i + 1, v.size() - 1);
-  return v[i] + (x - double(i)) * (v[j] - v[i]);
 }
 
 // Renders every frame offscreen at 1280x720 from the birds on the device, as `aeroflock run --png`

@@ -18,9 +18,11 @@
 #include "io/summary.h"
 #include "model/body.h"
 #include "model/constants.h"
-#include "model/envelope.h"
 #include "model/flock_geometry.h"
+#include "model/statistics.h"
 #include "progress.h"
+#include "run/fly_envelope.h"
+#include "run/run_loop.h"
 
 namespace aeroflock {
 namespace {
@@ -65,6 +67,105 @@ bool route_done(const BirdState& b, const World& w) {
   return !r.loop && r.branch < 0 && b.targets_reached >= r.targets.size();
 }
 
+// Records a run of the study as the run loop flies it: each bird's path until its position is
+// taken (at its cut, or where its route ends), velocity-corrected to that time, and what it must
+// never do, judged to the end (flight_faults); the wall time of the frames (stepped and waited
+// for).
+class Recorder final : public RunObserver {
+ public:
+  Recorder(Run& run, const std::vector<double>& cut, double compare_at, Progress& progress,
+           std::string label)
+      : run_(run),
+        cut_(cut),
+        compare_at_(compare_at),
+        progress_(progress),
+        label_(std::move(label)) {}
+
+  void start(Simulation& sim) override {
+    const size_t n = sim.bird_count();
+    last_.resize(n);
+    nan_.assign(n, 0), below_.assign(n, 0), bank_.assign(n, 0), pitch_.assign(n, 0),
+        taken_.assign(n, 0);
+    run_.birds = n;
+    run_.path.assign(n, 0.0);
+    run_.end.resize(n);
+    run_.flock.resize(n);
+    run_.cut.assign(n, compare_at_);
+    const std::vector<BirdState>& start = sim.birds();
+    for (size_t i = 0; i < n; ++i) {
+      last_[i] = start[i].position;
+      run_.flock[i] = start[i].flock;
+    }
+    since_ = Clock::now();
+  }
+
+  void frame(Simulation& sim, uint64_t) override {
+    const Scenario& s = sim.scenario();
+    const std::vector<BirdState>& now = sim.birds();  // waits for the frame
+    run_.wall += std::chrono::duration<double>(Clock::now() - since_).count();
+    const double t = sim.time();
+    const double half_frame = 0.5 * s.frame_seconds();
+    for (size_t i = 0; i < now.size(); ++i) {
+      const BirdState& b = now[i];
+      const FlightFaults faults = flight_faults(b, s.species[b.species], t, s.world.ground_height);
+      if (faults.not_finite) {
+        nan_[i] = 1;
+        continue;
+      }
+      below_[i] |= faults.below_ground;
+      bank_[i] |= faults.over_bank;
+      pitch_[i] |= faults.over_pitch;
+      if (taken_[i])
+        continue;  // the behaviours are judged to the end, the position where it was taken
+      run_.path[i] += glm::length(b.position - last_[i]);
+      last_[i] = b.position;
+      if (cut_.empty() ? route_done(b, s.world) : t >= cut_[i] - half_frame)
+        take(i, b, t, cut_.empty() ? t : cut_[i]);
+    }
+    if (progress_.due()) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%s, dt %g ms: t = %.1f of %.1f s", label_.c_str(),
+                    s.dt * 1e3, t, compare_at_);
+      progress_.show(text);
+    }
+    since_ = Clock::now();
+  }
+
+  void finish(Simulation& sim) override {
+    run_.sim = sim.time();
+    const std::vector<BirdState>& end = sim.birds();
+    for (size_t i = 0; i < end.size(); ++i)
+      if (!taken_[i]) take(i, end[i], run_.sim, compare_at_);
+    for (size_t i = 0; i < end.size(); ++i) {
+      run_.nan_birds += nan_[i];
+      run_.below_ground += below_[i];
+      run_.over_bank += bank_[i];
+      run_.over_pitch += pitch_[i];
+    }
+    const FlockStatistics stats = flock_statistics(end);
+    run_.targets_reached = stats.targets_reached;
+    run_.perched = stats.perched;
+    run_.flocking = flocking_summary(sim.scenario(), end);
+  }
+
+ private:
+  // Takes bird i's position at `at` from its state at time t.
+  void take(size_t i, const BirdState& b, double t, double at) {
+    run_.end[i] = b.position + b.velocity * (at - t);
+    run_.cut[i] = at;
+    taken_[i] = 1;
+  }
+
+  Run& run_;
+  const std::vector<double>& cut_;
+  double compare_at_;
+  Progress& progress_;
+  std::string label_;
+  std::vector<dvec3> last_;  // each bird's position at the frame before
+  std::vector<uint8_t> nan_, below_, bank_, pitch_, taken_;
+  Clock::time_point since_;
+};
+
 // Flies `scenario` at `dt` to `seconds` (whole 30 ms frames), each bird's position taken at
 // `cut[i]` s (empty: where its route ends, or the end) and velocity-corrected to that time.
 Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>& cut,
@@ -74,83 +175,15 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
   run.dt = dt;
   run.flocks = any_flocking(scenario);
   const double compare_at = std::round(seconds / kFrameSeconds) * kFrameSeconds;
-  const double ground = scenario.world.ground_height;
   std::unique_ptr<Simulation> sim =
       make_simulation({options.backend, 0, options.device, false}, scenario);
+  // The frames that bring it within half a frame of compare_at.
   const Scenario& s = sim->scenario();
-  const size_t n = sim->bird_count();
-  std::vector<dvec3> last(n);  // each bird's position at the frame before
-  run.birds = n;
-  run.path.assign(n, 0.0);
-  std::vector<uint8_t> nan(n, 0), below(n, 0), bank(n, 0), pitch(n, 0), taken(n, 0);
-  run.end.resize(n);
-  run.flock.resize(n);
-  run.cut.assign(n, compare_at);
-  const std::vector<BirdState>& start = sim->birds();
-  for (size_t i = 0; i < n; ++i) {
-    last[i] = start[i].position;
-    run.flock[i] = start[i].flock;
-  }
-  const double half_frame = 0.5 * s.frame_seconds();
-  // Takes bird i's position at `at` from its state at time t.
-  auto take = [&](size_t i, const BirdState& b, double t, double at) {
-    run.end[i] = b.position + b.velocity * (at - t);
-    run.cut[i] = at;
-    taken[i] = 1;
-  };
-  while (sim->time() < compare_at - half_frame) {
-    const auto t0 = Clock::now();
-    sim->step_frame();
-    const std::vector<BirdState>& now = sim->birds();
-    run.wall += std::chrono::duration<double>(Clock::now() - t0).count();
-    const double t = sim->time();
-    for (size_t i = 0; i < n; ++i) {
-      const BirdState& b = now[i];
-      if (!is_finite(b)) {
-        nan[i] = 1;
-        continue;
-      }
-      below[i] |= b.position.y < ground;
-      if (t >= kSettleTime && b.mode != FlightMode::perched) {
-        const Species& sp = s.species[b.species];
-        bank[i] |= std::fabs(bank_angle(b.attitude)) > sp.bank_max + kBankMargin;
-        pitch[i] |= std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
-      }
-      if (taken[i])
-        continue;  // the behaviours are judged to the end, the position where it was taken
-      run.path[i] += glm::length(b.position - last[i]);
-      last[i] = b.position;
-      if (cut.empty() ? route_done(b, s.world) : t >= cut[i] - half_frame)
-        take(i, b, t, cut.empty() ? t : cut[i]);
-    }
-    if (progress.due()) {
-      char text[160];
-      std::snprintf(text, sizeof text, "%s, dt %g ms: t = %.1f of %.1f s", label.c_str(), dt * 1e3,
-                    t, compare_at);
-      progress.show(text);
-    }
-  }
-  run.sim = sim->time();
-  const std::vector<BirdState>& end = sim->birds();
-  for (size_t i = 0; i < n; ++i)
-    if (!taken[i]) take(i, end[i], run.sim, compare_at);
-  for (size_t i = 0; i < n; ++i) {
-    run.nan_birds += nan[i];
-    run.below_ground += below[i];
-    run.over_bank += bank[i];
-    run.over_pitch += pitch[i];
-  }
-  const FlockStatistics stats = flock_statistics(end);
-  run.targets_reached = stats.targets_reached;
-  run.perched = stats.perched;
-  run.flocking = flocking_summary(s, end);
+  uint64_t frames = 0;
+  while (double(frames * s.steps_per_frame) * s.dt < compare_at - 0.5 * s.frame_seconds()) ++frames;
+  Recorder recorder(run, cut, compare_at, progress, label);
+  run_frames(*sim, {&recorder}, {.frames = frames});
   return run;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 // Errors against the reference and what no longer holds.

@@ -12,8 +12,8 @@
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "model/constants.h"
-#include "model/envelope.h"
 #include "progress.h"
+#include "run/fly_envelope.h"
 
 namespace aeroflock {
 namespace {

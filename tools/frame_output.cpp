@@ -120,8 +120,9 @@ FrameOutput::FrameOutput(const ImageOptions& options, Simulation& sim)
 
 FrameOutput::~FrameOutput() = default;
 
-void FrameOutput::frame(Simulation& sim, uint64_t index) {
+void FrameOutput::frame(Simulation& sim, uint64_t frames) {
   Impl& o = *impl_;
+  const uint64_t index = frames - 1;  // the frame's, from 0
   const bool to_dir = !o.options.frames_dir.empty() && index % o.options.every == 0;
   // The video frames whose time has come (none, or several when --fps is above the frame rate).
   uint64_t due = 0;

@@ -11,6 +11,7 @@
 
 #include "model/simulation.h"
 #include "render/camera_control.h"
+#include "run/run_loop.h"
 
 namespace aeroflock {
 
@@ -27,15 +28,16 @@ struct ImageOptions {
   bool any() const { return !png.empty() || !frames_dir.empty() || !video.empty(); }
 };
 
-class FrameOutput {
+// A run's observer (run/run_loop.h): it looks at every frame.
+class FrameOutput final : public RunObserver {
  public:
   // Checks that every output can be written (and that ffmpeg exists for a video) before the run.
   FrameOutput(const ImageOptions& options, Simulation& sim);
-  ~FrameOutput();
-  // After frame `index` (0-based) of the run.
-  void frame(Simulation& sim, uint64_t index);
+  ~FrameOutput() override;
+  // After the run's frame number `frames` (from 1): the frames directory's and the video's due.
+  void frame(Simulation& sim, uint64_t frames) override;
   // After the last frame: writes --png and closes the video.
-  void finish(Simulation& sim);
+  void finish(Simulation& sim) override;
   // What finish() has left on disk, a line each for the run's summary: "png   FILE", ...
   std::vector<std::string> written() const;
 

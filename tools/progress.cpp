@@ -72,4 +72,29 @@ std::string run_progress(double sim_seconds, double total_seconds, size_t birds,
   return text;
 }
 
+void RunProgress::start(Simulation&) {
+  start_ = std::chrono::steady_clock::now();
+  pace_.add(0.0, 0.0);
+}
+
+double RunProgress::wall() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void RunProgress::frame(Simulation& sim, uint64_t) {
+  if (!progress_.due()) return;
+  // What the device has finished, not merely what was submitted to it.
+  const double done = double(sim.ready_frame()) * sim.scenario().frame_seconds();
+  pace_.add(wall(), done);
+  progress_.show(
+      run_progress(done, total_seconds_, sim.bird_count(), sim.scenario().dt, pace_.rate()));
+}
+
+void RunProgress::finish(Simulation& sim) {
+  pace_.add(wall(), sim.time());
+  progress_.show(
+      run_progress(sim.time(), total_seconds_, sim.bird_count(), sim.scenario().dt, pace_.rate()));
+  progress_.finish();
+}
+
 }  // namespace aeroflock

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "run/run_loop.h"
+
 namespace aeroflock {
 
 class Progress {
@@ -49,5 +51,23 @@ class Pace {
 // time left.
 std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt,
                          double pace);
+
+// The run's progress line as an observer (run/run_loop.h): run_progress at most five times a
+// second from the frames the device has finished, and the last line at the end.
+class RunProgress final : public RunObserver {
+ public:
+  explicit RunProgress(double total_seconds) : total_seconds_(total_seconds) {}
+  bool reads_every_frame() const override { return false; }
+  void start(Simulation& sim) override;
+  void frame(Simulation& sim, uint64_t frames) override;
+  void finish(Simulation& sim) override;
+
+ private:
+  double wall() const;
+  double total_seconds_;
+  Progress progress_;
+  Pace pace_;
+  std::chrono::steady_clock::time_point start_{};
+};
 
 }  // namespace aeroflock

@@ -36,6 +36,7 @@
 #include "model/bird.h"
 #include "model/scenario.h"
 #include "model/simulation.h"
+#include "run/run_loop.h"
 
 namespace aeroflock {
 
@@ -72,7 +73,9 @@ VtkOptions::Compression parse_vtk_compression(std::string_view name);
 // range or listed twice.
 std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count);
 
-class VtkExporter {
+// A run's observer (run/run_loop.h): the start, every frame due (stepped with its forces), the
+// last; it stops the run when the writer has failed, and finish() throws the writer's error.
+class VtkExporter final : public RunObserver {
  public:
   // Parses the selection and creates and checks the directory (std::runtime_error naming it when
   // it cannot be created or written, or when it holds an earlier export and options.overwrite is
@@ -80,7 +83,7 @@ class VtkExporter {
   // run's temporaries. Starts the writer thread.
   VtkExporter(const VtkOptions& options, const Scenario& scenario, size_t bird_count);
   // Finishes (drains the queue) if finish() was not called; errors are then dropped.
-  ~VtkExporter();
+  ~VtkExporter() override;
   VtkExporter(const VtkExporter&) = delete;
   VtkExporter& operator=(const VtkExporter&) = delete;
 
@@ -117,6 +120,16 @@ class VtkExporter {
   // Waits for every queued frame, writes the final .pvd and trajectories and stops the writer.
   // Rethrows the writer's error, if any (std::runtime_error). Calling it again does nothing.
   void finish();
+
+  // RunObserver: offer_start, wants_forces = due or last, offer_ready, failed, offer_last + finish.
+  void start(Simulation& sim) override { offer_start(sim); }
+  bool wants_forces(uint64_t frame, bool last) const override { return due(frame) || last; }
+  void frame(Simulation& sim, uint64_t) override { offer_ready(sim); }
+  std::string stop_reason() const override { return failed() ? "the VTK export failed" : ""; }
+  void finish(Simulation& sim) override {
+    offer_last(sim);
+    finish();
+  }
 
   // The writer has hit an error (finish() will throw it): the run may as well stop.
   bool failed() const;

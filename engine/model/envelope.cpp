@@ -131,123 +131,100 @@ std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest) {
   return cases;
 }
 
-std::vector<EnvelopeResult> fly_envelope(const Species& species,
-                                         const std::vector<EnvelopeCase>& cases,
-                                         const SimulationFactory& make,
-                                         const std::function<void(double)>& progress, double dt) {
-  std::vector<EnvelopeResult> results(cases.size());
-  std::map<double, std::vector<size_t>> by_wind;  // one simulation per crosswind
-  for (size_t i = 0; i < cases.size(); ++i) by_wind[cases[i].crosswind].push_back(i);
-
-  for (const auto& [wind, indices] : by_wind) {
-    Scenario s;
-    s.name = "envelope";
-    s.species = {species};
-    s.dt = dt;
-    s.steps_per_frame = steps_in(kJudgeEvery, dt);
-    s.world.wind = dvec3{0.0, 0.0, wind};  // from the left of a bird heading +x
-    std::vector<BirdState> birds;
-    double longest = 0.0;
-    for (size_t i : indices) {
-      const EnvelopeCase& c = cases[i];
-      BirdState b;
-      b.route = static_cast<uint32_t>(s.world.routes.size());
-      b.frequency = 0.5 * (species.f_min + species.f_max);
-      b.amplitude = 0.5 * (species.amp_min + species.amp_max);
-      Route r;
-      r.name = "case" + std::to_string(i);
-      if (c.kind == EnvelopeCase::Kind::landing) {
-        const double start = kBranchHeight - c.rise;
-        Branch br;
-        br.name = r.name;
-        br.point = goal(c, start);
-        br.point.y = kBranchHeight;
-        r.branch = static_cast<int32_t>(s.world.branches.size());
-        s.world.branches.push_back(br);
-        b.position = dvec3{0.0, start, 0.0};
-      } else {
-        const double start =
-            c.kind == EnvelopeCase::Kind::takeoff ? species.stand_height : kStartHeight;
-        Target t;
-        t.name = r.name;
-        t.centre = goal(c, start);
-        t.radius = kTargetRadius;
-        r.targets = {static_cast<uint32_t>(s.world.targets.size())};
-        s.world.targets.push_back(t);
-        b.position = dvec3{0.0, start, 0.0};
-      }
-      s.world.routes.push_back(r);
-      if (c.kind == EnvelopeCase::Kind::takeoff) {
-        b.mode = FlightMode::standing;
-        b.attitude = heading_attitude(0.0);
-      } else {
-        b.attitude =
-            glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
-        b.velocity = b.attitude * dvec3{c.speed, 0.0, 0.0};
-      }
-      birds.push_back(b);
-      longest = std::max(longest, time_limit(c));
-    }
-    s.duration = longest;
-    validate(s);
-
-    std::unique_ptr<Simulation> sim = make(s, birds);
-    std::vector<bool> judged(indices.size(), false);
-    size_t left = indices.size();
-    for (size_t k = 0; k < indices.size(); ++k) {
-      results[indices[k]].c = cases[indices[k]];
-      results[indices[k]].lowest = INFINITY;
-    }
-    while (left > 0 && sim->time() < longest) {
-      sim->step_frame();
-      const double t = sim->time();
-      const std::vector<BirdState>& now = sim->birds();
-      for (size_t k = 0; k < indices.size(); ++k) {
-        if (judged[k]) continue;
-        EnvelopeResult& r = results[indices[k]];
-        const BirdState& b = now[k];
-        auto verdict = [&](Outcome o) {
-          r.outcome = o;
-          r.time = t;
-          judged[k] = true;
-          --left;
-        };
-        if (!is_finite(b)) {
-          verdict(Outcome::not_finite);
-          continue;
-        }
-        const double height = b.position.y - s.world.ground_height;
-        r.lowest = std::min(r.lowest, height);
-        if (height < 0.0) {
-          verdict(Outcome::below_ground);
-          continue;
-        }
-        if (t >= kSettleTime && b.mode != FlightMode::perched) {
-          r.worst_bank = std::max(r.worst_bank, std::fabs(bank_angle(b.attitude)));
-          r.worst_pitch = std::max(r.worst_pitch, std::fabs(pitch_angle(b.attitude)));
-          if (r.worst_bank > species.bank_max + kBankMargin) {
-            verdict(Outcome::over_bank);
-            continue;
-          }
-          if (r.worst_pitch > kPitchLimit) {
-            verdict(Outcome::over_pitch);
-            continue;
-          }
-        }
-        const bool there = r.c.kind == EnvelopeCase::Kind::landing ? b.mode == FlightMode::perched
-                                                                   : b.targets_reached >= 1;
-        if (there) {
-          verdict(Outcome::reached);
-        } else if (t >= time_limit(r.c)) {
-          verdict(Outcome::late);
-        }
-      }
-      if (progress) progress(t);
-    }
-    for (size_t k = 0; k < indices.size(); ++k)
-      if (!judged[k]) results[indices[k]].time = sim->time();  // late
+FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
+                           double ground_height) {
+  FlightFaults f;
+  if (!is_finite(b)) {
+    f.not_finite = true;
+    return f;
   }
-  return results;
+  f.below_ground = b.position.y < ground_height;
+  if (t >= kSettleTime && b.mode != FlightMode::perched) {
+    f.over_bank = std::fabs(bank_angle(b.attitude)) > species.bank_max + kBankMargin;
+    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
+  }
+  return f;
+}
+
+EnvelopeFlight envelope_flight(const Species& species, const std::vector<EnvelopeCase>& cases,
+                               double dt) {
+  EnvelopeFlight flight;
+  Scenario& s = flight.scenario;
+  s.name = "envelope";
+  s.species = {species};
+  s.dt = dt;
+  s.steps_per_frame = steps_in(kJudgeEvery, dt);
+  s.world.wind =
+      dvec3{0.0, 0.0,
+            cases.empty() ? 0.0 : cases.front().crosswind};  // from the left of a bird heading +x
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const EnvelopeCase& c = cases[i];
+    BirdState b;
+    b.route = static_cast<uint32_t>(s.world.routes.size());
+    b.frequency = 0.5 * (species.f_min + species.f_max);
+    b.amplitude = 0.5 * (species.amp_min + species.amp_max);
+    Route r;
+    r.name = "case" + std::to_string(i);
+    if (c.kind == EnvelopeCase::Kind::landing) {
+      const double start = kBranchHeight - c.rise;
+      Branch br;
+      br.name = r.name;
+      br.point = goal(c, start);
+      br.point.y = kBranchHeight;
+      r.branch = static_cast<int32_t>(s.world.branches.size());
+      s.world.branches.push_back(br);
+      b.position = dvec3{0.0, start, 0.0};
+    } else {
+      const double start =
+          c.kind == EnvelopeCase::Kind::takeoff ? species.stand_height : kStartHeight;
+      Target t;
+      t.name = r.name;
+      t.centre = goal(c, start);
+      t.radius = kTargetRadius;
+      r.targets = {static_cast<uint32_t>(s.world.targets.size())};
+      s.world.targets.push_back(t);
+      b.position = dvec3{0.0, start, 0.0};
+    }
+    s.world.routes.push_back(r);
+    if (c.kind == EnvelopeCase::Kind::takeoff) {
+      b.mode = FlightMode::standing;
+      b.attitude = heading_attitude(0.0);
+    } else {
+      b.attitude = glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
+      b.velocity = b.attitude * dvec3{c.speed, 0.0, 0.0};
+    }
+    flight.birds.push_back(b);
+    flight.longest = std::max(flight.longest, time_limit(c));
+  }
+  s.duration = flight.longest;
+  validate(s);
+  // Its frames: as many as the simulated time needs to reach the longest limit.
+  while (double(flight.frames * s.steps_per_frame) * s.dt < flight.longest) ++flight.frames;
+  return flight;
+}
+
+bool judge_envelope(EnvelopeResult& r, const BirdState& b, const Species& species, double t,
+                    double ground_height) {
+  auto verdict = [&](Outcome o) {
+    r.outcome = o;
+    r.time = t;
+    return true;
+  };
+  const FlightFaults faults = flight_faults(b, species, t, ground_height);
+  if (faults.not_finite) return verdict(Outcome::not_finite);
+  r.lowest = std::min(r.lowest, b.position.y - ground_height);
+  if (faults.below_ground) return verdict(Outcome::below_ground);
+  if (t >= kSettleTime && b.mode != FlightMode::perched) {
+    r.worst_bank = std::max(r.worst_bank, std::fabs(bank_angle(b.attitude)));
+    r.worst_pitch = std::max(r.worst_pitch, std::fabs(pitch_angle(b.attitude)));
+  }
+  if (faults.over_bank) return verdict(Outcome::over_bank);
+  if (faults.over_pitch) return verdict(Outcome::over_pitch);
+  const bool there = r.c.kind == EnvelopeCase::Kind::landing ? b.mode == FlightMode::perched
+                                                             : b.targets_reached >= 1;
+  if (there) return verdict(Outcome::reached);
+  if (t >= time_limit(r.c)) return verdict(Outcome::late);
+  return false;
 }
 
 }  // namespace aeroflock

@@ -5,8 +5,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -43,6 +41,17 @@ enum class Outcome {
 };
 const char* name(Outcome o);
 
+// One state of a flight against what a flight never does (the envelope's judge and the
+// convergence study's, written once): finite; its body centre above the ground; once settled
+// (t >= kSettleTime, and not perched) banked at most bank_max + kBankMargin and pitched at most
+// kPitchLimit. A non-finite state is that alone; the others may come together.
+struct FlightFaults {
+  bool not_finite = false, below_ground = false, over_bank = false, over_pitch = false;
+  bool any() const { return not_finite || below_ground || over_bank || over_pitch; }
+};
+FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
+                           double ground_height);
+
 struct EnvelopeResult {
   EnvelopeCase c;
   Outcome outcome = Outcome::late;
@@ -62,17 +71,20 @@ std::vector<EnvelopeCase> envelope_cases(bool quick = false);
 // landing, and every `every`-th of the flights at most `farthest` (cm) away, in grid order.
 std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest);
 
-// Makes the simulation that flies the cases (the CPU reference or the compute shaders).
-using SimulationFactory =
-    std::function<std::unique_ptr<Simulation>(Scenario scenario, std::vector<BirdState> birds)>;
+// Cases of one crosswind as one scenario of single birds, bird k flying cases[k] (the birds never
+// meet), stepped by `dt` and judged every frame (about 6 ms); flown by run/fly_envelope.h.
+struct EnvelopeFlight {
+  Scenario scenario;
+  std::vector<BirdState> birds;
+  double longest = 0.0;  // s: the longest time limit of its cases
+  uint64_t frames = 0;   // the frames that reach it
+};
+EnvelopeFlight envelope_flight(const Species& species, const std::vector<EnvelopeCase>& cases,
+                               double dt);
 
-// Flies every case (one bird each; the birds do not meet) and judges it, one simulation per
-// crosswind, stepped by `dt`. `progress` (may be empty) is told the simulated seconds of each
-// frame.
-std::vector<EnvelopeResult> fly_envelope(const Species& species,
-                                         const std::vector<EnvelopeCase>& cases,
-                                         const SimulationFactory& make,
-                                         const std::function<void(double)>& progress = {},
-                                         double dt = kPaperDt);
+// Judges `r`'s bird (r.c its case) at time t: its worst bank and pitch and lowest height so far,
+// and true with r.outcome and r.time once it has arrived, failed or run out of time.
+bool judge_envelope(EnvelopeResult& r, const BirdState& b, const Species& species, double t,
+                    double ground_height);
 
 }  // namespace aeroflock

@@ -1,0 +1,85 @@
+#include "run/run_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#include "io/summary.h"
+
+namespace aeroflock {
+
+RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers, const RunLimits& limits) {
+  RunResult result;
+  const auto start = std::chrono::steady_clock::now();
+  const bool each_frame = std::any_of(observers.begin(), observers.end(),
+                                      [](const RunObserver* o) { return o->reads_every_frame(); });
+  const uint64_t batch = each_frame ? 1 : std::max<uint64_t>(limits.batch, 1);
+  auto stop_now = [&] {
+    if (limits.signal && *limits.signal) {
+      result.end = RunResult::End::signal;
+      result.signal = int(*limits.signal);
+      return true;
+    }
+    for (const RunObserver* o : observers)
+      if (std::string why = o->stop_reason(); !why.empty()) {
+        result.end = RunResult::End::observer;
+        result.stopped_by = std::move(why);
+        return true;
+      }
+    return false;
+  };
+
+  try {
+    for (RunObserver* o : observers) o->start(sim);
+    while (result.frames < limits.frames && !stop_now()) {
+      const uint64_t n = std::min(batch, limits.frames - result.frames);
+      if (n > 1) {
+        sim.step_frames(uint32_t(n));
+      } else {
+        const uint64_t next = sim.frames() + 1;
+        const bool last = result.frames + 1 == limits.frames;
+        const bool forces = std::any_of(observers.begin(), observers.end(),
+                                        [&](const RunObserver* o) { return o->wants_forces(next, last); });
+        sim.step_frame(forces);
+      }
+      result.frames += n;
+      for (RunObserver* o : observers) o->frame(sim, result.frames);
+    }
+  } catch (const std::runtime_error& e) {
+    result.end = RunResult::End::error;
+    result.errors.push_back(e.what());
+  }
+  // A signal that came during the last frame stops nothing more, but the run was interrupted.
+  if (result.end == RunResult::End::flown && limits.signal && *limits.signal) {
+    result.end = RunResult::End::signal;
+    result.signal = int(*limits.signal);
+  }
+  if (result.frames > 0) sim.snapshot();  // the device has finished the last frame
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (RunObserver* o : observers) {
+    try {
+      o->finish(sim);
+    } catch (const std::runtime_error& e) {
+      result.errors.push_back(e.what());
+    }
+  }
+  return result;
+}
+
+void StrictCheck::frame(Simulation& sim, uint64_t) {
+  // The newest state ready without waiting for the device: a quarantined bird stays so.
+  quarantined_ = quarantined_ || !quarantined_birds(*sim.ready_snapshot().birds, 1).empty();
+}
+
+void StrictCheck::finish(Simulation& sim) {
+  const std::vector<QuarantinedBird> first = quarantined_birds(sim.birds(), 1);
+  if (first.empty()) return;
+  char why[160];
+  std::snprintf(why, sizeof why,
+                "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
+                (unsigned long long)first.front().bird, first.front().time, sim.time());
+  throw std::runtime_error(why);
+}
+
+}  // namespace aeroflock
