@@ -25,7 +25,9 @@ struct Recorder : RunObserver {
   std::vector<bool> had_forces;
 
   void start(Simulation& sim) override { calls.push_back("start t=" + std::to_string(sim.time())); }
-  bool wants_forces(uint64_t frame, bool last) const override { return frame == forces_at || (forces_at && last); }
+  bool wants_forces(uint64_t frame, bool last) const override {
+    return frame == forces_at || (forces_at && last);
+  }
   bool reads_every_frame() const override { return every_frame; }
   void frame(Simulation& sim, uint64_t frames) override {
     calls.push_back("frame");
@@ -93,7 +95,8 @@ TEST(RunLoop, ASignalStopsItAfterTheFrame) {
   Recorder last;
   last.signal = &signal;
   last.signal_at = 2;
-  EXPECT_EQ(run_frames(*again, {&last}, {.frames = 2, .signal = &signal}).end, RunResult::End::signal);
+  EXPECT_EQ(run_frames(*again, {&last}, {.frames = 2, .signal = &signal}).end,
+            RunResult::End::signal);
 }
 
 TEST(RunLoop, AnErrorStopsItAndErrorsComeInOrder) {
@@ -135,7 +138,8 @@ TEST(RunLoop, TheFramesAnObserverAsksForCarryForces) {
   Recorder o;
   o.forces_at = 3;
   run_frames(*sim, {&o}, {.frames = 6});
-  EXPECT_EQ(o.had_forces, (std::vector<bool>{false, false, true, false, false, true}));  // 3 and the last
+  EXPECT_EQ(o.had_forces,
+            (std::vector<bool>{false, false, true, false, false, true}));  // 3 and the last
 }
 
 TEST(RunLoop, StrictStopsAtTheFirstQuarantinedBirdAndSaysWhich) {

@@ -14,14 +14,18 @@ class EnvelopeJudge final : public RunObserver {
  public:
   EnvelopeJudge(std::vector<EnvelopeResult*> results, const Species& species,
                 const std::function<void(double)>& progress)
-      : results_(std::move(results)), judged_(results_.size(), false), left_(results_.size()),
-        species_(species), progress_(progress) {}
+      : results_(std::move(results)),
+        judged_(results_.size(), false),
+        left_(results_.size()),
+        species_(species),
+        progress_(progress) {}
 
   void frame(Simulation& sim, uint64_t) override {
     const double t = sim.time();
     const std::vector<BirdState>& now = sim.birds();
     for (size_t k = 0; k < results_.size(); ++k)
-      if (!judged_[k] && judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height)) {
+      if (!judged_[k] &&
+          judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height)) {
         judged_[k] = true;
         --left_;
       }
@@ -43,7 +47,8 @@ class EnvelopeJudge final : public RunObserver {
 
 }  // namespace
 
-std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
+std::vector<EnvelopeResult> fly_envelope(const Species& species,
+                                         const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
                                          const std::function<void(double)>& progress, double dt) {
   std::vector<EnvelopeResult> results(cases.size());

@@ -19,7 +19,8 @@ using SimulationFactory =
 
 // Flies every case and judges it, stepped by `dt`. `progress` (may be empty) is told the
 // simulated seconds of each frame.
-std::vector<EnvelopeResult> fly_envelope(const Species& species, const std::vector<EnvelopeCase>& cases,
+std::vector<EnvelopeResult> fly_envelope(const Species& species,
+                                         const std::vector<EnvelopeCase>& cases,
                                          const SimulationFactory& make,
                                          const std::function<void(double)>& progress = {},
                                          double dt = kPaperDt);

@@ -9,7 +9,8 @@
 
 namespace aeroflock {
 
-RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers, const RunLimits& limits) {
+RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
+                     const RunLimits& limits) {
   RunResult result;
   const auto start = std::chrono::steady_clock::now();
   const bool each_frame = std::any_of(observers.begin(), observers.end(),
@@ -39,8 +40,9 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers, c
       } else {
         const uint64_t next = sim.frames() + 1;
         const bool last = result.frames + 1 == limits.frames;
-        const bool forces = std::any_of(observers.begin(), observers.end(),
-                                        [&](const RunObserver* o) { return o->wants_forces(next, last); });
+        const bool forces =
+            std::any_of(observers.begin(), observers.end(),
+                        [&](const RunObserver* o) { return o->wants_forces(next, last); });
         sim.step_frame(forces);
       }
       result.frames += n;
@@ -56,7 +58,8 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers, c
     result.signal = int(*limits.signal);
   }
   if (result.frames > 0) sim.snapshot();  // the device has finished the last frame
-  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (RunObserver* o : observers) {
     try {
       o->finish(sim);
@@ -76,9 +79,10 @@ void StrictCheck::finish(Simulation& sim) {
   const std::vector<QuarantinedBird> first = quarantined_birds(sim.birds(), 1);
   if (first.empty()) return;
   char why[160];
-  std::snprintf(why, sizeof why,
-                "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
-                (unsigned long long)first.front().bird, first.front().time, sim.time());
+  std::snprintf(
+      why, sizeof why,
+      "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
+      (unsigned long long)first.front().bird, first.front().time, sim.time());
   throw std::runtime_error(why);
 }
 

@@ -58,20 +58,22 @@ struct RunLimits {
 struct RunResult {
   enum class End { flown, signal, observer, error };
   End end = End::flown;
-  uint64_t frames = 0;                // flown
-  int signal = 0;                     // the signal that stopped it (End::signal)
-  std::string stopped_by;             // the observer's reason (End::observer)
-  std::vector<std::string> errors;    // every error, in the order they came: the first is the run's
-  double wall_seconds = 0.0;          // the frames, the device's work waited for
+  uint64_t frames = 0;              // flown
+  int signal = 0;                   // the signal that stopped it (End::signal)
+  std::string stopped_by;           // the observer's reason (End::observer)
+  std::vector<std::string> errors;  // every error, in the order they came: the first is the run's
+  double wall_seconds = 0.0;        // the frames, the device's work waited for
 };
 
 // Flies `sim` through its observers: start, then each frame (stepped with its forces when one
 // asks), then finish for each. Errors thrown by an observer's frame() stop the run; by its
 // finish(), are collected; either way every observer is finished.
-RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers, const RunLimits& limits);
+RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
+                     const RunLimits& limits);
 inline RunResult run_frames(Simulation& sim, std::initializer_list<RunObserver*> observers,
                             const RunLimits& limits) {
-  return run_frames(sim, std::span<RunObserver* const>(observers.begin(), observers.size()), limits);
+  return run_frames(sim, std::span<RunObserver* const>(observers.begin(), observers.size()),
+                    limits);
 }
 
 // --strict: stops the run at the first bird quarantined (its state became non-finite), and
