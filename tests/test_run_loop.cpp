@@ -163,5 +163,23 @@ TEST(RunLoop, StrictStopsAtTheFirstQuarantinedBirdAndSaysWhich) {
   EXPECT_TRUE(ok.errors.empty());
 }
 
+// Simulation::retire on the CPU reference: a retired bird is no longer stepped (its state stays),
+// and the others fly exactly as they would have (the envelope's judged birds).
+TEST(Retire, ARetiredBirdStaysWhereItWasAndTheOthersFlyAsBefore) {
+  const Scenario s = load_scenario(AEROFLOCK_TEST_DATA "/nan_quarantine.toml");
+  CpuSimulation all(s), some(s);
+  ASSERT_EQ(all.bird_count(), 2u);
+  for (int f = 0; f < 2; ++f) all.step_frame(), some.step_frame();
+  const BirdState at_retirement = some.birds()[1];
+  some.retire(std::vector<uint32_t>{1});
+  for (int f = 0; f < 5; ++f) all.step_frame(), some.step_frame();
+  EXPECT_EQ(some.birds()[1].position, at_retirement.position);
+  EXPECT_EQ(some.birds()[1].velocity, at_retirement.velocity);
+  EXPECT_NE(all.birds()[1].position, at_retirement.position);
+  EXPECT_EQ(some.birds()[0].position, all.birds()[0].position);  // bit for bit
+  EXPECT_EQ(some.birds()[0].attitude, all.birds()[0].attitude);
+  EXPECT_EQ(some.time(), all.time());
+}
+
 }  // namespace
 }  // namespace aeroflock

@@ -148,9 +148,13 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   const bool flocking = any_flocking(scenario());
   if (flocking)
     perceive(birds_, species, world, frames() - 1, scenario().frame_seconds(), perception_);
-    // Each bird runs all the frame's steps before the next bird: its state stays in cache.
+  // Each bird runs all the frame's steps before the next bird: its state stays in cache.
+  // Only the birds not retired, once some are (each thread an equal share of those).
+  const bool some_retired = !retired_.empty();
+  const int64_t stepped = some_retired ? static_cast<int64_t>(active_.size()) : n;
 #pragma omp parallel for schedule(static)
-  for (int64_t i = 0; i < n; ++i) {
+  for (int64_t j = 0; j < stepped; ++j) {
+    const int64_t i = some_retired ? int64_t(active_[static_cast<size_t>(j)]) : j;
     BirdState& b = birds_[static_cast<size_t>(i)];
     const Species& sp = species[b.species];
     const Perception* seen = flocking ? &perception_[static_cast<size_t>(i)] : nullptr;
@@ -163,6 +167,16 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   World next = world;
   next.move_targets(frame_start(this->steps()));
   next_step_forces(birds_, scenario(), next, time(), flocking ? &perception_ : nullptr, forces_);
+}
+
+void CpuSimulation::retire(std::span<const uint32_t> birds) {
+  if (birds.empty()) return;
+  if (retired_.empty()) retired_.assign(birds_.size(), 0);
+  for (uint32_t b : birds)
+    if (b < retired_.size()) retired_[b] = 1;
+  active_.clear();
+  for (uint32_t i = 0; i < retired_.size(); ++i)
+    if (!retired_[i]) active_.push_back(i);
 }
 
 Snapshot CpuSimulation::snapshot() {

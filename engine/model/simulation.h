@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,11 @@ class Simulation {
   virtual Snapshot ready_snapshot() { return snapshot(); }
   // The frame ready_snapshot() would return, without reading it.
   virtual uint64_t ready_frame() const { return frames_; }
+  // These birds' flights are over (a judge has its verdict on them): a backend may stop stepping
+  // them, their states then staying as they are. For birds that fly alone (the flight envelope's):
+  // a flock's others would still see them where they stopped. The CPU reference stops; the
+  // compute shaders step every bird still.
+  virtual void retire(std::span<const uint32_t> birds) { (void)birds; }
   // Makes ready to record forces (on a device: allocates their buffers, throwing gpu::Error when
   // the device cannot hold them), so that a run that will export fails before it starts.
   virtual void prepare_forces() {}
@@ -115,12 +121,15 @@ class CpuSimulation final : public Simulation {
 
   // The state, to change between steps (tests).
   std::vector<BirdState>& state() { return birds_; }
+  void retire(std::span<const uint32_t> birds) override;
 
  private:
   std::vector<BirdState> birds_;
   std::vector<StepForces> forces_;
   std::vector<Perception> perception_;
   bool forces_current_ = false;
+  std::vector<uint8_t> retired_;  // per bird, once one is retired
+  std::vector<uint32_t> active_;  // the birds stepped then: the others, in order
 };
 
 }  // namespace aeroflock

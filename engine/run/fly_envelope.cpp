@@ -23,12 +23,15 @@ class EnvelopeJudge final : public RunObserver {
   void frame(Simulation& sim, uint64_t) override {
     const double t = sim.time();
     const std::vector<BirdState>& now = sim.birds();
+    std::vector<uint32_t> done;
     for (size_t k = 0; k < results_.size(); ++k)
       if (!judged_[k] &&
           judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height)) {
         judged_[k] = true;
+        done.push_back(uint32_t(k));
         --left_;
       }
+    sim.retire(done);  // judged: no need to fly them on
     if (progress_) progress_(t);
   }
   std::string stop_reason() const override { return left_ == 0 ? "every case judged" : ""; }
