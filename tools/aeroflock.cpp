@@ -425,6 +425,25 @@ int view(const ViewOptions& opt) {
 }
 
 // --fidelity paper|fast or --dt SECONDS: the time step, the frame kept 30 ms of flight.
+// The options every command that flies a simulation takes alike: the backend, the Vulkan device
+// and the scenario, said once here.
+void add_backend_option(CLI::App* app, std::string& backend) {
+  app->add_option("--backend", backend,
+                  "Backend: vulkan (compute shaders) or cpu (reference, double)")
+      ->check(CLI::IsMember({"vulkan", "cpu"}))
+      ->capture_default_str();
+}
+
+void add_device_option(CLI::App* app, int& device) {
+  app->add_option("--device", device, "Vulkan device index (see `aeroflock devices`)")
+      ->check(kIndex);
+}
+
+void add_scenario_argument(CLI::App* app, std::string& scenario) {
+  app->add_option("scenario", scenario, "A built-in scenario name or a FILE.toml")
+      ->capture_default_str();
+}
+
 void add_step_options(CLI::App* app, StepOption& step, const char* default_is) {
   char help[160];
   std::snprintf(help, sizeof help,
@@ -566,14 +585,9 @@ int main(int argc, char** argv) {
 
   RunOptions opt;
   CLI::App* run_cmd = app.add_subcommand("run", "Run a scenario and summarise it");
-  run_cmd->add_option("scenario", opt.scenario, "A built-in scenario name or a FILE.toml")
-      ->capture_default_str();
-  run_cmd
-      ->add_option("--backend", opt.backend, "Backend: vulkan (compute shaders) or cpu (reference)")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
-      ->capture_default_str();
-  run_cmd->add_option("--device", opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(kIndex);
+  add_scenario_argument(run_cmd, opt.scenario);
+  add_backend_option(run_cmd, opt.backend);
+  add_device_option(run_cmd, opt.device);
   CLI::Option* run_birds = run_cmd
                                ->add_option("--birds", opt.birds,
                                             "Birds in all, shared over the flocks in proportion, "
@@ -657,12 +671,8 @@ int main(int argc, char** argv) {
 
   ViewOptions view_opt;
   CLI::App* view_cmd = app.add_subcommand("view", "Watch a scenario in a window");
-  view_cmd->add_option("scenario", view_opt.scenario, "A built-in scenario name or a FILE.toml")
-      ->capture_default_str();
-  view_cmd
-      ->add_option("--device", view_opt.viewer.device,
-                   "Vulkan device index (see `aeroflock devices`)")
-      ->check(kIndex);
+  add_scenario_argument(view_cmd, view_opt.scenario);
+  add_device_option(view_cmd, view_opt.viewer.device);
   CLI::Option* view_birds = view_cmd
                                 ->add_option("--birds", view_opt.viewer.birds,
                                              "Birds in all, shared over the flocks in proportion, "
@@ -723,9 +733,7 @@ int main(int argc, char** argv) {
       ->add_option("--repetitions", bench_opt.repetitions,
                    "Timed frames per measurement (default 5 quick, 15 full)")
       ->check(kCount);
-  bench_cmd
-      ->add_option("--device", bench_opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(kIndex);
+  add_device_option(bench_cmd, bench_opt.device);
   StepOption bench_step;
   add_step_options(bench_cmd, bench_step, "the scenario's");
 
@@ -736,12 +744,8 @@ int main(int argc, char** argv) {
       ->add_option("--species", envelope_opt.species,
                    "A preset (eagle, starling) or FILE.toml (its last [[species]])")
       ->capture_default_str();
-  envelope_cmd->add_option("--backend", envelope_opt.backend, "cpu (reference) or vulkan")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
-      ->capture_default_str();
-  envelope_cmd
-      ->add_option("--device", envelope_opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(kIndex);
+  add_backend_option(envelope_cmd, envelope_opt.backend);
+  add_device_option(envelope_cmd, envelope_opt.device);
   envelope_cmd->add_option("--json", envelope_opt.json, "Write every case and its outcome to FILE")
       ->check(kPath);
   envelope_cmd->add_flag("--quick", envelope_opt.quick, "A small subset of short flights");
@@ -766,12 +770,8 @@ int main(int argc, char** argv) {
   converge_cmd
       ->add_option("--seconds", converge_opt.seconds, "Seconds flown by each run (default 10)")
       ->check(kSeconds);
-  converge_cmd->add_option("--backend", converge_opt.backend, "cpu (reference, double) or vulkan")
-      ->check(CLI::IsMember({"vulkan", "cpu"}))
-      ->capture_default_str();
-  converge_cmd
-      ->add_option("--device", converge_opt.device, "Vulkan device index (see `aeroflock devices`)")
-      ->check(kIndex);
+  add_backend_option(converge_cmd, converge_opt.backend);
+  add_device_option(converge_cmd, converge_opt.device);
   converge_cmd
       ->add_option(
           "--envelope", converge_opt.envelope,
