@@ -181,5 +181,19 @@ TEST(Retire, ARetiredBirdStaysWhereItWasAndTheOthersFlyAsBefore) {
   EXPECT_EQ(some.time(), all.time());
 }
 
+// The frames a run needs to reach a time, counted as Simulation::time() counts it.
+TEST(Scenario, FramesReachingCountsTimeAsTheSimulationDoes) {
+  Scenario s = load_scenario("fig17-ground-effect");
+  EXPECT_EQ(s.frames_reaching(0.0), 0u);
+  EXPECT_EQ(s.frames_reaching(-1.0), 0u);
+  EXPECT_EQ(s.frames_reaching(s.frame_seconds() * 0.5), 1u);
+  for (double t = 0.001; t < 20.0; t *= 1.37) {
+    uint64_t k = 0;  // the first whole frame whose time is at least t, one by one
+    while (double(k * s.steps_per_frame) * s.dt < t) ++k;
+    EXPECT_EQ(s.frames_reaching(t), k) << t;
+    EXPECT_GE(double(k * s.steps_per_frame) * s.dt, t);
+  }
+}
+
 }  // namespace
 }  // namespace aeroflock

@@ -179,10 +179,9 @@ Run fly(Scenario scenario, double dt, double seconds, const std::vector<double>&
       make_simulation({options.backend, 0, options.device, false}, scenario);
   // The frames that bring it within half a frame of compare_at.
   const Scenario& s = sim->scenario();
-  uint64_t frames = 0;
-  while (double(frames * s.steps_per_frame) * s.dt < compare_at - 0.5 * s.frame_seconds()) ++frames;
   Recorder recorder(run, cut, compare_at, progress, label);
-  run_frames(*sim, {&recorder}, {.frames = frames});
+  run_frames(*sim, {&recorder},
+             {.frames = s.frames_reaching(compare_at - 0.5 * s.frame_seconds())});
   return run;
 }
 

@@ -198,8 +198,7 @@ EnvelopeFlight envelope_flight(const Species& species, const std::vector<Envelop
   }
   s.duration = flight.longest;
   validate(s);
-  // Its frames: as many as the simulated time needs to reach the longest limit.
-  while (double(flight.frames * s.steps_per_frame) * s.dt < flight.longest) ++flight.frames;
+  flight.frames = s.frames_reaching(flight.longest);
   return flight;
 }
 

@@ -43,6 +43,14 @@ void check_dt(double dt) {
                                 "] s (docs/convergence.md), got " + number(dt) + " s");
 }
 
+uint64_t Scenario::frames_reaching(double seconds) const {
+  if (!(seconds > 0.0)) return 0;
+  // From just below the estimate, then exactly as the time is counted (rounding decides the last).
+  uint64_t frames = uint64_t(std::max(0.0, std::floor(seconds / frame_seconds()) - 1.0));
+  while (double(frames * steps_per_frame) * dt < seconds) ++frames;
+  return frames;
+}
+
 void set_dt(Scenario& s, double dt) {
   check_dt(dt);
   const double steps = std::round(s.frame_seconds() / dt);

@@ -80,6 +80,9 @@ struct Scenario {
   World world;
   std::vector<Flock> flocks;
   double frame_seconds() const { return dt * steps_per_frame; }
+  // The fewest whole frames after which the simulated time, as Simulation::time() counts it
+  // (steps x dt), is at least `seconds` (0 for seconds <= 0).
+  uint64_t frames_reaching(double seconds) const;
 };
 
 // The whole steps of `dt` nearest to `seconds`, at least one.
