@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -161,6 +162,47 @@ TEST(RunLoop, StrictStopsAtTheFirstQuarantinedBirdAndSaysWhich) {
   const RunResult ok = run_frames(*clean, {&quiet}, {.frames = 3});
   EXPECT_EQ(ok.end, RunResult::End::flown);
   EXPECT_TRUE(ok.errors.empty());
+}
+
+// The viewer's pace: an observer sets each turn's steps (none while paused, a frame and a half
+// at speed x1.5), the run counts turns, and the simulation flies exactly the steps asked.
+struct Pacer : RunObserver {
+  std::vector<uint32_t> steps;  // one per turn
+  size_t turn = 0;
+  std::vector<double> times;
+  std::optional<uint32_t> pace(Simulation&) override { return steps[turn++]; }
+  void frame(Simulation& sim, uint64_t) override { times.push_back(sim.time()); }
+};
+
+TEST(RunLoop, AnObserverPacesItsTurnsStepByStep) {
+  auto sim = small_sim();
+  const uint32_t frame = sim->scenario().steps_per_frame;
+  Pacer pacer;
+  pacer.steps = {0, frame + frame / 2, 0, 3};
+  Recorder other;  // sees each turn, whatever its steps
+  const RunResult r = run_frames(*sim, {&pacer, &other}, {.frames = 4});
+  EXPECT_EQ(r.frames, 4u);
+  EXPECT_EQ(other.frames_seen, (std::vector<uint64_t>{1, 2, 3, 4}));
+  const double dt = sim->scenario().dt;
+  ASSERT_EQ(pacer.times.size(), 4u);
+  EXPECT_EQ(pacer.times[0], 0.0);  // paused: not a step
+  EXPECT_NEAR(pacer.times[1], (frame + frame / 2) * dt, 1e-12);
+  EXPECT_EQ(pacer.times[2], pacer.times[1]);
+  EXPECT_NEAR(pacer.times[3], (frame + frame / 2 + 3) * dt, 1e-12);
+
+  // The same steps in one go fly the same birds, bit for bit.
+  auto once = small_sim();
+  once->step(frame + frame / 2 + 3);
+  EXPECT_EQ(once->birds()[0].position, sim->birds()[0].position);
+}
+
+// FrameTimes: one wall time a frame, each frame's birds read back, none negative.
+TEST(RunLoop, FrameTimesTimesEachFrame) {
+  auto sim = small_sim();
+  FrameTimes times;
+  run_frames(*sim, {&times}, {.frames = 4, .batch = 4});
+  ASSERT_EQ(times.milliseconds().size(), 4u);  // it reads every frame: no batching
+  for (double ms : times.milliseconds()) EXPECT_GE(ms, 0.0);
 }
 
 // Simulation::retire on the CPU reference: a retired bird is no longer stepped (its state stays),

@@ -41,6 +41,7 @@
 #include "progress.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
+#include "run/run_loop.h"
 
 #ifndef AEROFLOCK_BUILD_TYPE
 #define AEROFLOCK_BUILD_TYPE "unknown"
@@ -124,7 +125,7 @@ std::string now_iso8601() {
 
 // Renders every frame offscreen at 1280x720 from the birds on the device, as `aeroflock run --png`
 // does (the image is not read back). The camera looks at the whole flock as it is at the start.
-class OffscreenLoad {
+class OffscreenLoad final : public RunObserver {
  public:
   explicit OffscreenLoad(Simulation& sim) : sim_(dynamic_cast<gpu::GpuSimulation*>(&sim)) {
     if (!sim_) throw std::runtime_error("rendering is measured only with the Vulkan backend");
@@ -139,7 +140,7 @@ class OffscreenLoad {
     scene_distance_ = control.subject_distance();
   }
 
-  void frame() {
+  void frame(Simulation&, uint64_t) override {
     render::View view;
     view.camera = camera_;
     view.scene_distance = scene_distance_;
@@ -168,11 +169,11 @@ int samples(const std::string& variant, const Settings& s) {
   return variant == "vtk" ? std::max(3, (s.repetitions + 2) / 3) : s.repetitions;
 }
 
-// One flock of one backend and variant, measured a frame at a time: frame() is step_frame() then
-// birds() (the frame complete and read back), plus the render or the VTK hand-over, in wall ms.
-// With VTK export a sample is the mean frame of a whole export cycle (kVtkEvery frames, one of
-// them handing its state to the writer thread); otherwise one frame. Throws gpu::Error when the
-// device cannot hold the flock.
+// One flock of one backend and variant, flown through the run loop with the load measured
+// (render: an offscreen picture of every frame; vtk: the export) and FrameTimes last: a frame's
+// time is its steps, the birds read back and the load, in wall ms. With VTK export a sample is
+// the mean frame of a whole export cycle (kVtkEvery frames, one of them handing its state to the
+// writer thread); otherwise one frame. Throws gpu::Error when the device cannot hold the flock.
 class Subject {
  public:
   Subject(const std::string& backend_name, const std::string& variant, uint32_t birds,
@@ -200,28 +201,29 @@ class Subject {
       vtk_ = std::make_unique<VtkExporter>(vo, sim_->scenario(), sim_->bird_count());
     }
   }
-  // Waits for the VTK writer; throws its error, if it had one (~VtkExporter would swallow it).
-  void finish() {
-    if (vtk_) vtk_->finish();
-  }
 
-  double sample() {
-    double sum = 0.0;
-    for (int k = 0; k < cycle_; ++k) sum += frame();
-    return sum / cycle_;
+  // `count` samples, flown as one run (the VTK export's start and end are not timed).
+  std::vector<double> samples(int count) {
+    FrameTimes times;
+    std::vector<RunObserver*> observers;
+    if (render_) observers.push_back(render_.get());
+    if (vtk_) observers.push_back(vtk_.get());
+    observers.push_back(&times);
+    const RunResult r = run_frames(*sim_, observers, {.frames = uint64_t(count) * cycle_});
+    if (!r.errors.empty()) throw std::runtime_error(r.errors.front());
+    std::vector<double> out;
+    const std::vector<double>& ms = times.milliseconds();
+    for (size_t f = 0; f + cycle_ <= ms.size(); f += cycle_) {
+      double sum = 0.0;
+      for (int k = 0; k < cycle_; ++k) sum += ms[f + k];
+      out.push_back(sum / cycle_);
+    }
+    return out;
   }
+  double sample() { return samples(1).front(); }
   const Simulation& simulation() const { return *sim_; }
 
  private:
-  double frame() {
-    const auto start = Clock::now();
-    sim_->step_frame(vtk_ && vtk_->due(sim_->frames() + 1));
-    (void)sim_->birds();
-    if (render_) render_->frame();
-    if (vtk_) vtk_->offer_ready(*sim_);
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  }
-
   int cycle_;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<OffscreenLoad> render_;
@@ -233,10 +235,8 @@ class Subject {
 Measurement measure(const std::string& backend_name, const std::string& variant, uint32_t birds,
                     const Settings& s) {
   Subject subject(backend_name, variant, birds, s);
-  for (int i = 0; i < s.warmup; ++i) subject.sample();
-  std::vector<double> times;
-  for (int i = 0; i < samples(variant, s); ++i) times.push_back(subject.sample());
-  subject.finish();
+  std::vector<double> times = subject.samples(s.warmup + samples(variant, s));
+  times.erase(times.begin(), times.begin() + s.warmup);
 
   Measurement m;
   m.backend = backend_name;

@@ -6,7 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "gpu/gpu_simulation.h"
@@ -16,6 +19,7 @@
 #include "render/renderer.h"
 #include "render/swapchain.h"
 #include "render/window.h"
+#include "run/run_loop.h"
 
 namespace aeroflock::render {
 namespace {
@@ -49,16 +53,24 @@ gpu::DeviceOptions window_device(const Window& window, int index) {
   return o;
 }
 
-class Viewer {
+// The window as an observer of the run loop: before each turn it reads the input and sets the
+// pace (the speed's steps, none while paused); after it, draws the flock.
+class Viewer final : public RunObserver {
  public:
   Viewer(Window& window, const gpu::Device& device, Scenario scenario,
          const ViewerOptions& options);
   void run();
 
+  std::optional<uint32_t> pace(Simulation&) override;
+  void frame(Simulation&, uint64_t) override;
+  std::string stop_reason() const override {
+    return window_.should_close() ? "the window was closed" : "";
+  }
+
  private:
   void handle(const Input& input, float seconds);
   void read_flock();
-  void step_simulation();
+  uint32_t steps_now();
   void draw();
   void recreate_swapchain();
   void update_title(Clock::time_point now);
@@ -83,6 +95,8 @@ class Viewer {
   bool swapchain_stale_ = false;
 
   uint64_t frames_drawn_ = 0;
+  Clock::time_point last_;        // the last turn's start
+  float seconds_ = 0.0f;          // since the turn before
   Clock::time_point title_time_;  // the title's last update, and what it counted since
   uint64_t title_frames_ = 0;
   double step_ms_sum_ = 0.0;
@@ -113,38 +127,44 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
 
 void Viewer::run() {
   const Clock::time_point start = Clock::now();
-  Clock::time_point last = start;
-  title_time_ = start;
-  while (!window_.should_close()) {
-    const Input input = window_.poll();
-    const Clock::time_point now = Clock::now();
-    const float seconds = float(seconds_between(last, now));
-    last = now;
-    handle(input, seconds);
-    if (input.resized) swapchain_stale_ = true;
-    window_.wait_while_minimised();
-    if (window_.should_close()) break;
-    if (swapchain_stale_) recreate_swapchain();
-
-    frames_.begin();
-    if (frames_.step_ms()) step_ms_sum_ += *frames_.step_ms(), ++step_ms_count_;
-    // Every few frames (large flocks: fewer), before this frame's step: waits for the last one.
-    const uint64_t every = sim_.bird_count() > 100000 ? 32 : 4;
-    if (frames_drawn_ - last_readback_ >= every) read_flock();
-    step_simulation();
-    view_.camera = camera_.update(seconds, flock_, sim_.time());
-    view_.scene_distance = camera_.subject_distance();
-    view_.time = float(sim_.time());
-    draw();
-    update_title(Clock::now());
-    if (options_.frames > 0 && frames_drawn_ >= options_.frames) window_.close();
-  }
+  last_ = title_time_ = start;
+  const RunResult r = run_frames(sim_, {this}, {.frames = std::numeric_limits<uint64_t>::max()});
+  if (!r.errors.empty()) throw std::runtime_error(r.errors.front());
   const double wall = seconds_between(start, Clock::now());
   std::printf(
       "%llu frames in %.2f s (%.1f frames/s), %.2f s simulated, %ux%u, %u sample%s a pixel\n",
       (unsigned long long)frames_drawn_, wall, wall > 0 ? frames_drawn_ / wall : 0.0, sim_.time(),
       renderer_->extent().width, renderer_->extent().height, renderer_->samples(),
       renderer_->samples() == 1 ? "" : "s");
+}
+
+std::optional<uint32_t> Viewer::pace(Simulation&) {
+  const Input input = window_.poll();
+  const Clock::time_point now = Clock::now();
+  seconds_ = float(seconds_between(last_, now));
+  last_ = now;
+  handle(input, seconds_);
+  if (input.resized) swapchain_stale_ = true;
+  window_.wait_while_minimised();
+  if (window_.should_close()) return 0;
+  if (swapchain_stale_) recreate_swapchain();
+
+  frames_.begin();
+  if (frames_.step_ms()) step_ms_sum_ += *frames_.step_ms(), ++step_ms_count_;
+  // Every few frames (large flocks: fewer), before this frame's step: waits for the last one.
+  const uint64_t every = sim_.bird_count() > 100000 ? 32 : 4;
+  if (frames_drawn_ - last_readback_ >= every) read_flock();
+  return steps_now();
+}
+
+void Viewer::frame(Simulation&, uint64_t) {
+  if (window_.should_close()) return;
+  view_.camera = camera_.update(seconds_, flock_, sim_.time());
+  view_.scene_distance = camera_.subject_distance();
+  view_.time = float(sim_.time());
+  draw();
+  update_title(Clock::now());
+  if (options_.frames > 0 && frames_drawn_ >= options_.frames) window_.close();
 }
 
 void Viewer::handle(const Input& input, float seconds) {
@@ -210,14 +230,16 @@ void Viewer::read_flock() {
   last_readback_ = frames_drawn_;
 }
 
-void Viewer::step_simulation() {
-  if (paused_) return;
+// The steps of this turn: a scenario frame's times the speed, the fraction carried to the next
+// (slow motion); none while paused.
+uint32_t Viewer::steps_now() {
+  if (paused_) return 0;
   pending_steps_ += sim_.scenario().steps_per_frame * speed_;
   const auto steps = static_cast<uint32_t>(pending_steps_);
-  if (steps == 0) return;
+  if (steps == 0) return 0;
   pending_steps_ -= steps;
   frames_.stamp_step_start();
-  sim_.step(steps);
+  return steps;
 }
 
 void Viewer::draw() {

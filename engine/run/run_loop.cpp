@@ -34,7 +34,10 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
   try {
     for (RunObserver* o : observers) o->start(sim);
     while (result.frames < limits.frames && !stop_now()) {
-      const uint64_t n = std::min(batch, limits.frames - result.frames);
+      std::optional<uint32_t> paced;
+      for (RunObserver* o : observers)
+        if (!paced) paced = o->pace(sim);
+      const uint64_t n = paced ? 1 : std::min(batch, limits.frames - result.frames);
       if (n > 1) {
         sim.step_frames(uint32_t(n));
       } else {
@@ -43,7 +46,8 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
         const bool forces =
             std::any_of(observers.begin(), observers.end(),
                         [&](const RunObserver* o) { return o->wants_forces(next, last); });
-        sim.step_frame(forces);
+        const uint32_t steps = paced ? *paced : sim.scenario().steps_per_frame;
+        if (steps > 0) sim.step(steps, forces);
       }
       result.frames += n;
       for (RunObserver* o : observers) o->frame(sim, result.frames);
@@ -84,6 +88,15 @@ void StrictCheck::finish(Simulation& sim) {
       "--strict: bird %llu's state became non-finite at t = %.4f s; stopped at t = %.3f s",
       (unsigned long long)first.front().bird, first.front().time, sim.time());
   throw std::runtime_error(why);
+}
+
+void FrameTimes::start(Simulation&) { mark_ = std::chrono::steady_clock::now(); }
+
+void FrameTimes::frame(Simulation& sim, uint64_t) {
+  (void)sim.birds();
+  const auto now = std::chrono::steady_clock::now();
+  ms_.push_back(std::chrono::duration<double, std::milli>(now - mark_).count());
+  mark_ = now;
 }
 
 }  // namespace aeroflock

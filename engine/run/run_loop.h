@@ -1,9 +1,9 @@
-// The run loop: one loop that advances any Simulation frame by frame and hands each frame to its
-// observers (the VTK export, the pictures, the progress line, the --strict check, the judges of
-// a flight), until the run's frames are flown or something stops it: a signal, an observer (a
-// writer that failed, --strict, every flight judged) or an error. Every command flies through it;
-// what a command adds is observers. HOOMD-blue's writers on triggers and FLAME GPU 2's simulate()
-// have this shape.
+// The run loop: one loop that advances any Simulation frame by frame (or at the pace an observer
+// sets: the window's speed) and hands each frame to its observers (the VTK export, the pictures,
+// the progress line, the --strict check, the judges of a flight), until the run's frames are flown
+// or something stops it: a signal, an observer (a writer that failed, --strict, every flight
+// judged) or an error. Every command flies through it; what a command adds is observers.
+// HOOMD-blue's writers on triggers and FLAME GPU 2's simulate() have this shape.
 //
 //   RunLimits limits{.frames = 100};
 //   StrictCheck strict;                 // an observer of one's own, written once
@@ -11,9 +11,11 @@
 //   for (const std::string& e : r.errors) ...
 #pragma once
 
+#include <chrono>
 #include <csignal>
 #include <cstdint>
 #include <initializer_list>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -34,6 +36,10 @@ class RunObserver {
     (void)frame, (void)last;
     return false;
   }
+  // The steps the next turn takes, where this observer sets the run's pace (the viewer: its
+  // speed, 0 while paused); nullopt: a scenario frame's. Called before each turn; the first
+  // observer that answers paces the run, and the run then counts turns, not frames.
+  virtual std::optional<uint32_t> pace(Simulation&) { return std::nullopt; }
   // Whether it looks at every frame. Where none does, frames are stepped several to a submission
   // (Simulation::step_frames) and the observers see only each batch's last.
   virtual bool reads_every_frame() const { return true; }
@@ -87,6 +93,20 @@ class StrictCheck final : public RunObserver {
 
  private:
   bool quarantined_ = false;
+};
+
+// Each frame's wall time in ms, from the end of the one before (or the run's start) until this
+// one is complete and its birds read back, as someone who looks at every frame would wait: the
+// benchmark's measure. Put it last, so that a frame's time holds the other observers' work.
+class FrameTimes final : public RunObserver {
+ public:
+  void start(Simulation&) override;
+  void frame(Simulation& sim, uint64_t frames) override;
+  const std::vector<double>& milliseconds() const { return ms_; }
+
+ private:
+  std::chrono::steady_clock::time_point mark_;
+  std::vector<double> ms_;
 };
 
 }  // namespace aeroflock
