@@ -159,7 +159,7 @@ def pictures_run(opt, root, env):
 
 
 def bench_run(opt, root, env):
-    return run([opt.aeroflock, "bench", "--quick", "--backends", "cpu", "--max-birds", "100", "--repetitions", "1",
+    return run([opt.aeroflock, "bench", "--quick", "--backend", "cpu", "--max-birds", "100", "--repetitions", "1",
                 "--json", os.path.join(root, "bench.json"), "--plot", os.path.join(root, "bench.png")], env=env)
 
 

@@ -1,10 +1,15 @@
 # Runs the aeroflock program and checks what it did.
-#   -DAEROFLOCK=exe -DARGS="run;x.toml" -DEXPECT_RC=0|nonzero|N
+#   -DAEROFLOCK=exe -DARGS=run,x.toml -DEXPECT_RC=0|nonzero|N (ARGS split at commas, or at "!"
+#   where it holds one: "converge!--dts!0.3,2" keeps the list whole)
 #   [-DEXPECT_STDERR=regex] [-DEXPECT_STDOUT=regex] [-DCLEAN_DIR=dir: removed before the run] [-DSUMMARY=file.json: must exist with every summary key]
 #   [-DPNG=file.png -DPNG_SIZE=WxH: must exist, a PNG of that size]
 #   [-DEXPECT_ABSENT=path: must not exist after the run] [-DSTDOUT_FILE=file: stdout saved there]
 #   [-DMAX_RATE=N with SUMMARY: its bird_steps_per_second below N when its device is lavapipe (llvmpipe)]
-string(REPLACE "," ";" args "${ARGS}")
+if(ARGS MATCHES "!")
+  string(REPLACE "!" ";" args "${ARGS}")
+else()
+  string(REPLACE "," ";" args "${ARGS}")
+endif()
 if(SUMMARY)
   file(REMOVE "${SUMMARY}")
 endif()

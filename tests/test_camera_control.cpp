@@ -82,7 +82,7 @@ TEST(CameraControl, AutoStaysOnAPausedFlock) {
 TEST(CameraControl, OrbitCirclesTheFlock) {
   const Subject flock = flock_at({0.0, 3000.0, 0.0}, 1000.0f);
   CameraOptions options;
-  options.mode = "orbit";
+  options.mode = CameraMode::orbit;
   CameraControl c(options, flock);
   const glm::vec3 start = c.camera().eye - c.camera().target;
   const Camera& cam = c.update(10.0f, flock, 10.0);  // a tenth of a turn a second
@@ -95,7 +95,7 @@ TEST(CameraControl, OrbitCirclesTheFlock) {
 
 TEST(CameraControl, FixedLooksFromWhereItIsPut) {
   CameraOptions options;
-  options.mode = "fixed";
+  options.mode = CameraMode::free;
   options.eye = glm::dvec3(5.0e7, 2000.0, 100.0);  // 500 km out
   options.target = glm::dvec3(5.0e7 + 1000.0, 2000.0, 100.0);
   CameraControl c(options, flock_at({0.0, 3000.0, 0.0}, 1000.0f));
@@ -108,7 +108,7 @@ TEST(CameraControl, FixedLooksFromWhereItIsPut) {
 
 TEST(CameraControl, FollowSettlesBehindAndAboveTheBird) {
   CameraOptions options;
-  options.mode = "follow";
+  options.mode = CameraMode::follow;
   const glm::dvec3 velocity(0.0, 0.0, 1500.0);  // flying along +z
   glm::dvec3 bird(0.0, 3000.0, 0.0);
   CameraControl c(options, flock_at(bird, 0.0f, velocity));

@@ -373,17 +373,17 @@ void check_options(const BenchOptions& options) {
     if (b != "vulkan" && b != "cpu" &&
         !(b.size() > 7 && b.starts_with("vulkan:") &&
           b.find_first_not_of("0123456789", 7) == std::string::npos && b.size() < 12))
-      throw std::runtime_error("--backends: unknown backend " + b +
+      throw std::runtime_error("--backend: unknown backend " + b +
                                " (vulkan, vulkan:N for device N, cpu)");
   for (size_t i = 0; i < options.backends.size(); ++i)
     if (std::find(options.backends.begin() + i + 1, options.backends.end(), options.backends[i]) !=
         options.backends.end())
-      throw std::runtime_error("--backends: " + options.backends[i] + " given twice");
+      throw std::runtime_error("--backend: " + options.backends[i] + " given twice");
   for (const std::string& b : options.backends)
     if (b.starts_with("vulkan:")) {
       const size_t count = vulkan_devices().size();
       if (std::stoul(b.substr(7)) >= count)
-        throw std::runtime_error("--backends " + b + ": no such device (" + std::to_string(count) +
+        throw std::runtime_error("--backend " + b + ": no such device (" + std::to_string(count) +
                                  " Vulkan device(s); see `aeroflock devices`)");
     }
   const std::vector<std::string> known{"headless", "solo", "render", "vtk", "realtime"};
@@ -407,7 +407,7 @@ void check_options(const BenchOptions& options) {
 Settings settings(const BenchOptions& options) {
   Settings s;
   s.scenario = load_scenario(options.scenario);
-  if (options.dt > 0) set_dt(s.scenario, options.dt);
+  options.step.apply(s.scenario);
   s.backends = options.backends;
   s.variants = !options.variants.empty() ? options.variants
                : options.quick
@@ -877,6 +877,35 @@ int run_bench(const BenchOptions& options) {
   for (const std::string& f : run.failed)
     std::fprintf(stderr, "aeroflock: error: bench %s\n", f.c_str());
   return run.failed.empty() ? 0 : 1;
+}
+
+Command add_bench_command(CLI::App& app, BenchOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "bench",
+      "Measure birds per frame, scaling with the flock and Vulkan against the CPU reference");
+  add_scenario_argument(cmd, o.scenario);
+  cmd->add_flag("--quick", o.quick, "A short smoke run: 1000 and 3000 birds, headless only");
+  cmd->add_option("--json", o.json, "Write the results as JSON (Google Benchmark-like) to FILE")
+      ->check(kPath);
+  cmd->add_option("--plot", o.plot,
+                  "Plot ms per frame and bird-steps/s against N to FILE.png (gnuplot)")
+      ->check(kPath);
+  add_list(cmd, "--backend,--backends", o.backends,
+           "Backends: vulkan, vulkan:N (Vulkan on device N), cpu; a list (default vulkan,cpu)");
+  add_list(cmd, "--variants", o.variants,
+           "Variants: headless, solo, render, vtk, realtime (birds in real time at the paper's and "
+           "the fast step); a list (default: all; --quick: headless)")
+      ->check(one_of({"headless", "solo", "render", "vtk", "realtime"}));
+  cmd->add_option("--max-birds", o.max_birds,
+                  "Largest flock of the sweep (1k, 3k, 10k, ... up to it, and it)")
+      ->check(kCount)
+      ->capture_default_str();
+  cmd->add_option("--repetitions", o.repetitions,
+                  "Timed frames per measurement (default 5 quick, 15 full)")
+      ->check(kCount);
+  add_device_option(cmd, o.device);
+  add_step_options(cmd, o.step, "the scenario's");
+  return {cmd, [&o] { return run_bench(o); }};
 }
 
 }  // namespace aeroflock

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "options.h"
+
 namespace aeroflock {
 
 struct BenchOptions {
@@ -18,11 +20,14 @@ struct BenchOptions {
   int repetitions = 0;                // timed frames per measurement (0: 5 quick, 15 full)
   int device = -1;                    // Vulkan device index
   std::string scenario = "default";   // what every measurement flies (a name or FILE.toml)
-  double dt = 0.0;                    // s: the step instead of the scenario's (0: the scenario's)
+  StepOption step;                    // the step instead of the scenario's
 };
 
 // Runs the benchmark, prints the table on stdout (progress on stderr when it is a terminal).
 // Throws std::runtime_error for bad options or when a backend cannot start at all.
 int run_bench(const BenchOptions& options);
+
+// `aeroflock bench [SCENARIO]` and its options.
+Command add_bench_command(CLI::App& app, BenchOptions& options);
 
 }  // namespace aeroflock

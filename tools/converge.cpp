@@ -247,9 +247,14 @@ struct EnvelopeStudy {
   std::vector<Row> rows;
 };
 
-std::vector<EnvelopeCase> envelope_for(const std::string& which) {
-  if (which == "quick") return envelope_cases(true);
-  if (which == "whole") return envelope_cases(false);
+const Names<ConvergeOptions::Envelope> kEnvelopes{{"none", ConvergeOptions::Envelope::none},
+                                                  {"quick", ConvergeOptions::Envelope::quick},
+                                                  {"sample", ConvergeOptions::Envelope::sample},
+                                                  {"whole", ConvergeOptions::Envelope::whole}};
+
+std::vector<EnvelopeCase> envelope_for(ConvergeOptions::Envelope which) {
+  if (which == ConvergeOptions::Envelope::quick) return envelope_cases(true);
+  if (which == ConvergeOptions::Envelope::whole) return envelope_cases(false);
   return envelope_sample(5, INFINITY);
 }
 
@@ -334,7 +339,9 @@ int run_converge(const ConvergeOptions& o) {
   for (const std::string& name : names)
     scenarios.push_back(load_scenario(name));  // bad names fail first
 
-  const std::string envelope = o.envelope == "none" ? "" : " and the envelope (" + o.envelope + ")";
+  const std::string envelope = o.envelope == ConvergeOptions::Envelope::none
+                                   ? ""
+                                   : " and the envelope (" + name_of(o.envelope, kEnvelopes) + ")";
   std::printf(
       "aeroflock converge: %zu scenario%s%s at %zu steps from %g to %g ms, %g s each, on the %s "
       "backend; "
@@ -370,7 +377,7 @@ int run_converge(const ConvergeOptions& o) {
   }
 
   std::vector<EnvelopeStudy> envelopes;
-  if (o.envelope != "none") {
+  if (o.envelope != ConvergeOptions::Envelope::none) {
     const std::vector<EnvelopeCase> cases = envelope_for(o.envelope);
     const SimulationFactory make = simulation_factory(o.backend, o.device);
     for (const Species& species : species_presets()) {
@@ -434,6 +441,33 @@ int run_converge(const ConvergeOptions& o) {
     std::printf("json             %s\n", o.json.c_str());
   }
   return largest > 0 ? 0 : 1;
+}
+
+Command add_converge_command(CLI::App& app, ConvergeOptions& o) {
+  CLI::App* cmd = app.add_subcommand("converge",
+                                     "The time step's convergence study: every scenario and the "
+                                     "envelope at steps of 0.1 to 10 ms");
+  cmd->add_option("scenario", o.scenarios,
+                  "Built-in scenario names or FILE.toml files (default: every built-in)");
+  auto dts_ms = std::make_shared<std::vector<double>>();
+  add_list(cmd, "--dts", *dts_ms,
+           "Steps in ms, the smallest the reference; a list (default 0.1,0.3,0.5,1,2,3,5,10)")
+      ->check(kStepMs);
+  cmd->add_option("--seconds", o.seconds, "Seconds flown by each run (default 10)")
+      ->check(kSeconds);
+  add_backend_option(cmd, o.backend);
+  add_device_option(cmd, o.device);
+  add_choice(cmd, "--envelope", o.envelope, kEnvelopes,
+             "Envelope cases flown at each step: none, quick, sample (every 5th flight) or whole "
+             "(default sample)");
+  cmd->add_option("--json", o.json, "Write every figure to FILE.json")->check(kPath);
+  return {cmd, [&o, dts_ms] {
+            if (!dts_ms->empty()) {
+              o.dts.clear();
+              for (double ms : *dts_ms) o.dts.push_back(ms * 1e-3);
+            }
+            return run_converge(o);
+          }};
 }
 
 }  // namespace aeroflock

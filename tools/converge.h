@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "options.h"
+
 namespace aeroflock {
 
 struct ConvergeOptions {
@@ -17,13 +19,17 @@ struct ConvergeOptions {
   double seconds = 10.0;        // flown by each run; positions compared at the end
   std::string backend = "cpu";  // cpu (double, the reference) or vulkan
   int device = -1;
-  std::string envelope = "sample";  // none, quick, sample (every 5th flight) or whole
-  std::string json;                 // every figure, to this file
-  double tolerance = 0.01;          // the position error allowed, of the distance flown
+  // The envelope's cases flown at each step: none, the quick subset, every 5th flight, or all.
+  enum class Envelope { none, quick, sample, whole } envelope = Envelope::sample;
+  std::string json;         // every figure, to this file
+  double tolerance = 0.01;  // the position error allowed, of the distance flown
 };
 
 // Returns 0 when at least one step but the reference holds everywhere within the tolerance.
 // Throws std::runtime_error for bad options.
 int run_converge(const ConvergeOptions& options);
+
+// `aeroflock converge [SCENARIO...]` and its options.
+Command add_converge_command(CLI::App& app, ConvergeOptions& options);
 
 }  // namespace aeroflock

@@ -144,4 +144,22 @@ int run_envelope(const EnvelopeOptions& options) {
   return reached == int(results.size()) ? 0 : 1;
 }
 
+Command add_envelope_command(CLI::App& app, EnvelopeOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "envelope", "Fly a species through a grid of starts, targets, winds, take-offs and landings");
+  cmd->add_option("--species", o.species,
+                  "A preset (eagle, starling) or FILE.toml (its last [[species]])")
+      ->capture_default_str();
+  add_backend_option(cmd, o.backend);
+  add_device_option(cmd, o.device);
+  cmd->add_option("--json", o.json, "Write every case and its outcome to FILE")->check(kPath);
+  cmd->add_flag("--quick", o.quick, "A small subset of short flights");
+  auto step = std::make_shared<StepOption>();
+  add_step_options(cmd, *step, "paper");
+  return {cmd, [&o, step] {
+            o.dt = step->value().value_or(kPaperDt);
+            return run_envelope(o);
+          }};
+}
+
 }  // namespace aeroflock

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "model/scenario.h"
+#include "options.h"
 
 namespace aeroflock {
 
@@ -19,5 +20,8 @@ struct EnvelopeOptions {
 
 // Returns 0 when every case succeeds, 1 otherwise; throws for bad options.
 int run_envelope(const EnvelopeOptions& options);
+
+// `aeroflock envelope` and its options.
+Command add_envelope_command(CLI::App& app, EnvelopeOptions& options);
 
 }  // namespace aeroflock

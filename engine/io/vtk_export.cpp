@@ -311,14 +311,6 @@ std::vector<std::string> vtk_point_arrays() {
   return names;
 }
 
-VtkOptions::Compression parse_vtk_compression(std::string_view name) {
-  if (name == "none") return VtkOptions::Compression::none;
-  if (name == "lz4") return VtkOptions::Compression::lz4;
-  if (name == "zlib") return VtkOptions::Compression::zlib;
-  throw std::invalid_argument("VTK compression: expected none, lz4 or zlib, got '" +
-                              std::string(name) + "'");
-}
-
 std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count) {
   const std::string_view s = trim(selection);
   std::vector<uint32_t> ids;

@@ -65,9 +65,6 @@ std::vector<std::filesystem::path> earlier_export_files(const std::filesystem::p
 // The names of the point arrays of a frame file, in the order they are written.
 std::vector<std::string> vtk_point_arrays();
 
-// "none", "lz4" or "zlib"; throws std::invalid_argument otherwise.
-VtkOptions::Compression parse_vtk_compression(std::string_view name);
-
 // The birds to export, in the order given: "all"; "every:N" (birds 0, N, 2N, ...); or a list of
 // ids "3,7,12" (or "ids:3,7,12"). Throws std::invalid_argument for bad syntax, an id out of
 // range or listed twice.

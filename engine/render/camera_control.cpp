@@ -50,14 +50,6 @@ Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, doubl
   return s;
 }
 
-std::optional<CameraControl::Mode> CameraControl::mode_named(const std::string& name) {
-  if (name == "auto") return Mode::automatic;
-  if (name == "orbit") return Mode::orbit;
-  if (name == "follow") return Mode::follow;
-  if (name == "fixed" || name == "free") return Mode::free;
-  return std::nullopt;
-}
-
 const char* CameraControl::name(Mode mode) {
   switch (mode) {
     case Mode::automatic:
@@ -75,7 +67,7 @@ const char* CameraControl::name(Mode mode) {
 CameraControl::CameraControl(const CameraOptions& options, const Subject& subject) {
   camera_.fov_y = glm::radians(options.fov_degrees);
   reset(subject);
-  const Mode mode = mode_named(options.mode).value_or(Mode::automatic);
+  const Mode mode = options.mode;
   if (mode == Mode::free) {
     // Placed where asked; what is not given comes from the automatic camera's first framing.
     const glm::dvec3 eye = options.eye.value_or(camera_.eye_world());

@@ -32,18 +32,21 @@ struct Subject {
 // Of the finite birds (a bird with NaN is left out); `followed` falls back on the centre.
 Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time);
 
+// automatic frames the flock and follows it, orbit circles it, follow rides behind one bird, free
+// is moved by hand (--camera fixed: held still where it is put).
+enum class CameraMode { automatic, orbit, follow, free };
+
 // How a camera starts: `--camera`, `--camera-bird`, `--camera-eye`, `--camera-target`, `--fov`.
 struct CameraOptions {
-  std::string mode = "auto";  // auto, orbit, follow or fixed (the free camera, held still)
-  uint32_t bird = 0;          // follow: which bird
+  CameraMode mode = CameraMode::automatic;
+  uint32_t bird = 0;                      // follow: which bird
   std::optional<glm::dvec3> eye, target;  // fixed: world, cm (default: where auto starts)
   float fov_degrees = 50.0f;
 };
 
 class CameraControl {
  public:
-  enum class Mode { automatic, orbit, follow, free };
-  static std::optional<Mode> mode_named(const std::string& name);  // "fixed" is free
+  using Mode = CameraMode;
   static const char* name(Mode mode);
 
   CameraControl() = default;
