@@ -28,12 +28,12 @@
 #include <vector>
 
 #include "io/scenario_file.h"
-#include "io/vtk_export.h"
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/simulation.h"
 #include "model/step.h"
 #include "model/tail.h"
+#include "output/vtk_export.h"
 #include "test_files.h"
 
 namespace aeroflock {

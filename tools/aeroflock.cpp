@@ -26,13 +26,13 @@
 #include "bench.h"
 #include "converge.h"
 #include "envelope.h"
-#include "frame_output.h"
 #include "gpu/gpu_simulation.h"
 #include "io/paths.h"
 #include "io/scenario_file.h"
 #include "io/summary.h"
-#include "io/vtk_export.h"
 #include "options.h"
+#include "output/pictures.h"
+#include "output/vtk_export.h"
 #include "progress.h"
 #include "render/viewer.h"
 
@@ -52,7 +52,7 @@ struct RunOptions {
   std::optional<double> seconds;
   std::string summary;
   int threads = 0;
-  ImageOptions images;
+  PictureOptions images;
   VtkOptions vtk;       // vtk.dir empty: no export
   bool strict = false;  // the first bird quarantined (NaN) is an error
 };
@@ -205,8 +205,8 @@ int run(const RunOptions& opt) {
   summary.steps_per_frame = scenario.steps_per_frame;
   std::unique_ptr<Simulation> sim = make_simulation(
       {opt.backend, opt.size.birds, opt.device, opt.images.any()}, std::move(scenario));
-  std::unique_ptr<FrameOutput> images;
-  if (opt.images.any()) images = std::make_unique<FrameOutput>(opt.images, *sim);
+  std::unique_ptr<Pictures> images;
+  if (opt.images.any()) images = std::make_unique<Pictures>(opt.images, *sim);
   summary.backend = sim->backend();
   summary.device = describe_device(*sim);
 
@@ -308,7 +308,7 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
   cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
       ->check(integer_in(1, kMaxThreads));
 
-  ImageOptions& images = opt.images;
+  PictureOptions& images = opt.images;
   cmd->add_option("--png", images.png, "Render the last frame to this PNG (headless)")
       ->check(kPath);
   CLI::Option* frames_dir =

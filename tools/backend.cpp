@@ -4,7 +4,7 @@
 
 #include "gpu/device.h"
 #include "gpu/gpu_simulation.h"
-#include "host.h"
+#include "io/host.h"
 #include "model/flock.h"
 #include "model/step.h"
 

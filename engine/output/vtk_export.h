@@ -12,11 +12,12 @@
 // DIR/trajectories.vtp one polyline per exported bird through its saved positions; point data
 //                      time and speed, cell data bird_id and species; the same field data.
 //
-// Files are written by a thread of the exporter, so the simulation waits for the disk only when
-// the queue of frames for it is full (VtkOptions::queue_frames, queue_bytes). Every file is written
+// Files are written by the exporter's AsyncWriter (output/async_writer.h), so the simulation
+// waits for the disk only when the queue of frames for it is full (VtkOptions::queue_frames,
+// queue_bytes). Every file is written
 // to a temporary name and renamed (io/atomic_file.h): at every moment each is complete and
 // readable, the .pvd lists exactly the frame files written (a frame whose .pvd cannot be written is
-// removed again), and the trajectories are at most about 2 s of wall time behind. A write error
+// removed again), and the trajectories are at most about 2.5 s of wall time behind. A write error
 // stops the writer (finish() throws "cannot write PATH: why") and leaves the files so far as they
 // are.
 //
@@ -36,6 +37,7 @@
 #include "model/bird.h"
 #include "model/scenario.h"
 #include "model/simulation.h"
+#include "output/async_writer.h"
 #include "run/run_loop.h"
 
 namespace aeroflock {
@@ -139,7 +141,7 @@ class VtkExporter final : public RunObserver {
   };
   QueueUse queue_high_water() const;
   // The queue's bound (VtkOptions::queue_frames, at least 1).
-  size_t queue_bound() const { return queue_frames_; }
+  size_t queue_bound() const;
   const std::vector<uint32_t>& selected() const { return selected_; }
   const std::filesystem::path& dir() const { return dir_; }
 
@@ -151,11 +153,11 @@ class VtkExporter final : public RunObserver {
   std::vector<uint32_t> selected_;
   size_t bird_count_ = 0;
   size_t frames_added_ = 0;
-  size_t queue_frames_ = 1, queue_bytes_ = 0;
   uint64_t last_frame_ = 0;  // the last frame queued
   bool any_offered_ = false;
   bool finished_ = false;
   std::unique_ptr<Writer> writer_;
+  std::unique_ptr<AsyncWriter> async_;  // after writer_: its jobs use it until it stops
 };
 
 }  // namespace aeroflock

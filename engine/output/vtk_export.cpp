@@ -1,4 +1,4 @@
-#include "io/vtk_export.h"
+#include "output/vtk_export.h"
 
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
@@ -23,19 +23,14 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
 #include <cstring>
-#include <deque>
 #include <exception>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "io/atomic_file.h"
 #include "io/paths.h"
@@ -385,18 +380,7 @@ struct VtkExporter::Writer {
   uint32_t steps_per_frame = 0;
   std::function<void()> before_frame_write;
 
-  // Shared with the simulation's thread.
-  std::mutex mutex;
-  std::condition_variable wake;  // a frame queued, or stop
-  std::condition_variable room;  // a frame taken from the queue, or a failure
-  std::deque<Frame> queue;
-  size_t queued_bytes = 0;
-  QueueUse high_water;
-  bool stop = false;
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
-
-  // The writer thread's own.
+  // The writer thread's own: the jobs below run there, one at a time.
   std::vector<std::pair<double, std::string>> collection;  // time, file relative to dir
   std::vector<double> saved_times;
   std::vector<glm::dvec3> saved_positions;  // frame-major: frame * ids.size() + bird
@@ -404,59 +388,26 @@ struct VtkExporter::Writer {
   bool trajectories_stale = false;
   Clock::time_point trajectories_written{};  // long ago: the first frame writes them at once
 
-  std::thread thread;
-
-  void run() {
-    while (true) {
-      Frame frame;
-      bool have = false;
-      {
-        std::unique_lock lock(mutex);
-        auto ready = [&] { return stop || !queue.empty(); };
-        if (trajectories_stale)
-          wake.wait_until(lock, trajectories_written + kTrajectoryInterval, ready);
-        else
-          wake.wait(lock, ready);
-        if (!queue.empty()) {
-          frame = std::move(queue.front());
-          queue.pop_front();
-          queued_bytes -= frame.bytes();
-          have = true;
-        } else if (stop) {
-          break;
-        }
-      }
-      if (have) room.notify_all();
-      if (failed) continue;  // drain and drop
-      try {
-        if (have) write_frame(frame);
-        if (trajectories_stale && Clock::now() - trajectories_written >= kTrajectoryInterval)
-          write_trajectories();
-      } catch (...) {
-        fail(std::current_exception());
-      }
-    }
-    // The final collection (even empty: also when the first frame failed) and trajectories, also
-    // after an error (the frames written until then). Errors after the first are dropped.
+  // After each frame, and every kTrajectoryInterval without one: the trajectories, when stale.
+  void trajectories_if_due() {
+    if (trajectories_stale && Clock::now() - trajectories_written >= kTrajectoryInterval)
+      write_trajectories();
+  }
+  // After the last frame (also after an error: the frames written until then), the final
+  // collection, even empty, and the trajectories.
+  void close() {
+    std::exception_ptr first;
     try {
       write_collection();
     } catch (...) {
-      fail(std::current_exception());
+      first = std::current_exception();
     }
     try {
       if (trajectories_stale || trajectories_written == Clock::time_point{}) write_trajectories();
     } catch (...) {
-      fail(std::current_exception());
+      if (!first) first = std::current_exception();
     }
-  }
-
-  void fail(std::exception_ptr e) {
-    {
-      std::lock_guard lock(mutex);
-      if (!error) error = e;
-      failed = true;
-    }
-    room.notify_all();  // an offer waiting for room gives up
+    if (first) std::rethrow_exception(first);
   }
 
   // Field data that makes a file describe itself: the run (scenario, its hash, dt), the names
@@ -639,8 +590,6 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
                                  f.string() + " of an earlier run: " + ec.message());
     }
   }
-  queue_frames_ = std::max<size_t>(options.queue_frames, 1);
-  queue_bytes_ = options.queue_bytes;
 
   writer_ = std::make_unique<Writer>();
   Writer& w = *writer_;
@@ -658,7 +607,10 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   w.dt = scenario.dt;
   w.steps_per_frame = scenario.steps_per_frame;
   w.before_frame_write = options.before_frame_write;
-  w.thread = std::thread([&w] { w.run(); });
+  async_ = std::make_unique<AsyncWriter>(
+      AsyncWriter::Limits{options.queue_frames, options.queue_bytes},
+      [&w] { w.trajectories_if_due(); },
+      std::chrono::milliseconds(500));  // the trajectories at most about 2.5 s behind
 }
 
 VtkExporter::~VtkExporter() {
@@ -681,7 +633,7 @@ void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
                            " is due but was not stepped with record_forces");
   last_frame_ = snapshot.frame;
   any_offered_ = true;
-  if (writer_->failed) return;
+  if (async_->failed()) return;
   Writer::Frame frame;
   frame.time = step_time(snapshot.steps, writer_->dt);
   frame.birds.reserve(selected_.size());
@@ -692,31 +644,20 @@ void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
     frame.forces.push_back((*snapshot.forces)[id]);
     frame.perception.push_back(snapshot.perception ? (*snapshot.perception)[id] : Perception{});
   }
-  {
-    // Room for it: fewer than queue_frames waiting and their bytes within queue_bytes (an empty
-    // queue takes any frame), or the writer has failed (the frame is dropped).
-    Writer& w = *writer_;
-    std::unique_lock lock(w.mutex);
-    w.room.wait(lock, [&] {
-      return w.failed || (w.queue.size() < queue_frames_ &&
-                          (w.queue.empty() || w.queued_bytes + frame.bytes() <= queue_bytes_));
-    });
-    if (w.failed) return;
-    w.queued_bytes += frame.bytes();
-    w.queue.push_back(std::move(frame));
-    w.high_water.frames = std::max(w.high_water.frames, w.queue.size());
-    w.high_water.bytes = std::max(w.high_water.bytes, w.queued_bytes);
-  }
-  writer_->wake.notify_one();
+  const size_t bytes = frame.bytes();
+  Writer& w = *writer_;
+  async_->push(bytes, [&w, frame = std::move(frame)] { w.write_frame(frame); });
   ++frames_added_;
 }
 
-bool VtkExporter::failed() const { return writer_->failed; }
+bool VtkExporter::failed() const { return async_->failed(); }
 
 VtkExporter::QueueUse VtkExporter::queue_high_water() const {
-  std::lock_guard lock(writer_->mutex);
-  return writer_->high_water;
+  const AsyncWriter::Use use = async_->high_water();
+  return {use.jobs, use.bytes};
 }
+
+size_t VtkExporter::queue_bound() const { return async_->job_bound(); }
 
 std::vector<fs::path> earlier_export_files(const fs::path& dir) {
   std::vector<fs::path> files;
@@ -734,13 +675,8 @@ std::vector<fs::path> earlier_export_files(const fs::path& dir) {
 void VtkExporter::finish() {
   if (finished_) return;
   finished_ = true;
-  {
-    std::lock_guard lock(writer_->mutex);
-    writer_->stop = true;
-  }
-  writer_->wake.notify_one();
-  writer_->thread.join();
-  if (writer_->error) std::rethrow_exception(writer_->error);
+  Writer& w = *writer_;
+  async_->finish([&w] { w.close(); });
 }
 
 }  // namespace aeroflock

@@ -1,4 +1,4 @@
-#include "io/image.h"
+#include "output/image.h"
 
 #include <stb_image.h>
 #include <stb_image_write.h>

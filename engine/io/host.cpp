@@ -1,4 +1,4 @@
-#include "host.h"
+#include "io/host.h"
 
 #include <unistd.h>
 

@@ -1,5 +1,7 @@
-// Images of a run without a window: the last frame as a PNG, every K-th frame into a directory,
-// or a video through ffmpeg. Rendered offscreen from the birds' state.
+// Pictures of a run without a window: the last frame as a PNG, every K-th frame into a directory,
+// or a video through ffmpeg. Rendered offscreen from the birds' state on the run's thread;
+// encoded and written by an AsyncWriter (output/async_writer.h), so that the next frame is
+// stepped while the last is written.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +17,7 @@
 
 namespace aeroflock {
 
-struct ImageOptions {
+struct PictureOptions {
   std::string png;         // the last frame
   std::string frames_dir;  // every `every`-th frame as frame_000000.png, ...
   uint32_t every = 1;
@@ -29,11 +31,11 @@ struct ImageOptions {
 };
 
 // A run's observer (run/run_loop.h): it looks at every frame.
-class FrameOutput final : public RunObserver {
+class Pictures final : public RunObserver {
  public:
   // Checks that every output can be written (and that ffmpeg exists for a video) before the run.
-  FrameOutput(const ImageOptions& options, Simulation& sim);
-  ~FrameOutput() override;
+  Pictures(const PictureOptions& options, Simulation& sim);
+  ~Pictures() override;
   // After the run's frame number `frames` (from 1): the frames directory's and the video's due.
   void frame(Simulation& sim, uint64_t frames) override;
   // After the last frame: writes --png and closes the video.

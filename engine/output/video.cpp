@@ -1,4 +1,4 @@
-#include "io/video.h"
+#include "output/video.h"
 
 #include <fcntl.h>
 #include <signal.h>

@@ -1,4 +1,4 @@
-#include "frame_output.h"
+#include "output/pictures.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -8,10 +8,11 @@
 #include "gpu/compute.h"
 #include "gpu/gpu_simulation.h"
 #include "gpu/layout.h"
-#include "host.h"
-#include "io/image.h"
+#include "io/host.h"
 #include "io/paths.h"
-#include "io/video.h"
+#include "output/async_writer.h"
+#include "output/image.h"
+#include "output/video.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
@@ -19,8 +20,8 @@ namespace aeroflock {
 
 namespace fs = std::filesystem;
 
-struct FrameOutput::Impl {
-  ImageOptions options;
+struct Pictures::Impl {
+  PictureOptions options;
   // A device of our own where the sim has none (the CPU reference), with a bird buffer.
   std::unique_ptr<gpu::Device> own_device;
   std::unique_ptr<gpu::Buffer> own_birds;
@@ -36,8 +37,10 @@ struct FrameOutput::Impl {
   bool png_written = false, video_written = false;
   uint64_t video_frames =
       0;  // written so far: frame k (from 0) shows simulated time (k + 1) / video_fps
+  // The PNGs' encoding and the video's frames, off the run's thread; last: it stops first.
+  std::unique_ptr<AsyncWriter> writer = std::make_unique<AsyncWriter>(AsyncWriter::Limits{});
 
-  Impl(const ImageOptions& o, Simulation& sim) : options(o) {
+  Impl(const PictureOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png", {".png"});
     if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
@@ -115,46 +118,59 @@ struct FrameOutput::Impl {
   }
 };
 
-FrameOutput::FrameOutput(const ImageOptions& options, Simulation& sim)
+Pictures::Pictures(const PictureOptions& options, Simulation& sim)
     : impl_(std::make_unique<Impl>(options, sim)) {}
 
-FrameOutput::~FrameOutput() = default;
+Pictures::~Pictures() = default;
 
-void FrameOutput::frame(Simulation& sim, uint64_t frames) {
+void Pictures::frame(Simulation& sim, uint64_t frames) {
   Impl& o = *impl_;
-  const uint64_t index = frames - 1;  // the frame's, from 0
+  if (o.writer->failed()) o.writer->finish();  // throws the writer's error: the run stops
+  const uint64_t index = frames - 1;           // the frame's, from 0
   const bool to_dir = !o.options.frames_dir.empty() && index % o.options.every == 0;
   // The video frames whose time has come (none, or several when --fps is above the frame rate).
   uint64_t due = 0;
   if (o.video)
     while (double(o.video_frames + due + 1) / o.video_fps <= sim.time() + 1e-9) ++due;
   if (!to_dir && due == 0) return;
-  const std::vector<uint8_t> pixels = o.render(sim);
+  auto pixels = std::make_shared<const std::vector<uint8_t>>(o.render(sim));
+  const uint32_t width = o.options.width, height = o.options.height;
   if (to_dir) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06llu.png",
                   (unsigned long long)(index / o.options.every));
-    write_png(fs::path(o.options.frames_dir) / name, o.options.width, o.options.height, pixels);
+    const fs::path path = fs::path(o.options.frames_dir) / name;
+    o.writer->push(pixels->size(),
+                   [path, width, height, pixels] { write_png(path, width, height, *pixels); });
     ++o.dir_frames;
   }
-  for (; due > 0; --due, ++o.video_frames) o.video->frame(pixels);
+  if (due > 0) {
+    o.writer->push(pixels->size(), [video = o.video.get(), due, pixels] {
+      for (uint64_t k = 0; k < due; ++k) video->frame(*pixels);
+    });
+    o.video_frames += due;
+  }
 }
 
-void FrameOutput::finish(Simulation& sim) {
+void Pictures::finish(Simulation& sim) {
   Impl& o = *impl_;
-  if (!o.options.png.empty()) {
-    write_png(o.options.png, o.options.width, o.options.height, o.render(sim));
-    o.png_written = true;
+  bool png = false;
+  if (!o.options.png.empty() && !o.writer->failed()) {
+    auto pixels = std::make_shared<const std::vector<uint8_t>>(o.render(sim));
+    o.writer->push(pixels->size(), [&o, pixels] {
+      write_png(o.options.png, o.options.width, o.options.height, *pixels);
+    });
+    png = true;
   }
-  if (o.video && o.video_frames == 0) o.video.reset();  // a run stopped before its first: no video
-  if (o.video) {
-    o.video->finish();
+  // Every picture written, then the video closed (a run stopped before its first frame: none).
+  o.writer->finish([&o] {
+    if (o.video && o.video_frames > 0) o.video->finish(), o.video_written = true;
     o.video.reset();
-    o.video_written = true;
-  }
+  });
+  o.png_written = png;
 }
 
-std::vector<std::string> FrameOutput::written() const {
+std::vector<std::string> Pictures::written() const {
   const Impl& o = *impl_;
   std::vector<std::string> lines;
   char line[512];
