@@ -15,18 +15,26 @@ case "${1:-}" in
   *) echo "usage: ./test.sh [--full]" >&2; exit 2 ;;
 esac
 
-tools/install-deps.sh
-cmake --preset release
-cmake --build --preset release
-ctest --preset quick -j 2
+# Each stage's wall time, from the start, on stderr: what docs/TESTING.md's budgets are held to.
+start=$SECONDS
+stage() {
+  "$@"
+  local t=$((SECONDS - start))
+  printf '[test.sh] %-40s done at %d:%02d\n' "$*" $((t / 60)) $((t % 60)) >&2
+}
+
+stage tools/install-deps.sh
+stage cmake --preset release
+stage cmake --build --preset release
+stage ctest --preset quick -j 2
 $full || exit 0
 
-ctest --preset validate -j 2
+stage ctest --preset validate -j 2
 
-cmake --preset asan
-cmake --build --preset asan
-ctest --preset asan -j 2
+stage cmake --preset asan
+stage cmake --build --preset asan
+stage ctest --preset asan -j 2
 
-cmake --preset fuzz
-cmake --build --preset fuzz
-ctest --preset fuzz
+stage cmake --preset fuzz
+stage cmake --build --preset fuzz
+stage ctest --preset fuzz
