@@ -1,0 +1,46 @@
+// engine/model/body.cpp in float (model.glsl).
+
+vec3 rotate_back(vec4 q, vec3 v) { return rotate(vec4(-q.xyz, q.w), v); }
+vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
+
+// eq. 14 for a quaternion: q + dt/2 q (omega, 0), renormalised.
+vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
+  precise vec4 dq = vec4(q.w * omega + cross(q.xyz, omega), -dot(q.xyz, omega));
+  precise vec4 r = q + (0.5 * dt) * dq;
+  return normalize(r);
+}
+
+// eq. 15, h no less than the body box's half height (body.cpp: ground_effect_floor)
+float ground_effect_force(GpuSpecies s, float height) {
+  return height > 0.0 && height < s.wing_length
+             ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b)
+             : 0.0;
+}
+
+float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
+float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
+
+vec4 facing(vec3 head);
+vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
+
+// Level, facing the horizontal direction h of `head` (body.cpp: facing, level_attitude): the turn
+// about the vertical from +x to h, as the half-way quaternion.
+vec4 facing(vec3 head) {
+  float n = length(head.xz);
+  if (!(n > 0.0)) return vec4(0.0, 0.0, 0.0, 1.0);  // head straight up or down: facing +x
+  float hx = head.x / n, hz = head.z / n;
+  float w = hx >= 0.0 ? 1.0 + hx : abs(hz);
+  float y = hx >= 0.0 ? -hz : (hz < 0.0 ? 1.0 - hx : hx - 1.0);
+  return vec4(0.0, y, 0.0, w) / length(vec2(w, y));
+}
+
+void come_to_rest(inout GpuBird b, vec3 at) {
+  b.position = at;
+  b.velocity = vec3(0.0);
+  b.omega = vec3(0.0);
+  b.attitude = level_attitude(b.attitude);
+  b.amplitude = 0.0;
+  b.tail_bend = 0.0;
+  b.tail_twist = 0.0;
+  b.mode_time = 0.0;
+}
