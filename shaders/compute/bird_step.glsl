@@ -24,7 +24,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   vec3 wind = step_wind;
-  c.steering = steer_towards(s, b.attitude, bank, b.position, b.velocity, goal, wind,
+  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind,
                              approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
@@ -36,23 +36,24 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
   float airspeed = length(b.velocity - wind);
   float air_climb = b.velocity.y - wind.y;
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
-  vec2 e = energy_errors(s, c.steering.height_error, airspeed, commanded);
-  c.energy_error = braking ? c.steering.height_error : e.x + spool_lead(s, b.amplitude, air_climb);
+  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded);
+  c.energy_error =
+      braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
     c.energy_error = min(c.energy_error, 0.0);                                         // step.cpp
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
-  c.balance = e.y;
+  c.balance = e.balance;
   float flare = braking && to_perch >= 0.0
                     ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
                     : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
-  float pitch_command =
-      on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
-      : braking ? flare_pitch(s, b.pitch_trim, flare)
-                : commanded_pitch(s, b.pitch_trim, e.y, b.position.y - ground, goal.y - ground);
-  vec2 p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
-  c.bend = p.x;
-  c.sweep = p.y;
+  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
+                        : braking ? flare_pitch(s, b.pitch_trim, flare)
+                                  : commanded_pitch(s, b.pitch_trim, e.balance,
+                                                    b.position.y - ground, goal.y - ground);
+  PitchControl p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
+  c.bend = p.bend;
+  c.sweep = p.sweep;
 
   c.omega = b.omega;
   c.circling = false;
@@ -81,7 +82,7 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
     world_rate.y = -turn_rate;
     c.omega = rotate_back(b.attitude, world_rate);
   }
-  c.omega.x = roll_for_bank(s, b.attitude, c.omega, bank, bank_cmd);
+  c.omega.x = roll_for_bank(s, b.attitude, c.omega, bank_cmd);
   return c;
 }
 
@@ -105,12 +106,11 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
       f.wing[2 * side + i] = vec4(rotate(b.attitude, force), 0.0);
     }
   }
-  vec3 tail_position, tail_chord, tail_normal;
-  tail_geometry(s, b.tail_bend, b.tail_twist, tail_position, tail_chord, tail_normal);
-  precise vec3 tail_air = body_air - cross(c.omega, tail_position);
+  TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
+  precise vec3 tail_air = body_air - cross(c.omega, tg.position);
   vec3 tail =
-      aerodynamic_force(s, tail_air, tail_chord, tail_normal, s.tail_area_per_radian * c.opening);
-  vec3 tail_torque = cross(tail_position, tail);  // eq. 11
+      aerodynamic_force(s, tail_air, tg.chord, tg.normal, s.tail_area_per_radian * c.opening);
+  vec3 tail_torque = cross(tg.position, tail);  // eq. 11
   f.tail = vec4(rotate(b.attitude, tail), 0.0);
   f.tail_torque = vec4(tail_torque, 0.0);
   f.torque = vec4(torque + tail_torque, 0.0);

@@ -1,9 +1,16 @@
 // engine/model/control.cpp in float (model.glsl).
 
+// control.h: Steering, Energy, PitchControl.
 struct Steering {
   float heading_error, heading_error_ahead, height_error;
-  float aim_speed;  // |crab_aim| (control.h)
+  float aim_speed;  // |crab_aim|
   float air_speed;  // horizontal, through the air
+};
+struct Energy {
+  float total, balance;
+};
+struct PitchControl {
+  float bend, sweep;
 };
 
 float sign_outside(float x, float band) { return x > band ? 1.0 : (x < -band ? -1.0 : 0.0); }
@@ -21,9 +28,11 @@ float steer_share(GpuSpecies s, float heading_error) {
   return clamp(heading_error / s.steer_full_error, -1.0, 1.0);
 }
 
-vec2 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
-  float len = length(to_goal.xz);
-  return len == 0.0 ? vec2(0.0) : to_goal.xz * (ground_speed / len) - wind.xz;
+vec3 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
+  vec3 way = horizontal(to_goal);
+  float len = length(way);
+  if (len == 0.0) return way;
+  return way * (ground_speed / len) - horizontal(wind);
 }
 
 float approach_speed(GpuSpecies s, float to_branch) {
@@ -33,23 +42,17 @@ float approach_speed(GpuSpecies s, float to_branch) {
              sqrt(s.touchdown_speed * s.touchdown_speed + 2.0 * s.brake_decel * room));
 }
 
-Steering steer_towards(GpuSpecies s, vec4 attitude, float bank, vec3 position, vec3 velocity,
-                       vec3 goal, vec3 wind, float ground_speed, bool by_course) {
-  // Braking: the course through the air, or the head's direction when the bird barely moves through
-  // it.
+Steering steer_towards(GpuSpecies s, vec4 attitude, vec3 position, vec3 velocity, vec3 goal,
+                       vec3 wind, float ground_speed, bool by_course) {
   vec3 air = velocity - wind;
-  Steering st;
-  st.air_speed = length(air.xz);
-  vec3 head = by_course && st.air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
+  float air_speed = length(air.xz);
+  vec3 head = by_course && air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
-  vec2 aim = crab_aim(to_goal, wind, ground_speed);
-  st.heading_error = atan_p(-head.z * aim.x + head.x * aim.y, head.x * aim.x + head.z * aim.y);
-  float turn_rate = st.air_speed > 1.0 ? kGravity * tan_p(bank) / st.air_speed
-                                       : 0.0;  // as the bank (control.cpp)
-  st.heading_error_ahead = st.heading_error - s.heading_lead * turn_rate;
-  st.height_error = to_goal.y - s.height_lead * velocity.y;
-  st.aim_speed = length(aim);
-  return st;
+  vec3 aim = crab_aim(to_goal, wind, ground_speed);
+  float heading_error = atan_p(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
+  float turn_rate = air_speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / air_speed : 0.0;
+  return Steering(heading_error, heading_error - s.heading_lead * turn_rate,
+                  to_goal.y - s.height_lead * velocity.y, length(aim), air_speed);
 }
 
 float rate_step(float value, float lo, float hi, float rate, float dy, float dt) {
@@ -62,13 +65,12 @@ float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_b
   return clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
-// x: the total energy error, y: the balance, cm.
-vec2 energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
+Energy energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
   precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
   float height_share =
       clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
-  return vec2(height_error + deficit,
-              height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
+  return Energy(height_error + deficit,
+                height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
 }
 
 float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
@@ -102,12 +104,11 @@ float flare_pitch(GpuSpecies s, float pitch_trim, float share) {
   return clamp(pitch_trim + (s.brake_pitch - pitch_trim) * share, s.pitch_min, s.brake_pitch);
 }
 
-// x: the tail bend, y: the sweep.
-vec2 pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
+PitchControl pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
   float error = pitch_command - pitch - s.pitch_damping * rate;
   float beyond = error - clamp(error, -s.pitch_band, s.pitch_band);
-  return vec2(clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max),
-              clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max));
+  return PitchControl(clamp(s.pitch_gain * beyond, -s.bend_max, s.bend_max),
+                      clamp(s.sweep_gain * error, -s.sweep_max, s.sweep_max));
 }
 
 float pitch_rate(vec4 attitude, vec3 omega) {
@@ -120,8 +121,8 @@ float bank_rate(vec4 attitude, vec3 omega) {
   return -cross(rotate(attitude, omega), right).y / sqrt(max(1.0 - right.y * right.y, 1e-6));
 }
 
-float roll_for_bank(GpuSpecies s, vec4 attitude, vec3 omega, float bank, float bank_command) {
-  float wanted = (bank_command - bank) / s.bank_time;
+float roll_for_bank(GpuSpecies s, vec4 attitude, vec3 omega, float bank_command) {
+  float wanted = (bank_command - bank_angle(attitude)) / s.bank_time;
   float per_roll = bank_rate(attitude, vec3(1, 0, 0));
   float roll = abs(per_roll) > 0.1
                    ? (wanted - bank_rate(attitude, vec3(0.0, omega.y, omega.z))) / per_roll
