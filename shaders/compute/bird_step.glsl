@@ -28,9 +28,8 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
                              approach_speed(s, to_perch), braking);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
-  c.twist = steer_share(s, fixed_rate ? c.steering.heading_error : c.steering.heading_error_ahead) *
-            s.rot_max;
-  c.twist = clamp(c.twist, min(0.0, -s.tail_roll_max - bank), max(0.0, s.tail_roll_max - bank));
+  c.twist = clamp(tail_twist_command(s, c.steering, fixed_rate), min(0.0, -s.tail_roll_max - bank),
+                  max(0.0, s.tail_roll_max - bank));
   c.opening = tail_opening(s, b);
 
   float airspeed = length(b.velocity - wind);
@@ -91,29 +90,21 @@ Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_co
 GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
-  WingPoint right[2];
-  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right[0], right[1]);
-  // The aerodynamic forces are summed in the body frame and turned to the world once.
+  WingForces wings =
+      wing_forces(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_air, c.omega);
+  for (int i = 0; i < 4; ++i) f.wing[i] = vec4(rotate(b.attitude, wings.force[i]), 0.0);
+  // The aerodynamic forces are summed in the body frame, in wing_forces' order, and turned to the
+  // world once.
   precise vec3 body_force = vec3(0.0);
-  precise vec3 torque = vec3(0.0);
-  for (int i = 0; i < 2; ++i) {
-    for (int side = 0; side < 2; ++side) {
-      WingPoint p = side == 0 ? right[i] : mirror_to_left(right[i]);
-      precise vec3 air = body_air - cross(c.omega, p.position) - p.velocity;
-      vec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
-      body_force += force;
-      torque += cross(p.position, force);
-      f.wing[2 * side + i] = vec4(rotate(b.attitude, force), 0.0);
-    }
-  }
+  for (int i = 0; i < 2; ++i)
+    for (int side = 0; side < 2; ++side) body_force += wings.force[2 * side + i];
   TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   precise vec3 tail_air = body_air - cross(c.omega, tg.position);
-  vec3 tail =
-      aerodynamic_force(s, tail_air, tg.chord, tg.normal, s.tail_area_per_radian * c.opening);
+  vec3 tail = aerodynamic_force(s, tail_air, tg.chord, tg.normal, tail_area(s, c.opening));
   vec3 tail_torque = cross(tg.position, tail);  // eq. 11
   f.tail = vec4(rotate(b.attitude, tail), 0.0);
   f.tail_torque = vec4(tail_torque, 0.0);
-  f.torque = vec4(torque + tail_torque, 0.0);
+  f.torque = vec4(wings.torque + tail_torque, 0.0);
   f.gravity = vec4(0.0, -s.mass * kGravity, 0.0, 0.0);
   f.ground = vec4(0.0);
   f.legs = vec4(0.0);
@@ -207,8 +198,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   bool on_legs = b.mode == mode_taking_off;
   precise vec3 position = b.position + b.velocity * dt;
   precise vec3 velocity = b.velocity + f.total.xyz / s.mass * dt;
-  precise vec3 omega =
-      c.omega + f.torque.xyz * vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z) * dt;
+  precise vec3 omega = c.omega + angular_acceleration(box_inertia(s), f.torque.xyz) * dt;
   b.position = position;
   b.velocity = velocity;
   b.attitude = integrate_attitude(b.attitude, c.omega, dt);
@@ -216,10 +206,8 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   if (on_legs) stand_on_legs(b, s, dt);
 
   b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
-  b.frequency =
-      on_legs ? s.f_max : rate_step(b.frequency, s.f_min, s.f_max, s.K_f, c.energy_error, dt);
-  b.amplitude =
-      on_legs ? s.amp_max : rate_step(b.amplitude, s.amp_min, s.amp_max, s.K_a, c.energy_error, dt);
+  b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
+  b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
   if (!on_legs)
     b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min,
                          s.pitch_max);

@@ -10,10 +10,24 @@ vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
   return normalize(r);
 }
 
-// eq. 15, h no less than the body box's half height (body.cpp: ground_effect_floor)
-float ground_effect_force(GpuSpecies s, float height) {
+// species.h: Inertia and species.cpp: box_inertia (eq. 12), held inverted (layout.cpp).
+struct Inertia {
+  vec3 inverse;
+};
+Inertia box_inertia(GpuSpecies s) {
+  return Inertia(vec3(s.inv_inertia_x, s.inv_inertia_y, s.inv_inertia_z));
+}
+
+vec3 angular_acceleration(Inertia inertia, vec3 torque) {
+  precise vec3 a = torque * inertia.inverse;
+  return a;
+}
+
+float ground_effect_floor(GpuSpecies s) { return 0.5 * s.box_b; }
+
+float ground_effect_force(GpuSpecies s, float height) {  // eq. 15
   return height > 0.0 && height < s.wing_length
-             ? s.ground_k * kGravity * s.mass / max(height, 0.5 * s.box_b)
+             ? s.ground_k * kGravity * s.mass / max(height, ground_effect_floor(s))
              : 0.0;
 }
 

@@ -59,6 +59,18 @@ float rate_step(float value, float lo, float hi, float rate, float dy, float dt)
   return clamp(value + sign(dy) * rate * dt, lo, hi);
 }
 
+float frequency_step(GpuSpecies s, float frequency, float dy, float dt) {  // eq. 4
+  return rate_step(frequency, s.f_min, s.f_max, s.K_f, dy, dt);
+}
+
+float amplitude_step(GpuSpecies s, float amplitude, float dy, float dt) {  // eq. 5
+  return rate_step(amplitude, s.amp_min, s.amp_max, s.K_a, dy, dt);
+}
+
+float tail_twist_command(GpuSpecies s, Steering st, bool fixed_rate) {
+  return steer_share(s, fixed_rate ? st.heading_error : st.heading_error_ahead) * s.rot_max;
+}
+
 float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_branch) {
   if (to_branch) return clamp(aim_speed, s.min_speed, s.max_speed);
   if (command > 0.0) return clamp(command, s.min_speed, s.max_speed);

@@ -26,6 +26,9 @@ Leg load_leg(GpuBird b, uint targets_from) {
   return l;
 }
 
+// The branch the route has brought the bird to, as GpuRoute::branch: its index + 1, 0: none.
+uint route_branch(GpuBird b, Leg leg) { return b.target < leg.route.count ? 0u : leg.route.branch; }
+
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);
 
 bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
@@ -125,16 +128,21 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
 // (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
 vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
-  if (leg.route.branch == 0u || b.target < leg.route.count || b.landing_stage == stage_gate)
-    return vec4(0.0, 0.0, 0.0, -1.0);
-  vec3 way = perch_point(b, s, leg.route.branch - 1u) - b.position;
+  uint br = route_branch(b, leg);
+  if (br == 0u || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
+  vec3 way = perch_point(b, s, br - 1u) - b.position;
   return vec4(way, length(way));
 }
 
+bool braking_due(GpuSpecies s, GpuBird b, vec3 to_perch, vec3 wind, float distance) {
+  return flare_share(s, length(b.velocity - wind), perch_airspeed(s, to_perch, wind), distance) >=
+         kBrakeShare;
+}
+
 bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
-  GpuRoute r = leg.route;
-  if (r.branch == 0u || b.target < r.count) return false;
-  uint branch = r.branch - 1u;
+  uint br = route_branch(b, leg);
+  if (br == 0u) return false;
+  uint branch = br - 1u;
   vec3 to_perch = perch_point(b, s, branch) - b.position;
   float d = length(to_perch);
   if (d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed) {
@@ -147,9 +155,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
     b.mode_time = 0.0;
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
-             (d <= s.brake_distance ||
-              flare_share(s, length(b.velocity - step_wind), perch_airspeed(s, to_perch, step_wind),
-                          d) >= kBrakeShare)) {
+             (d <= s.brake_distance || braking_due(s, b, to_perch, step_wind, d))) {
     b.mode = mode_landing;
     b.mode_time = 0.0;
   }

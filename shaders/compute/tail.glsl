@@ -1,5 +1,8 @@
 // engine/model/tail.cpp in float (eqs. 9, 10; model.glsl); tail_opening is in bird.glsl.
 
+// eq. 9 in radians: lr^2 / 2 phi (layout.cpp: tail_area_per_radian).
+float tail_area(GpuSpecies s, float opening) { return s.tail_area_per_radian * opening; }
+
 struct TailGeometry {
   vec3 position, chord, normal;
 };

@@ -22,7 +22,7 @@ void feather(vec3 fx, vec3 fy, float angle, out vec3 chord, out vec3 normal) {
 }
 
 void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep,
-                       float incidence, out WingPoint arm, out WingPoint hand) {
+                       float incidence, out WingPoint points[2]) {
   WingAngles w = wing_angles(s, phase, amp, sweep, incidence);
   float phase_rate = 2.0 * kPi * frequency;
   float leadlag_rate = s.C_leadlag * w.cos_phase * phase_rate;
@@ -39,17 +39,17 @@ void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, fl
 
   vec3 shoulder = vec3(s.shoulder_x, 0.0, s.shoulder_z);
   vec3 wrist = shoulder + az * s.arm_length;
-  arm.position = shoulder + az * (0.5 * s.arm_length);
-  hand.position = wrist + hz * (0.5 * s.hand_length);
+  points[0].position = shoulder + az * (0.5 * s.arm_length);
+  points[1].position = wrist + hz * (0.5 * s.hand_length);
   vec3 omega_shoulder = vec3(0.0, leadlag_rate, 0.0) - sx * flap_arm_rate;
   vec3 omega_wrist = -ax * flap_hand_rate;
-  arm.velocity = cross(omega_shoulder, arm.position - shoulder);
-  hand.velocity =
-      cross(omega_shoulder, hand.position - shoulder) + cross(omega_wrist, hand.position - wrist);
-  feather(ax, ay, w.feather_arm, arm.chord, arm.normal);
-  feather(hx, hy, w.feather_arm + w.feather_hand, hand.chord, hand.normal);
-  arm.area = s.arm_area;
-  hand.area = s.hand_area;
+  points[0].velocity = cross(omega_shoulder, points[0].position - shoulder);
+  points[1].velocity = cross(omega_shoulder, points[1].position - shoulder) +
+                       cross(omega_wrist, points[1].position - wrist);
+  feather(ax, ay, w.feather_arm, points[0].chord, points[0].normal);
+  feather(hx, hy, w.feather_arm + w.feather_hand, points[1].chord, points[1].normal);
+  points[0].area = s.arm_area;
+  points[1].area = s.hand_area;
 }
 
 WingPoint mirror_to_left(WingPoint p) {
