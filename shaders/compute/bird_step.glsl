@@ -12,20 +12,23 @@ struct Commands {
   bool circling;  // the goal lies inside the full-bank circle (step.cpp)
 };
 
-Commands control(GpuBird b, GpuSpecies s, vec3 goal, vec4 way, float airspeed_command) {
-  float to_perch = way.w;
+// step.cpp's World is pc, step_wind and the bird's route: the route alone, not its Leg, which
+// made glslang's precise propagation blow up (docs/ARCHITECTURE.md).
+Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command) {
   float ground = pc.wind_ground.w + s.stand_height;
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   if (braking) goal.y += kFlareAimAbove * s.perch_radius;
   bool fixed_rate = pc.turning == 1u && !braking;
-  Commands c;
-  float bank = bank_angle(b.attitude);
-  float pitch = pitch_angle(b.attitude);
+  vec4 way = way_to_perch(b, s, route);
+  float to_perch = way.w;  // -1: none
   vec3 wind = step_wind;
+  Commands c;
   c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind,
                              approach_speed(s, to_perch), braking);
+  float bank = bank_angle(b.attitude);
+  float pitch = pitch_angle(b.attitude);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
   c.twist = clamp(tail_twist_command(s, c.steering, fixed_rate), min(0.0, -s.tail_roll_max - bank),
@@ -186,13 +189,13 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     b.amplitude = s.amp_max;
   }
   vec3 goal = route_goal(b, s, leg);
-  if (approach_branch(b, s, leg)) return no_forces();
+  if (approach_branch(b, s, leg.route)) return no_forces();
   float airspeed_command = b.airspeed;
   if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal (step.cpp)
     goal = b.position + s.lookahead * seen.direction;
     airspeed_command = seen.airspeed;
   }
-  Commands c = control(b, s, goal, way_to_perch(b, s, leg), airspeed_command);
+  Commands c = control(b, s, leg.route, goal, airspeed_command);
   GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;

@@ -27,7 +27,7 @@ Leg load_leg(GpuBird b, uint targets_from) {
 }
 
 // The branch the route has brought the bird to, as GpuRoute::branch: its index + 1, 0: none.
-uint route_branch(GpuBird b, Leg leg) { return b.target < leg.route.count ? 0u : leg.route.branch; }
+uint route_branch(GpuBird b, GpuRoute r) { return b.target < r.count ? 0u : r.branch; }
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);
 
@@ -127,8 +127,8 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
 
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
 // (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
-vec4 way_to_perch(GpuBird b, GpuSpecies s, Leg leg) {
-  uint br = route_branch(b, leg);
+vec4 way_to_perch(GpuBird b, GpuSpecies s, GpuRoute r) {
+  uint br = route_branch(b, r);
   if (br == 0u || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
   vec3 way = perch_point(b, s, br - 1u) - b.position;
   return vec4(way, length(way));
@@ -139,8 +139,8 @@ bool braking_due(GpuSpecies s, GpuBird b, vec3 to_perch, vec3 wind, float distan
          kBrakeShare;
 }
 
-bool approach_branch(inout GpuBird b, GpuSpecies s, Leg leg) {
-  uint br = route_branch(b, leg);
+bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
+  uint br = route_branch(b, r);
   if (br == 0u) return false;
   uint branch = br - 1u;
   vec3 to_perch = perch_point(b, s, branch) - b.position;
