@@ -1,4 +1,5 @@
-// engine/model/aerodynamics.cpp in float (eqs. 1, 2; model.glsl).
+// engine/model/aerodynamics.cpp in float (eqs. 1, 2; model.glsl), function for function in its
+// order; the reasons are in the C++.
 
 struct Coefficients {
   float lift, drag;

@@ -1,4 +1,5 @@
-// engine/model/step.cpp in float (model.glsl).
+// engine/model/step.cpp in float (model.glsl), function for function in its order; the reasons
+// are in the C++.
 
 struct Commands {
   Steering steering;
@@ -9,14 +10,14 @@ struct Commands {
   float incidence;     // the arms' added incidence (braking)
   float opening;
   vec3 omega;
-  bool circling;  // the goal lies inside the full-bank circle (step.cpp)
+  bool circling;  // the goal lies inside the full-bank circle
 };
 
 // step.cpp's World is pc, step_wind and the bird's route: the route alone, not its Leg, which
 // made glslang's precise propagation blow up (docs/ARCHITECTURE.md).
 Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command) {
   float ground = pc.wind_ground.w + s.stand_height;
-  goal.y = max(goal.y, ground);  // no bird flies lower than it stands (step.cpp)
+  goal.y = max(goal.y, ground);  // no bird flies lower than it stands
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   if (braking) goal.y += kFlareAimAbove * s.perch_radius;
@@ -29,7 +30,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
                              approach_speed(s, to_perch), braking);
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
-  bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;  // step.cpp
+  bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
   if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
   c.twist = clamp(tail_twist_command(s, c.steering, fixed_rate), min(0.0, -s.tail_roll_max - bank),
                   max(0.0, s.tail_roll_max - bank));
@@ -42,14 +43,14 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   c.energy_error =
       braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
-    c.energy_error = min(c.energy_error, 0.0);                                         // step.cpp
-  if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);  // step.cpp
+    c.energy_error = min(c.energy_error, 0.0);
+  if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);
   c.balance = e.balance;
   float flare = braking && to_perch >= 0.0
                     ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
                     : 0.0;
   c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
-  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed (step.cpp)
+  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed
                         : braking ? flare_pitch(s, b.pitch_trim, flare)
                                   : commanded_pitch(s, b.pitch_trim, e.balance,
                                                     b.position.y - ground, goal.y - ground);
@@ -73,7 +74,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
     float circle = full_bank_radius(s, speed);
     c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed,
                                            goal.y - b.position.y, length(wind.xz));
-    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))  // step.cpp
+    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w),
@@ -169,9 +170,10 @@ bool all_finite(GpuBird b) {
       ;
 }
 
-// One step of dt from `time`; returns the step's forces (zero for a bird at rest or quarantined).
-// `seen`: its last perception (none seen: it flies its route alone). A step whose result is not
-// finite is undone by the caller (step.glsl), which quarantines the bird.
+// step.cpp's step_bird and advance: one step of dt from `time`; returns the step's forces (zero for
+// a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
+// alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
+// the bird.
 GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt,
                     GpuPerception seen) {
   if (b.mode == mode_quarantined) return no_forces();
@@ -182,7 +184,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   step_wind = wind_at(b.position.y);
   if (b.mode == mode_standing) {
     vec3 wind = step_wind;
-    if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // step.cpp
+    if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // into the wind
     b.mode = mode_taking_off;
     b.mode_time = 0.0;
     b.frequency = s.f_max;
@@ -191,7 +193,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg.route)) return no_forces();
   float airspeed_command = b.airspeed;
-  if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal (step.cpp)
+  if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal
     goal = b.position + s.lookahead * seen.direction;
     airspeed_command = seen.airspeed;
   }
@@ -223,7 +225,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     b.mode = mode_flying;
     b.mode_time = 0.0;
   }
-  // The ground is solid: touch down, stand, take off again when rested (step.cpp).
+  // The ground is solid: touch down, stand, take off again when rested.
   float ground = pc.wind_ground.w;
   if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));

@@ -1,7 +1,9 @@
-// engine/model/body.cpp in float (model.glsl).
+// engine/model/body.cpp in float (model.glsl), function for function in its order; the reasons
+// are in the C++. heading_attitude is the host's (setting birds up).
 
+// glm::conjugate(q) * v: from the world to the body frame.
 vec3 rotate_back(vec4 q, vec3 v) { return rotate(vec4(-q.xyz, q.w), v); }
-vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }
+vec3 horizontal(vec3 v) { return vec3(v.x, 0.0, v.z); }  // body.h
 
 // eq. 14 for a quaternion: q + dt/2 q (omega, 0), renormalised.
 vec4 integrate_attitude(vec4 q, vec3 omega, float dt) {
@@ -34,11 +36,9 @@ float ground_effect_force(GpuSpecies s, float height) {  // eq. 15
 float bank_angle(vec4 q) { return asin_p(clamp(-rotate(q, vec3(0, 0, 1)).y, -1.0, 1.0)); }
 float pitch_angle(vec4 q) { return asin_p(clamp(rotate(q, vec3(1, 0, 0)).y, -1.0, 1.0)); }
 
-vec4 facing(vec3 head);
+vec4 facing(vec3 head);  // declared ahead (body.h)
 vec4 level_attitude(vec4 q) { return facing(rotate(q, vec3(1, 0, 0))); }
 
-// Level, facing the horizontal direction h of `head` (body.cpp: facing, level_attitude): the turn
-// about the vertical from +x to h, as the half-way quaternion.
 vec4 facing(vec3 head) {
   float n = length(head.xz);
   if (!(n > 0.0)) return vec4(0.0, 0.0, 0.0, 1.0);  // head straight up or down: facing +x

@@ -1,4 +1,5 @@
-// engine/model/control.cpp in float (model.glsl).
+// engine/model/control.cpp in float (model.glsl), function for function in its order; the
+// reasons are in the C++.
 
 // control.h: Steering, Energy, PitchControl.
 struct Steering {
@@ -15,7 +16,7 @@ struct PitchControl {
 
 float sign_outside(float x, float band) { return x > band ? 1.0 : (x < -band ? -1.0 : 0.0); }
 
-void turn_on(GpuSpecies s, float bank, inout Steering st) {  // control.cpp
+void turn_on(GpuSpecies s, float bank, inout Steering st) {
   if (abs(bank) <= 0.5 * s.bank_max || abs(st.heading_error) <= kBehind) return;
   float turn = bank > 0.0 ? 1.0 : -1.0;
   if (st.heading_error * turn > 0.0) return;
@@ -98,9 +99,7 @@ float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float heigh
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
 
-bool heeds_wind(GpuSpecies s, float speed) {
-  return speed > kTouchdownAim * s.touchdown_speed;
-}  // control.cpp
+bool heeds_wind(GpuSpecies s, float speed) { return speed > kTouchdownAim * s.touchdown_speed; }
 
 float perch_airspeed(GpuSpecies s, vec3 to_perch, vec3 wind) {
   return length(crab_aim(to_perch, wind, kTouchdownAim * s.touchdown_speed));
@@ -153,11 +152,11 @@ float full_bank_radius(GpuSpecies s, float speed) {
 
 bool circles_goal(float heading_error, float distance, float radius, float speed, float rise,
                   float wind) {
-  if (2.0 * kPi * wind >= speed) return false;  // control.cpp
+  if (2.0 * kPi * wind >= speed) return false;
   return abs(rise) < kLevelGoal * distance && distance < 2.0 * radius * abs(sin_p(heading_error));
 }
 
-float coordinated_bank(GpuSpecies s, float turn_rate, float speed);
+float coordinated_bank(GpuSpecies s, float turn_rate, float speed);  // declared ahead (control.h)
 float heading_bank(GpuSpecies s, float heading_error, float distance, float speed) {
   if (abs(heading_error) <= s.dead_band) return 0.0;
   if (abs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;

@@ -1,4 +1,6 @@
-// engine/model/route.cpp in float (model.glsl).
+// engine/model/route.cpp in float (model.glsl), function for function in its order; the reasons
+// are in the C++. Where C++ is handed the World, these are handed the bird's route (GpuRoute) or
+// its Leg, and read the branches from their buffer.
 
 // What a bird's route asks of it now: the route and its current (or, past the end, last)
 // target, loaded from the buffers when the target changes (targets only move between frames).
@@ -29,7 +31,7 @@ Leg load_leg(GpuBird b, uint targets_from) {
 // The branch the route has brought the bird to, as GpuRoute::branch: its index + 1, 0: none.
 uint route_branch(GpuBird b, GpuRoute r) { return b.target < r.count ? 0u : r.branch; }
 
-vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);
+vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);  // declared ahead (route.h)
 
 bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
   return heeds_wind(s, abs(dot(wind, across)));
@@ -39,17 +41,16 @@ vec3 landing_gate(GpuSpecies s, vec3 across, vec3 q2, float side) {
   return q2 + across * (side * kGateApproaches * s.approach_distance);
 }
 
-// Moving away from the branch horizontally, out of perch_radius (route.cpp).
 bool flown_past(GpuBird b, GpuSpecies s, vec3 to_perch) {
   return dot(to_perch.xz, b.velocity.xz) <= 0.0 && length(to_perch.xz) > s.perch_radius;
 }
 
-// Sunk under the perch and still sinking fast (route.cpp).
 bool sunk_under(GpuBird b, GpuSpecies s, vec3 to_perch) {
   return to_perch.y > kSunkPerchRadii * s.perch_radius &&
          b.velocity.y < -kSunkTouchdowns * s.touchdown_speed;
 }
 
+// landing_goal's place_curve.
 void place_curve(inout GpuBird b, uint branch, vec3 q2) {
   b.landing_start = b.position;
   b.via_point = landing_point(b.position, rotate(b.attitude, vec3(1, 0, 0)), q2,
@@ -62,7 +63,7 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   vec3 direction = branches[branch].direction.xyz;
   vec3 across = vec3(-direction.z, 0.0, direction.x);
   bool windward = into_wind(s, across, wind);
-  float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;  // route.cpp
+  float side = dot(windward ? wind : b.position - q2, across) < 0.0 ? -1.0 : 1.0;
   vec3 track = horizontal(b.velocity), inward = horizontal(q2 - b.position);
   if (b.landing_stage == stage_none) {
     place_curve(b, branch, q2);
@@ -91,7 +92,7 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
   b.landing_progress = landing_progress(b.landing_start, b.via_point, q2, b.landing_progress,
                                         b.position, s.approach_distance);
   vec3 on_curve = landing_curve(b.landing_start, b.via_point, q2, b.landing_progress);
-  return vec3(on_curve.x, q2.y, on_curve.z);  // at the perch's height (route.cpp)
+  return vec3(on_curve.x, q2.y, on_curve.z);  // at the perch's height
 }
 
 void perch(inout GpuBird b, GpuSpecies s, uint branch) {
@@ -100,6 +101,7 @@ void perch(inout GpuBird b, GpuSpecies s, uint branch) {
   b.targets_reached += 1u;
 }
 
+// From the bird's tile (host_device.h: tile_shift).
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
   GpuBranch br = branches[branch];
   return br.point.xyz + tile_shift(br.tile_x, br.tile_z, b.tile_x, b.tile_z) +
@@ -126,7 +128,7 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
 }
 
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
-// (on its way to the landing gate too), or without a branch (route.cpp: way_to_perch).
+// (on its way to the landing gate too), or without a branch.
 vec4 way_to_perch(GpuBird b, GpuSpecies s, GpuRoute r) {
   uint br = route_branch(b, r);
   if (br == 0u || b.landing_stage == stage_gate) return vec4(0.0, 0.0, 0.0, -1.0);
@@ -149,7 +151,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
     perch(b, s, branch);
     return true;
   }
-  bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally (route.cpp)
+  bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally
   if (b.mode == mode_landing && (flown_past(b, s, to_perch) || sunk_under(b, s, to_perch))) {
     b.mode = mode_flying;
     b.mode_time = 0.0;

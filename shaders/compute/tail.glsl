@@ -1,4 +1,6 @@
-// engine/model/tail.cpp in float (eqs. 9, 10; model.glsl); tail_opening is in bird.glsl.
+// engine/model/tail.cpp in float (eqs. 9, 10; model.glsl), function for function in its order;
+// the reasons are in the C++. tail_opening is in bird.glsl (drawing needs it too), open_tail is
+// GpuSpecies::open_tail (layout.cpp).
 
 // eq. 9 in radians: lr^2 / 2 phi (layout.cpp: tail_area_per_radian).
 float tail_area(GpuSpecies s, float opening) { return s.tail_area_per_radian * opening; }

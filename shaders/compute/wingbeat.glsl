@@ -1,4 +1,5 @@
-// engine/model/wingbeat.cpp in float (model.glsl); wingbeat_angles is in bird.glsl.
+// engine/model/wingbeat.cpp in float (model.glsl), function for function in its order; the
+// reasons are in the C++. wingbeat_angles is in bird.glsl (drawing needs it too).
 
 struct WingPoint {
   vec3 position, velocity, chord, normal;

@@ -1,5 +1,6 @@
-// engine/model/world.cpp in float: the wind (model.glsl). The world's targets, routes and branches
-// are the buffers (buffers.glsl); the rest of World is the push constants `pc`.
+// engine/model/world.cpp in float (model.glsl): the wind. The world's targets, routes and branches
+// are the buffers (buffers.glsl), the rest of World the push constants `pc`; target_position is
+// the host's (World::move_targets, between frames).
 
 // At world height y: pc.wind_ground.xyz at pc.wind_height above the ground, by the profile.
 vec3 wind_at(float y) {
