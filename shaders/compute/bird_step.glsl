@@ -8,9 +8,9 @@ struct Commands {
   float bend, twist;   // where the tail moves to
   float sweep;         // where the wings' sweep moves to
   float incidence;     // the arms' added incidence (braking)
-  float opening;
-  vec3 omega;
-  bool circling;  // the goal lies inside the full-bank circle
+  float opening;       // the tail's, eq. 10
+  vec3 omega;          // the body rates this step, with the controller's kinematic ones
+  bool circling;       // the goal lies inside the full-bank circle
 };
 
 // step.cpp's World is pc, step_wind and the bird's route: the route alone, not its Leg, which
@@ -97,11 +97,13 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   WingForces wings =
       wing_forces(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_air, c.omega);
   for (int i = 0; i < 4; ++i) f.wing[i] = vec4(rotate(b.attitude, wings.force[i]), 0.0);
-  // The aerodynamic forces are summed in the body frame, in wing_forces' order, and turned to the
-  // world once.
+  // The aerodynamic forces are summed in the body frame, in wing_forces' order (the arms, then
+  // the hands), and turned to the world once.
   precise vec3 body_force = vec3(0.0);
-  for (int i = 0; i < 2; ++i)
-    for (int side = 0; side < 2; ++side) body_force += wings.force[2 * side + i];
+  body_force += wings.force[0];
+  body_force += wings.force[2];
+  body_force += wings.force[1];
+  body_force += wings.force[3];
   TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   precise vec3 tail_air = body_air - cross(c.omega, tg.position);
   vec3 tail = aerodynamic_force(s, tail_air, tg.chord, tg.normal, tail_area(s, c.opening));
