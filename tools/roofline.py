@@ -38,7 +38,7 @@ INTEGER = re.compile(r"Op(IAdd|ISub|IMul|UDiv|UMod|SDiv|Bitwise|ShiftLeft|ShiftR
 NOT_IN_FLIGHT = {"landing_goal", "landing_progress", "landing_curve", "landing_point", "landing_gate", "place_curve",
                  "perch", "perch_point", "come_to_rest", "stand_on_legs", "flown_past", "sunk_under", "into_wind",
                  "facing", "level_attitude", "flare_share", "flare_pitch", "perch_airspeed", "heeds_wind",
-                 "approach_branch", "way_to_perch"}
+                 "approach_branch", "way_to_perch", "braking_due"}
 FUNCTION = re.compile(r"^(?:[A-Za-z_]\w*\s+)+([A-Za-z_]\w*)\s*\(")
 
 

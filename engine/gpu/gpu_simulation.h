@@ -22,7 +22,7 @@ inline constexpr uint32_t kFramesPerSubmission = 16;
 // The most steps one dispatch of step.comp takes: a longer frame is split into several (step.glsl),
 // which step exactly as one. Lavapipe ends every loop of a shader once its loops together have
 // come round 65,535 times (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one count for a group of
-// invocations run as one): the step loop and the landing curve's search (model.glsl:
+// invocations run as one): the step loop and the landing curve's search (control.glsl:
 // landing_progress; run masked even where no bird lands) take 2 a step, so a frame's 32,769th
 // step and every one after were silently never taken; a bird's landing adds at most 128 turns
 // of the search. 4,096 steps (8,192 turns) leave room for dozens of landings a dispatch, and keep

@@ -34,7 +34,7 @@ struct BirdState {
 };
 
 // Whether every number of a state is finite: a step whose result is not is undone and the bird
-// quarantined (step.cpp; model.glsl's all_finite is the same for the compute shaders).
+// quarantined (step.cpp; bird_step.glsl's all_finite is the same for the compute shaders).
 inline bool finite_number(double v) { return std::isfinite(v); }
 inline bool finite_number(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);

@@ -59,15 +59,16 @@ vec3 rotate(vec4 q, vec3 v) {
 
 // --- Wingbeat joint angles (wingbeat.cpp) ----------------------------------------------------
 
-struct WingAngles {
+// wingbeat.h's, with the sines and cosines of the phases, which right_wing_points uses again.
+struct WingbeatAngles {
   float sin_phase, cos_phase, sin_hand_phase, cos_hand_phase;
   float flap_arm, flap_hand, feather_arm, feather_hand, leadlag;  // rad
 };
 
 // The right wing's joint angles at wingbeat phase `phase`, amplitude `amp`, mean lead-lag `sweep`
 // and the arm's added incidence (docs/MODEL.md; wingbeat.cpp).
-WingAngles wing_angles(GpuSpecies s, float phase, float amp, float sweep, float incidence) {
-  WingAngles w;
+WingbeatAngles wingbeat_angles(GpuSpecies s, float phase, float amp, float sweep, float incidence) {
+  WingbeatAngles w;
   vec2 p = sin_cos(phase), h = sin_cos(phase - s.lag_hand);
   w.sin_phase = p.x;
   w.cos_phase = p.y;

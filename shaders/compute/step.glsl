@@ -26,7 +26,7 @@ layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
 
 // Moves the bird into the tile its position is now over, by whole tiles (exact: host_device.h),
 // with the points it carries, once a frame: its offset stays within about half a tile. Not while
-// it lands: its curve's via point is compared with the perch point bit for bit (model.glsl).
+// it lands: its curve's via point is compared with the perch point bit for bit (route.glsl).
 void retile(inout GpuBird b) {
   vec2 tiles = round(b.position.xz / kTile);
   if (tiles == vec2(0.0) || b.landing_stage != stage_none) return;

@@ -63,8 +63,8 @@ void main() {
   store(i, 0u, attitude * mat3(s.box_a, 0, 0, 0, s.box_b, 0, 0, 0, s.box_b), vec3(0.0));
 
   // Wings: the model's joints (bird.glsl), folded along the body when perched or standing.
-  WingAngles w =
-      wing_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
+  WingbeatAngles w =
+      wingbeat_angles(s, b.phase, b.amplitude, b.sweep, 0.0);  // drawn without the brake incidence
   if (folded) {
     w.flap_arm = 0.0;
     w.flap_hand = 0.0;

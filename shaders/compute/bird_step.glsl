@@ -1,0 +1,239 @@
+// engine/model/step.cpp in float (model.glsl), function for function in its order; the reasons
+// are in the C++.
+
+struct Commands {
+  Steering steering;
+  float energy_error;  // what eqs. 4, 5 follow, cm
+  float balance;       // what the pitch trim integrates, cm
+  float bend, twist;   // where the tail moves to
+  float sweep;         // where the wings' sweep moves to
+  float incidence;     // the arms' added incidence (braking)
+  float opening;       // the tail's, eq. 10
+  vec3 omega;          // the body rates this step, with the controller's kinematic ones
+  bool circling;       // the goal lies inside the full-bank circle
+};
+
+// step.cpp's World is pc, step_wind and the bird's route: the route alone, not its Leg, which
+// made glslang's precise propagation blow up (docs/ARCHITECTURE.md).
+Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command) {
+  float ground = pc.wind_ground.w + s.stand_height;
+  goal.y = max(goal.y, ground);  // no bird flies lower than it stands
+  bool on_legs = b.mode == mode_taking_off;
+  bool braking = b.mode == mode_landing;
+  if (braking) goal.y += kFlareAimAbove * s.perch_radius;
+  bool fixed_rate = pc.turning == 1u && !braking;
+  vec4 way = way_to_perch(b, s, route);
+  float to_perch = way.w;  // -1: none
+  vec3 wind = step_wind;
+  Commands c;
+  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind,
+                             approach_speed(s, to_perch), braking);
+  float bank = bank_angle(b.attitude);
+  float pitch = pitch_angle(b.attitude);
+  bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
+  if (to_target && !fixed_rate) turn_on(s, bank, c.steering);
+  c.twist = clamp(tail_twist_command(s, c.steering, fixed_rate), min(0.0, -s.tail_roll_max - bank),
+                  max(0.0, s.tail_roll_max - bank));
+  c.opening = tail_opening(s, b);
+
+  float airspeed = length(b.velocity - wind);
+  float air_climb = b.velocity.y - wind.y;
+  float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
+  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded);
+  c.energy_error =
+      braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
+  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
+    c.energy_error = min(c.energy_error, 0.0);
+  if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);
+  c.balance = e.balance;
+  float flare = braking && to_perch >= 0.0
+                    ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
+                    : 0.0;
+  c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
+  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed
+                        : braking ? flare_pitch(s, b.pitch_trim, flare)
+                                  : commanded_pitch(s, b.pitch_trim, e.balance,
+                                                    b.position.y - ground, goal.y - ground);
+  PitchControl p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
+  c.bend = p.bend;
+  c.sweep = p.sweep;
+
+  c.omega = b.omega;
+  c.circling = false;
+  if (on_legs) {
+    c.omega = vec3(0.0);
+    return c;
+  }
+  float speed = c.steering.air_speed;  // a coordinated turn banks for the airspeed
+  float turn_rate = sign_outside(c.steering.heading_error, s.dead_band) * s.turn_rate;
+  float bank_cmd = 0.0;
+  if (fixed_rate)
+    bank_cmd = coordinated_bank(s, turn_rate, speed);
+  else {
+    float distance = length(goal.xz - b.position.xz);
+    float circle = full_bank_radius(s, speed);
+    c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed,
+                                           goal.y - b.position.y, length(wind.xz));
+    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
+      bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
+  }
+  float most = min(ground_bank(s, b.position.y - pc.wind_ground.w),
+                   recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed));
+  bank_cmd = clamp(bank_cmd, -most, most);
+  if (fixed_rate) {
+    vec3 world_rate = rotate(b.attitude, c.omega);
+    world_rate.y = -turn_rate;
+    c.omega = rotate_back(b.attitude, world_rate);
+  }
+  c.omega.x = roll_for_bank(s, b.attitude, c.omega, bank_cmd);
+  return c;
+}
+
+// The step's forces as GpuForces (host_device.h): world frame, torques in the body frame. Only
+// what is read survives compilation: the stepping loop keeps the total and the torque.
+GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
+  GpuForces f;
+  vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
+  WingForces wings =
+      wing_forces(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_air, c.omega);
+  for (int i = 0; i < 4; ++i) f.wing[i] = vec4(rotate(b.attitude, wings.force[i]), 0.0);
+  // The aerodynamic forces are summed in the body frame, in wing_forces' order (the arms, then
+  // the hands), and turned to the world once.
+  precise vec3 body_force = vec3(0.0);
+  body_force += wings.force[0];
+  body_force += wings.force[2];
+  body_force += wings.force[1];
+  body_force += wings.force[3];
+  TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
+  precise vec3 tail_air = body_air - cross(c.omega, tg.position);
+  vec3 tail = aerodynamic_force(s, tail_air, tg.chord, tg.normal, tail_area(s, c.opening));
+  vec3 tail_torque = cross(tg.position, tail);  // eq. 11
+  f.tail = vec4(rotate(b.attitude, tail), 0.0);
+  f.tail_torque = vec4(tail_torque, 0.0);
+  f.torque = vec4(wings.torque + tail_torque, 0.0);
+  f.gravity = vec4(0.0, -s.mass * kGravity, 0.0, 0.0);
+  f.ground = vec4(0.0);
+  f.legs = vec4(0.0);
+  precise vec3 total = rotate(b.attitude, body_force + tail);
+  total.y -= s.mass * kGravity;
+  if (pc.ground_effect != 0u) {
+    float ground = ground_effect_force(s, b.position.y - pc.wind_ground.w);
+    f.ground.y = ground;
+    total.y += ground;
+  }
+  if (b.mode == mode_taking_off && b.mode_time >= s.crouch_time &&
+      b.mode_time < s.crouch_time + s.leg_time) {
+    vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
+    vec3 legs = s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
+    f.legs = vec4(legs, 0.0);
+    total += legs;
+  }
+  f.total = vec4(total, 0.0);
+  return f;
+}
+
+void stand_on_legs(inout GpuBird b, GpuSpecies s, float dt) {
+  float crouch = min(b.mode_time / max(s.crouch_time, dt), 1.0);
+  float floor_y = pc.wind_ground.w + s.stand_height - s.crouch_depth * crouch;
+  if (b.mode_time < s.crouch_time) {
+    b.velocity = vec3(0.0);
+    b.position.y = floor_y;
+  }
+  if (b.position.y < floor_y) {
+    b.position.y = floor_y;
+    b.velocity.y = max(b.velocity.y, 0.0);
+    if (b.mode_time < s.crouch_time + s.leg_time) b.velocity.xz = vec2(0.0);
+  }
+  b.omega = vec3(0.0);
+}
+
+GpuForces no_forces() {
+  GpuForces f;
+  f.wing[0] = f.wing[1] = f.wing[2] = f.wing[3] = vec4(0.0);
+  f.tail = f.ground = f.legs = f.gravity = f.total = f.tail_torque = f.torque = vec4(0.0);
+  return f;
+}
+
+// Whether a bird takes part in its flock now (flock.cpp).
+bool flocks_now(GpuBird b) {
+  return b.flocking != 0u && b.mode == mode_flying && b.landing_stage == stage_none;
+}
+
+// Whether every number of a bird's state is finite (bird.h: all_finite).
+bool finite_number(float v) { return !isnan(v) && !isinf(v); }
+bool finite_number(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+bool finite_number(vec4 v) { return !any(isnan(v)) && !any(isinf(v)); }
+bool finite_number(uint v) { return true; }
+bool all_finite(GpuBird b) {
+  return true
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&finite_number(b.name)
+#include "model/bird_state.def"
+#undef AF_BIRD_FIELD
+      ;
+}
+
+// step.cpp's step_bird and advance: one step of dt from `time`; returns the step's forces (zero for
+// a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
+// alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
+// the bird.
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt,
+                    GpuPerception seen) {
+  if (b.mode == mode_quarantined) return no_forces();
+  if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
+    b.mode_time += dt;
+    return no_forces();
+  }
+  step_wind = wind_at(b.position.y);
+  if (b.mode == mode_standing) {
+    vec3 wind = step_wind;
+    if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // into the wind
+    b.mode = mode_taking_off;
+    b.mode_time = 0.0;
+    b.frequency = s.f_max;
+    b.amplitude = s.amp_max;
+  }
+  vec3 goal = route_goal(b, s, leg);
+  if (approach_branch(b, s, leg.route)) return no_forces();
+  float airspeed_command = b.airspeed;
+  if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal
+    goal = b.position + s.lookahead * seen.direction;
+    airspeed_command = seen.airspeed;
+  }
+  Commands c = control(b, s, leg.route, goal, airspeed_command);
+  GpuForces f = forces(b, s, c);
+
+  bool on_legs = b.mode == mode_taking_off;
+  precise vec3 position = b.position + b.velocity * dt;
+  precise vec3 velocity = b.velocity + f.total.xyz / s.mass * dt;
+  precise vec3 omega = c.omega + angular_acceleration(box_inertia(s), f.torque.xyz) * dt;
+  b.position = position;
+  b.velocity = velocity;
+  b.attitude = integrate_attitude(b.attitude, c.omega, dt);
+  b.omega = omega;
+  if (on_legs) stand_on_legs(b, s, dt);
+
+  b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
+  b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
+  if (!on_legs)
+    b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min,
+                         s.pitch_max);
+  b.tail_bend = approach(b.tail_bend, c.bend, s.tail_rate, dt);
+  b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
+  b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);
+  b.mode_time += dt;
+  b.circling = c.circling ? b.circling + dt : 0.0;
+  if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
+    b.mode = mode_flying;
+    b.mode_time = 0.0;
+  }
+  // The ground is solid: touch down, stand, take off again when rested.
+  float ground = pc.wind_ground.w;
+  if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
+    come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));
+    b.mode = mode_standing;
+    b.takeoff_time = time + dt + kRestAfterTouchdown;
+    b.landing_stage = stage_none;
+  }
+  return f;
+}

@@ -1,0 +1,64 @@
+// engine/model/wingbeat.cpp in float (model.glsl), function for function in its order; the
+// reasons are in the C++. wingbeat_angles is in bird.glsl (drawing needs it too).
+
+struct WingPoint {
+  vec3 position, velocity, chord, normal;
+  float area;
+};
+
+// A frame as its three axes in body coordinates.
+struct Frame {
+  vec3 x, y, z;
+};
+
+Frame flap(Frame f, float angle) {
+  vec2 sc = sin_cos(angle);
+  float c = sc.y, s = sc.x;
+  return Frame(f.x, c * f.y - s * f.z, s * f.y + c * f.z);
+}
+
+void feather(Frame f, float angle, out vec3 chord, out vec3 normal) {
+  vec2 sc = sin_cos(angle);
+  float c = sc.y, s = sc.x;
+  chord = c * f.x - s * f.y;
+  normal = s * f.x + c * f.y;
+}
+
+void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, float sweep,
+                       float incidence, out WingPoint points[2]) {
+  WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, incidence);
+  float phase_rate = 2.0 * kPi * frequency;
+  float leadlag_rate = s.C_leadlag * a.cos_phase * phase_rate;
+  float flap_arm_rate = -amp * s.A_arm * a.sin_phase * phase_rate;
+  float flap_hand_rate = -amp * s.A_hand * a.sin_hand_phase * phase_rate;
+
+  vec2 l = sin_cos(a.leadlag);
+  float cl = l.y, sl = l.x;
+  // wingbeat.cpp's rotate_y of the body's x and z axes, written out.
+  Frame shoulder = Frame(vec3(cl, 0.0, -sl), vec3(0.0, 1.0, 0.0), vec3(sl, 0.0, cl));
+  Frame arm = flap(shoulder, a.flap_arm);
+  Frame hand = flap(arm, a.flap_hand);
+
+  vec3 shoulder_pos = vec3(s.shoulder_x, 0.0, s.shoulder_z);
+  vec3 wrist = shoulder_pos + arm.z * s.arm_length;
+  points[0].position = shoulder_pos + arm.z * (0.5 * s.arm_length);
+  points[1].position = wrist + hand.z * (0.5 * s.hand_length);
+  vec3 omega_shoulder = vec3(0.0, leadlag_rate, 0.0) - shoulder.x * flap_arm_rate;
+  vec3 omega_wrist = -arm.x * flap_hand_rate;
+  points[0].velocity = cross(omega_shoulder, points[0].position - shoulder_pos);
+  points[1].velocity = cross(omega_shoulder, points[1].position - shoulder_pos) +
+                       cross(omega_wrist, points[1].position - wrist);
+  feather(arm, a.feather_arm, points[0].chord, points[0].normal);
+  feather(hand, a.feather_arm + a.feather_hand, points[1].chord, points[1].normal);
+  points[0].area = s.arm_area;
+  points[1].area = s.hand_area;
+}
+
+WingPoint mirror_to_left(WingPoint p) {
+  vec3 m = vec3(1.0, 1.0, -1.0);
+  p.position *= m;
+  p.velocity *= m;
+  p.chord *= m;
+  p.normal *= m;
+  return p;
+}
