@@ -381,6 +381,28 @@ Steering steer_level(Species s, const dvec3& goal, double vy = 0.0, double bank 
                        false);
 }
 
+// track_aim (control.h): an air velocity of the airspeed given whose track (plus the wind) runs
+// along the way; a wind across at or above the airspeed is headed straight into.
+TEST(Steering, TrackAimHoldsTheTrackAtTheAirspeed) {
+  const dvec3 to_goal{3000.0, 500.0, 4000.0};  // along (0.6, 0, 0.8)
+  const dvec3 along{0.6, 0.0, 0.8};
+  EXPECT_NEAR(glm::distance(track_aim(to_goal, dvec3{0.0}, 1000.0), along * 1000.0), 0.0, 1e-9);
+  for (const dvec3 wind :
+       {dvec3{-400.0, 0.0, 300.0}, dvec3{500.0, 100.0, 100.0}, dvec3{-300.0, 0.0, -400.0}}) {
+    const dvec3 air = track_aim(to_goal, wind, 1000.0);
+    EXPECT_NEAR(glm::length(air), 1000.0, 1e-9);
+    const dvec3 ground = air + dvec3{wind.x, 0.0, wind.z};
+    EXPECT_NEAR(glm::length(glm::cross(ground, along)), 0.0, 1e-9) << "on the track";
+    EXPECT_GT(glm::dot(ground, along), 0.0) << "towards the goal";
+  }
+  // A pure crosswind (4 m/s across the way): the air velocity's cross part cancels it.
+  const dvec3 across = track_aim(to_goal, dvec3{-400.0, 0.0, 300.0}, 1000.0);
+  EXPECT_NEAR(glm::dot(across, dvec3{-0.8, 0.0, 0.6}), -500.0, 1e-9);
+  // 12 m/s across at 10 m/s through the air: into the wind, at the airspeed.
+  const dvec3 into = track_aim(to_goal, dvec3{-960.0, 0.0, 720.0}, 1000.0);
+  EXPECT_NEAR(glm::distance(into, dvec3{800.0, 0.0, -600.0}), 0.0, 1e-9);
+}
+
 TEST(Steering, HeadingErrorSign) {
   const Species s = starling();
   // goal at (1000, 0, 200): atan2(200, 1000) = 0.19739555984988075, on the right (+z)

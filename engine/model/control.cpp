@@ -38,6 +38,18 @@ dvec3 crab_aim(const dvec3& to_goal, const dvec3& wind, double ground_speed) {
   return way * (ground_speed / length) - horizontal(wind);
 }
 
+dvec3 track_aim(const dvec3& to_goal, const dvec3& wind, double airspeed) {
+  const dvec3 way = horizontal(to_goal);
+  const double length = glm::length(way);
+  if (length == 0.0 || airspeed <= 0.0) return -horizontal(wind);
+  const dvec3 along = way / length;
+  const dvec3 w = horizontal(wind);
+  const dvec3 across = w - along * glm::dot(along, w);
+  const double across_speed = glm::length(across);
+  if (across_speed >= airspeed) return across * (-airspeed / across_speed);
+  return along * std::sqrt(airspeed * airspeed - across_speed * across_speed) - across;
+}
+
 double approach_speed(const Species& s, double to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   const double room = std::max(0.0, to_branch - s.perch_radius);
@@ -57,9 +69,12 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
       by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
+  // Flying faster through the air than the crab asks, the bird holds its track at its airspeed.
+  const dvec3 head_for =
+      !by_course && air_speed > glm::length(aim) ? track_aim(to_goal, wind, air_speed) : aim;
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
-  const double heading_error =
-      std::atan2(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
+  const double heading_error = std::atan2(-head.z * head_for.x + head.x * head_for.z,
+                                          head.x * head_for.x + head.z * head_for.z);
   // The turn the bank is making, g tan(bank) / v, v the speed through the air (the bank's).
   const double turn_rate =
       air_speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / air_speed : 0.0;

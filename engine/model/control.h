@@ -15,8 +15,9 @@ double sign_outside(double x, double band);
 
 // heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
 // target on the right > 0; in a wind, to where the head must point for the bird to fly over the
-// ground towards the goal at `ground_speed` (crab_aim): it crabs. With `by_course` (braking) the
-// angle is from its course through the air instead of its head (kSteerAirspeed).
+// ground towards the goal at `ground_speed` (crab_aim), or, flying faster through the air than
+// that asks, along the way to it at its airspeed (track_aim): it crabs. With `by_course` (braking)
+// the angle is from its course through the air instead of its head (kSteerAirspeed).
 // heading_error_ahead: the same, less the turn the bank is making (g tan(bank) / v) over
 // heading_lead seconds; the tail twist steers by it, which damps the body's yaw. height_error: y_p
 // - y_i of eqs. 4, 5, with the bird's height predicted height_lead seconds ahead so that the height
@@ -41,6 +42,14 @@ void turn_on(const Species& s, double bank, Steering& st);
 // The horizontal air velocity that makes `ground_speed` over the ground towards the goal:
 // ground_speed along the way to it, less the wind (0 at the goal).
 glm::dvec3 crab_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double ground_speed);
+
+// The horizontal air velocity of `airspeed` whose track over the ground runs along the way to
+// the goal: it cancels the wind across the way and makes good what is left along it. A bird
+// faster through the air than crab_aim asks (a tailwind, a crosswind) heads where this points;
+// aiming by crab_aim it would point as far into the wind as the slower speed needs, and drift
+// upwind. A wind across the way at or above `airspeed` cannot be cancelled: it heads straight
+// into it. At the goal, or with no airspeed, crab_aim's.
+glm::dvec3 track_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double airspeed);
 
 // The ground speed the bird makes towards its goal: cruise_speed, or on the way to a branch
 // (`to_branch` cm from its perch, < 0: no branch ahead) no faster than it can brake to

@@ -36,6 +36,18 @@ vec3 crab_aim(vec3 to_goal, vec3 wind, float ground_speed) {
   return way * (ground_speed / len) - horizontal(wind);
 }
 
+vec3 track_aim(vec3 to_goal, vec3 wind, float airspeed) {
+  vec3 way = horizontal(to_goal);
+  float len = length(way);
+  if (len == 0.0 || airspeed <= 0.0) return -horizontal(wind);
+  vec3 along = way / len;
+  vec3 w = horizontal(wind);
+  vec3 across = w - along * dot(along, w);
+  float across_speed = length(across);
+  if (across_speed >= airspeed) return across * (-airspeed / across_speed);
+  return along * sqrt(airspeed * airspeed - across_speed * across_speed) - across;
+}
+
 float approach_speed(GpuSpecies s, float to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   float room = max(0.0, to_branch - s.perch_radius);
@@ -50,7 +62,9 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, vec3 position, vec3 velocity
   vec3 head = by_course && air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   vec3 aim = crab_aim(to_goal, wind, ground_speed);
-  float heading_error = atan_p(-head.z * aim.x + head.x * aim.z, head.x * aim.x + head.z * aim.z);
+  vec3 head_for = !by_course && air_speed > length(aim) ? track_aim(to_goal, wind, air_speed) : aim;
+  float heading_error =
+      atan_p(-head.z * head_for.x + head.x * head_for.z, head.x * head_for.x + head.z * head_for.z);
   float turn_rate = air_speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / air_speed : 0.0;
   return Steering(heading_error, heading_error - s.heading_lead * turn_rate,
                   to_goal.y - s.height_lead * velocity.y, length(aim), air_speed);
