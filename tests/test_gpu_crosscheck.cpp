@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <ostream>
 #include <random>
 #include <string>
 #include <string_view>
@@ -325,7 +326,16 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
 // Issue 10: the flight envelope judged on both backends gives the same outcomes: every fifth
 // flight of the grid up to 300 m away (216), every take-off (24) and every branch landing (48),
 // for each preset.
-class GpuEnvelope : public ::testing::TestWithParam<Species (*)()> {};
+// The envelope's sample at the paper's step and at the fast one (the issue 39 crab was checked
+// at both).
+struct EnvelopeRun {
+  Species (*preset)();
+  double dt;
+};
+void PrintTo(const EnvelopeRun& r, std::ostream* os) {
+  *os << r.preset().name << ", dt " << r.dt << " s";
+}
+class GpuEnvelope : public ::testing::TestWithParam<EnvelopeRun> {};
 
 TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
@@ -339,9 +349,10 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
                                     std::vector<BirdState> b) -> std::unique_ptr<Simulation> {
     return std::make_unique<gpu::GpuSimulation>(device, std::move(s), std::move(b));
   };
-  const Species sp = GetParam()();
-  const std::vector<EnvelopeResult> a = fly_envelope(sp, cases, cpu);
-  const std::vector<EnvelopeResult> b = fly_envelope(sp, cases, gpu);
+  const Species sp = GetParam().preset();
+  const double dt = GetParam().dt;
+  const std::vector<EnvelopeResult> a = fly_envelope(sp, cases, cpu, {}, dt);
+  const std::vector<EnvelopeResult> b = fly_envelope(sp, cases, gpu, {}, dt);
   size_t same = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     same += a[i].outcome == b[i].outcome;
@@ -352,8 +363,13 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Presets, GpuEnvelope, ::testing::Values(starling, eagle),
-                         [](const auto& info) { return info.param().name; });
+INSTANTIATE_TEST_SUITE_P(
+    Presets, GpuEnvelope,
+    ::testing::Values(EnvelopeRun{starling, kPaperDt}, EnvelopeRun{eagle, kPaperDt},
+                      EnvelopeRun{starling, kFastDt}, EnvelopeRun{eagle, kFastDt}),
+    [](const auto& info) {
+      return info.param.preset().name + (info.param.dt == kFastDt ? "_fast" : "");
+    });
 
 // Every built-in scenario for its first 2 simulated seconds on both backends, each bird on its
 // own: with flocking on, a float-sized difference flips which of two nearly equidistant birds is
