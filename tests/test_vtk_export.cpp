@@ -272,6 +272,25 @@ TEST(VtkExport, SelectedBirdsInTheOrderGiven) {
   EXPECT_EQ(traj->GetNumberOfPoints(), 2 * 4);
 }
 
+// --vtk-from (VtkOptions::from): nothing before that frame, the start neither; then it and every
+// `every`-th after it.
+TEST(VtkExport, StartsAtTheFrameAskedAndKeepsItsStride) {
+  VtkOptions options;
+  options.dir = fresh_dir("from");
+  options.from = 4;
+  options.every = 3;
+  Scenario scenario;
+  const std::vector<Saved> saved = run_and_export(options, 12, &scenario, false);
+  const std::vector<PvdEntry> pvd = read_pvd(options.dir / "flock.pvd");
+  ASSERT_EQ(pvd.size(), 3u);  // frames 4, 7 and 10
+  ASSERT_EQ(saved.size(), 3u);
+  const double frame = scenario.frame_seconds();
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(pvd[k].time, (4 + 3 * k) * frame, 1e-9) << k;
+    EXPECT_NEAR(saved[k].time, pvd[k].time, 1e-9) << k;
+  }
+}
+
 TEST(VtkExport, UncompressedAndASingleFrame) {
   VtkOptions options;
   options.dir = fresh_dir("single");

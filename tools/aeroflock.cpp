@@ -53,8 +53,9 @@ struct RunOptions {
   std::string summary;
   int threads = 0;
   PictureOptions images;
-  VtkOptions vtk;       // vtk.dir empty: no export
-  bool strict = false;  // the first bird quarantined (NaN) is an error
+  VtkOptions vtk;                  // vtk.dir empty: no export
+  std::optional<double> vtk_from;  // s: --vtk-from
+  bool strict = false;             // the first bird quarantined (NaN) is an error
 };
 
 // Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
@@ -215,7 +216,9 @@ int run(const RunOptions& opt) {
   std::unique_ptr<VtkExporter> vtk;
   if (!opt.vtk.dir.empty()) {
     sim->prepare_forces();  // the exported forces: a flock whose forces do not fit fails now
-    const VtkOptions& vo = opt.vtk;
+    VtkOptions vo = opt.vtk;
+    // --vtk-from: the first whole frame at or after that time (a long run's export starts late).
+    if (opt.vtk_from) vo.from = uint64_t(std::ceil(*opt.vtk_from / frame_seconds - 1e-9));
     try {
       vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
     } catch (const std::invalid_argument& e) {
@@ -337,6 +340,11 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
   cmd->add_option("--vtk-every", opt.vtk.every,
                   "With --vtk: every K-th frame besides the first and the last (default 1)")
       ->check(kCount)
+      ->needs(vtk);
+  cmd->add_option("--vtk-from", opt.vtk_from,
+                  "With --vtk: start the export at this simulated time in seconds (default 0: the "
+                  "start); then every --vtk-every-th frame, and the last")
+      ->check(kSeconds)
       ->needs(vtk);
   cmd->add_option("--vtk-birds", opt.vtk.birds,
                   "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")

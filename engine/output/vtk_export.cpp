@@ -557,7 +557,7 @@ struct VtkExporter::Writer {
 };
 
 VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, size_t bird_count)
-    : dir_(options.dir), every_(options.every), bird_count_(bird_count) {
+    : dir_(options.dir), every_(options.every), from_(options.from), bird_count_(bird_count) {
   if (options.every == 0) throw std::invalid_argument("VTK export: every must be >= 1");
   selected_ = select_birds(options.birds, bird_count);
   if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");

@@ -45,6 +45,7 @@ namespace aeroflock {
 struct VtkOptions {
   std::filesystem::path dir;
   uint32_t every = 1;         // export after every `every`-th frame (see VtkExporter::due)
+  uint64_t from = 0;          // the first frame exported (0: the start); none before it
   std::string birds = "all";  // see select_birds
   enum class Compression { none, lz4, zlib } compression = Compression::lz4;
   // The point data's reals (positions and times are double always).
@@ -87,8 +88,9 @@ class VtkExporter final : public RunObserver {
   VtkExporter& operator=(const VtkExporter&) = delete;
 
   // Whether frame number `frame` (Snapshot::frame: 0 the start, 1 after the first step) is one
-  // to export: the start and every `options.every`-th. Step those frames with record_forces.
-  bool due(uint64_t frame) const { return frame % every_ == 0; }
+  // to export: the start and every `options.every`-th; with `options.from`, that frame and every
+  // `every`-th after it. Step those frames with record_forces.
+  bool due(uint64_t frame) const { return frame >= from_ && (frame - from_) % every_ == 0; }
 
   // Queues the snapshot's selected birds for the writer when its frame is due and newer than the
   // last one queued (so that the newest ready snapshot can be offered after every frame, and the
@@ -150,6 +152,7 @@ class VtkExporter final : public RunObserver {
   void offer(const Snapshot& snapshot, bool due_or_not);
   std::filesystem::path dir_;
   uint32_t every_ = 1;
+  uint64_t from_ = 0;
   std::vector<uint32_t> selected_;
   size_t bird_count_ = 0;
   size_t frames_added_ = 0;
