@@ -279,25 +279,23 @@ void StepOption::apply(Scenario& s) const {
   if (const auto v = value()) set_dt(s, *v);
 }
 
-std::string word_list(const std::vector<std::string>& words, const char* last_join) {
-  const bool commas = std::string(last_join) != ",";
+std::string word_list(const std::vector<std::string>& words, const char* between,
+                      const char* before_last) {
   std::string out;
-  for (size_t i = 0; i < words.size(); ++i) {
-    if (i > 0) out += i + 1 == words.size() ? last_join : (commas ? ", " : ",");
-    out += words[i];
-  }
+  for (size_t i = 0; i < words.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == words.size() ? before_last : between) + words[i];
   return out;
 }
 
 CLI::Validator one_of(const std::vector<std::string>& words) {
-  const std::string expected = "expected " + word_list(words, " or ");
+  const std::string expected = "expected " + word_list(words, ", ", " or ");
   return CLI::Validator(
       [words, expected](std::string& text) -> std::string {
         return std::find(words.begin(), words.end(), text) != words.end()
                    ? ""
                    : expected + ", got " + text;
       },
-      "{" + word_list(words, ",") + "}");
+      "{" + word_list(words, ",", ",") + "}");
 }
 
 std::string unknown_command(const CLI::App& app, const std::string& word) {

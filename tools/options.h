@@ -39,13 +39,15 @@ extern const CLI::Validator kSeconds;   // a flight's duration, at most kMaxDura
 // numbers, and names them in its message).
 template <class Enum>
 using Names = std::vector<std::pair<std::string, Enum>>;
-std::string word_list(const std::vector<std::string>& words, const char* last_join);
+// "a, b or c" (between ", ", before_last " or "); "a,b,c".
+std::string word_list(const std::vector<std::string>& words, const char* between,
+                      const char* before_last);
 template <class Enum>
 CLI::Option* add_choice(CLI::App* app, const std::string& name, Enum& value,
                         const Names<Enum>& names, const std::string& help) {
   std::vector<std::string> words;
   for (const auto& [word, e] : names) words.push_back(word);
-  const std::string expected = "expected " + word_list(words, " or ");
+  const std::string expected = "expected " + word_list(words, ", ", " or ");
   CLI::Validator checked(
       [names, expected](std::string& text) -> std::string {
         for (const auto& [word, e] : names)
@@ -58,7 +60,7 @@ CLI::Option* add_choice(CLI::App* app, const std::string& name, Enum& value,
       "");
   return app->add_option(name, value, help)
       ->transform(checked)
-      ->option_text("{" + word_list(words, ",") + "}");
+      ->option_text("{" + word_list(words, ",", ",") + "}");
 }
 // The word for `value` ("?" for none).
 template <class Enum>

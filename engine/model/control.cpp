@@ -70,8 +70,9 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
   // Flying faster through the air than the crab asks, the bird holds its track at its airspeed.
+  const double aim_speed = glm::length(aim);
   const dvec3 head_for =
-      !by_course && air_speed > glm::length(aim) ? track_aim(to_goal, wind, air_speed) : aim;
+      !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double heading_error = std::atan2(-head.z * head_for.x + head.x * head_for.z,
                                           head.x * head_for.x + head.z * head_for.z);
@@ -79,7 +80,7 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const double turn_rate =
       air_speed > 1.0 ? kGravity * std::tan(bank_angle(attitude)) / air_speed : 0.0;
   return {heading_error, heading_error - s.heading_lead * turn_rate,
-          to_goal.y - s.height_lead * velocity.y, glm::length(aim), air_speed};
+          to_goal.y - s.height_lead * velocity.y, aim_speed, air_speed};
 }
 
 namespace {

@@ -62,12 +62,13 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, vec3 position, vec3 velocity
   vec3 head = by_course && air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   vec3 aim = crab_aim(to_goal, wind, ground_speed);
-  vec3 head_for = !by_course && air_speed > length(aim) ? track_aim(to_goal, wind, air_speed) : aim;
+  float aim_speed = length(aim);
+  vec3 head_for = !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
   float heading_error =
       atan_p(-head.z * head_for.x + head.x * head_for.z, head.x * head_for.x + head.z * head_for.z);
   float turn_rate = air_speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / air_speed : 0.0;
   return Steering(heading_error, heading_error - s.heading_lead * turn_rate,
-                  to_goal.y - s.height_lead * velocity.y, length(aim), air_speed);
+                  to_goal.y - s.height_lead * velocity.y, aim_speed, air_speed);
 }
 
 float rate_step(float value, float lo, float hi, float rate, float dy, float dt) {
