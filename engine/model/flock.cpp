@@ -82,6 +82,11 @@ uint32_t reaction_frames(const Species& s, double frame_seconds) {
   return static_cast<uint32_t>(std::max(1.0, std::floor(s.reaction_time / frame_seconds + 0.5)));
 }
 
+double cohesion_pull(const Species& s, const dvec3& cohesion, const dvec3& ahead) {
+  const double weights = s.w_route + s.w_alignment + s.w_cohesion;
+  return weights > 0.0 ? s.cruise_speed * s.w_cohesion * glm::dot(cohesion, ahead) / weights : 0.0;
+}
+
 Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_goal,
                        std::span<const uint32_t> seen, const std::vector<BirdState>& birds) {
   Perception p;
@@ -118,8 +123,10 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
   const double faster = faster_sum / double(seen.size());
-  p.airspeed = std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster,
-                          s.min_speed, s.max_speed);
+  const double pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
+  p.airspeed =
+      std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
+                 s.min_speed, s.max_speed);
   return p;
 }
 

@@ -38,6 +38,13 @@ bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
 // reaction_time and the frame's length.
 uint32_t reaction_frames(const Species& s, double frame_seconds);
 
+// The airspeed (cm/s) by which the cohesion pulls a bird flying along `ahead` (unit) towards
+// `cohesion` (unit): cruise_speed w_cohesion (cohesion . ahead) / (w_route + w_alignment +
+// w_cohesion). Steering turns the bird across its flight as far as the cohesion tilts u(d); along
+// its flight only the airspeed can act, so the pull asks the same of it (docs/MODEL.md
+// "Flocking": without it a flock stretches along its flight over hours).
+double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dvec3& ahead);
+
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index): the desired direction d of docs/MODEL.md from separation (fall-off (1 - distance /
 // separation_radius)^2), alignment, cohesion and the route
@@ -46,7 +53,8 @@ uint32_t reaction_frames(const Species& s, double frame_seconds);
 // separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
 // nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
 // how much faster they fly along its flight, on average (a damper: neighbours match speeds before
-// they pass one another); within [min_speed, max_speed].
+// they pass one another), plus the cohesion's pull (cohesion_pull); within [min_speed,
+// max_speed].
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& route_goal,
                        std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
 

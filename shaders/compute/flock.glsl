@@ -134,6 +134,12 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   return blocked;
 }
 
+// flock.cpp: cohesion_pull.
+float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
+  float weights = s.w_route + s.w_alignment + s.w_cohesion;
+  return weights > 0.0 ? s.cruise_speed * s.w_cohesion * dot(cohesion, ahead) / weights : 0.0;
+}
+
 // The social goal from the birds found (flock.cpp: social_goal).
 GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   GpuPerception p = GpuPerception(vec3(0.0), 0.0, near_count, 0.0, 0u, 0u);
@@ -169,7 +175,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   float faster = faster_sum / float(near_count);
-  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster,
+  float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
+  p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                      s.min_speed, s.max_speed);
   return p;
 }
