@@ -50,6 +50,16 @@ dvec3 track_aim(const dvec3& to_goal, const dvec3& wind, double airspeed) {
   return along * std::sqrt(airspeed * airspeed - across_speed * across_speed) - across;
 }
 
+dvec3 compensated_aim(const dvec3& to_goal, const dvec3& aim, double compensation) {
+  const dvec3 way = horizontal(to_goal);
+  if (compensation >= 1.0 || glm::length(way) == 0.0 || glm::length(aim) == 0.0) return aim;
+  // Turned from the way by the share of the crab angle, in the x-z plane (y up).
+  const double crab = std::atan2(way.x * aim.z - way.z * aim.x, way.x * aim.x + way.z * aim.z);
+  const double a = compensation * crab;
+  return dvec3{way.x * std::cos(a) - way.z * std::sin(a), 0.0,
+               way.x * std::sin(a) + way.z * std::cos(a)};
+}
+
 double approach_speed(const Species& s, double to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   const double room = std::max(0.0, to_branch - s.perch_radius);
@@ -71,8 +81,9 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
   // Flying faster through the air than the crab asks, the bird holds its track at its airspeed.
   const double aim_speed = glm::length(aim);
-  const dvec3 head_for =
-      !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
+  dvec3 head_for = !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
+  // Towards a branch it holds its track in full, lest it be blown off it.
+  if (!by_course) head_for = compensated_aim(to_goal, head_for, s.drift_compensation);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double heading_error = std::atan2(-head.z * head_for.x + head.x * head_for.z,
                                           head.x * head_for.x + head.z * head_for.z);

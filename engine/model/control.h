@@ -51,6 +51,11 @@ glm::dvec3 crab_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double gr
 // into it. At the goal, or with no airspeed, crab_aim's.
 glm::dvec3 track_aim(const glm::dvec3& to_goal, const glm::dvec3& wind, double airspeed);
 
+// A bird that compensates for the wind's drift by `compensation` (drift_compensation: 0 none, 1
+// in full) heads that share of the way from the goal's bearing to `aim` (the heading that holds
+// its track): the crab angle times the compensation (Chapman et al. 2011). Either zero: `aim`.
+glm::dvec3 compensated_aim(const glm::dvec3& to_goal, const glm::dvec3& aim, double compensation);
+
 // The ground speed the bird makes towards its goal: cruise_speed, or on the way to a branch
 // (`to_branch` cm from its perch, < 0: no branch ahead) no faster than it can brake to
 // touchdown_speed at brake_decel by perch_radius.

@@ -48,6 +48,15 @@ vec3 track_aim(vec3 to_goal, vec3 wind, float airspeed) {
   return along * sqrt(airspeed * airspeed - across_speed * across_speed) - across;
 }
 
+// control.cpp: compensated_aim.
+vec3 compensated_aim(vec3 to_goal, vec3 aim, float compensation) {
+  vec3 way = horizontal(to_goal);
+  if (compensation >= 1.0 || length(way) == 0.0 || length(aim) == 0.0) return aim;
+  float crab = atan_p(way.x * aim.z - way.z * aim.x, way.x * aim.x + way.z * aim.z);
+  float a = compensation * crab;
+  return vec3(way.x * cos_p(a) - way.z * sin_p(a), 0.0, way.x * sin_p(a) + way.z * cos_p(a));
+}
+
 float approach_speed(GpuSpecies s, float to_branch) {
   if (to_branch < 0.0) return s.cruise_speed;
   float room = max(0.0, to_branch - s.perch_radius);
@@ -64,6 +73,7 @@ Steering steer_towards(GpuSpecies s, vec4 attitude, vec3 position, vec3 velocity
   vec3 aim = crab_aim(to_goal, wind, ground_speed);
   float aim_speed = length(aim);
   vec3 head_for = !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
+  if (!by_course) head_for = compensated_aim(to_goal, head_for, s.drift_compensation);
   float heading_error =
       atan_p(-head.z * head_for.x + head.x * head_for.z, head.x * head_for.x + head.z * head_for.z);
   float turn_rate = air_speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / air_speed : 0.0;
