@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "model/route.h"
+
 namespace aeroflock {
 
 Progress::Progress() : enabled_(::isatty(STDERR_FILENO) == 1) {}
@@ -58,10 +60,14 @@ double Pace::rate() const {
 }
 
 std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt,
-                         double pace) {
-  char text[192];
+                         double pace, std::optional<double> to_go) {
+  char text[224];
   int n = std::snprintf(text, sizeof text, "t = %.2f / %.2f s (%.0f %%)   %zu birds", sim_seconds,
                         total_seconds, 100.0 * sim_seconds / total_seconds, birds);
+  if (to_go)
+    n += std::snprintf(text + n, sizeof text - size_t(n),
+                       *to_go >= 1e5 ? "   %.1f km to go" : "   %.0f m to go",
+                       *to_go >= 1e5 ? *to_go / 1e5 : *to_go / 100.0);
   if (pace > 0.0)
     std::snprintf(text + n, sizeof text - size_t(n),
                   "   %.3gx real time   %.3g bird-steps/s   %s left", pace,
@@ -70,6 +76,17 @@ std::string run_progress(double sim_seconds, double total_seconds, size_t birds,
                       ? "< 1 s"
                       : human_duration((total_seconds - sim_seconds) / pace).c_str());
   return text;
+}
+
+std::optional<double> mean_distance_to_go(const std::vector<BirdState>& birds, const World& w) {
+  double sum = 0.0;
+  size_t counted = 0;
+  for (const BirdState& b : birds) {
+    if (b.mode == FlightMode::quarantined) continue;
+    if (const std::optional<double> d = distance_to_go(b, w)) sum += *d, ++counted;
+  }
+  if (counted == 0) return std::nullopt;
+  return sum / double(counted);
 }
 
 void RunProgress::start(Simulation&) {
@@ -86,14 +103,20 @@ void RunProgress::frame(Simulation& sim, uint64_t) {
   // What the device has finished, not merely what was submitted to it.
   const double done = double(sim.ready_frame()) * sim.scenario().frame_seconds();
   pace_.add(wall(), done);
-  progress_.show(
-      run_progress(done, total_seconds_, sim.bird_count(), sim.scenario().dt, pace_.rate()));
+  // Reading the birds costs a pass over all of them: once a second is enough for a distance.
+  const auto now = std::chrono::steady_clock::now();
+  if (now - to_go_read_ >= std::chrono::seconds(1)) {
+    to_go_read_ = now;
+    to_go_ = mean_distance_to_go(*sim.ready_snapshot().birds, sim.world());
+  }
+  progress_.show(run_progress(done, total_seconds_, sim.bird_count(), sim.scenario().dt,
+                              pace_.rate(), to_go_));
 }
 
 void RunProgress::finish(Simulation& sim) {
   pace_.add(wall(), sim.time());
-  progress_.show(
-      run_progress(sim.time(), total_seconds_, sim.bird_count(), sim.scenario().dt, pace_.rate()));
+  progress_.show(run_progress(sim.time(), total_seconds_, sim.bird_count(), sim.scenario().dt,
+                              pace_.rate(), mean_distance_to_go(sim.birds(), sim.world())));
   progress_.finish();
 }
 

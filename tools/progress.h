@@ -4,10 +4,13 @@
 
 #include <chrono>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "model/bird.h"
+#include "model/world.h"
 #include "run/run_loop.h"
 
 namespace aeroflock {
@@ -46,11 +49,16 @@ class Pace {
   std::vector<std::pair<double, double>> samples_;  // (wall, simulated), oldest first
 };
 
-// The run's line: simulated time of all (and the share done), the birds, and at `pace` (0: not
-// known yet) how fast against the wall clock (times real time, bird-steps per second) and the wall
-// time left.
+// The run's line: simulated time of all (and the share done), the birds, how far they still
+// have to go along their routes on average (`to_go`, cm; none where no route ends), and at `pace`
+// (0: not known yet) how fast against the wall clock (times real time, bird-steps per second) and
+// the wall time left.
 std::string run_progress(double sim_seconds, double total_seconds, size_t birds, double dt,
-                         double pace);
+                         double pace, std::optional<double> to_go = std::nullopt);
+
+// The birds' mean distance_to_go (cm) over those whose routes end and that are not quarantined;
+// none without such birds.
+std::optional<double> mean_distance_to_go(const std::vector<BirdState>& birds, const World& w);
 
 // The run's progress line as an observer (run/run_loop.h): run_progress at most five times a
 // second from the frames the device has finished, and the last line at the end.
@@ -65,6 +73,8 @@ class RunProgress final : public RunObserver {
  private:
   double wall() const;
   double total_seconds_;
+  std::optional<double> to_go_;  // cm, read from the birds at most once a second
+  std::chrono::steady_clock::time_point to_go_read_{};
   Progress progress_;
   Pace pace_;
   std::chrono::steady_clock::time_point start_{};

@@ -114,6 +114,21 @@ dvec3 perch_point(const Species& s, const Branch& branch) {
   return branch.point + dvec3{0.0, s.stand_height, 0.0};
 }
 
+std::optional<double> distance_to_go(const BirdState& b, const World& w) {
+  const Route& r = w.routes[b.route];
+  if (r.loop && r.branch < 0) return std::nullopt;
+  if (b.mode == FlightMode::perched) return 0.0;
+  double to_go = 0.0;
+  dvec3 from = b.position;
+  for (size_t k = b.target; k < r.targets.size(); ++k) {
+    const dvec3& next = w.target_now[r.targets[k]];
+    to_go += glm::length(next - from);
+    from = next;
+  }
+  if (r.branch >= 0) to_go += glm::length(w.branches[size_t(r.branch)].point - from);
+  return to_go;
+}
+
 // Entering a target's sphere passes it (paper 3.4); so does flying past it close by, so that a
 // sphere missed by a little does not trap the bird in an orbit around it. After the last target
 // of a route that neither loops nor lands, the bird keeps steering for that target.

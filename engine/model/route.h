@@ -22,6 +22,11 @@ std::optional<glm::dvec3> way_to_perch(const BirdState& b, const Species& s, con
 // way to the branch. Passes targets and places the landing curve as the bird goes.
 glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);
 
+// How far the bird still has to go along its route (cm): to its current target, then from target
+// to target (where they are now) to the last, and on to its branch; 0 once perched. None for a
+// route that loops without end.
+std::optional<double> distance_to_go(const BirdState& b, const World& w);
+
 // For a bird whose route has brought it to its branch: starts braking (the flare) within
 // brake_distance, or sooner where it must already brake at kBrakeShare of its full flare; goes
 // round when it overshoots (flown past, out of perch_radius) or has sunk under the branch still
