@@ -4,6 +4,7 @@
 // agree over 20 s.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -16,6 +17,7 @@
 #include "io/scenario_file.h"
 #include "model/body.h"
 #include "model/flock.h"
+#include "model/flock_geometry.h"
 #include "model/simulation.h"
 
 namespace aeroflock {
@@ -216,6 +218,39 @@ TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const Scenario scenario = load_scenario("default");
   gpu::GpuSimulation sim(device, scenario);
   testing::expect_flock_criteria(testing::fly_flock(sim, 0, 20.0, 80.0), scenario, 0);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// Issue 39: a migrating flock stays short along its flight and whole. Before the cohesion pulled
+// along the flight (cohesion_pull), these 300 starlings of `migration` stretched into a column, 63
+// m long at 120 s and 172 m at 600 s, and broke at 660 s; with it, 10-19 m long, one cluster to the
+// leg's end (docs/MODEL.md "Why p: a flock over hours").
+TEST(GpuFlock, AMigratingFlockStaysShortAlongItsFlightAndWhole) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = load_scenario("migration");
+  gpu::GpuSimulation sim(device, scenario, 300);
+  double longest = 0.0, smallest_cluster = 1.0;
+  for (int minute = 1; minute <= 10; ++minute) {
+    while (sim.time() < 60.0 * minute - 1e-9) sim.step_frames(100);
+    const std::vector<BirdState>& birds = sim.birds();
+    const FlockExtent e = flock_extent(birds);
+    ASSERT_EQ(e.finite, birds.size()) << "no NaN, no quarantine";
+    const glm::dvec3 along = glm::normalize(e.mean_velocity);
+    double front = -1e30, back = 1e30;
+    for (const BirdState& b : birds) {
+      const double x = glm::dot(b.position - e.centre, along);
+      front = std::max(front, x), back = std::min(back, x);
+    }
+    longest = std::max(longest, front - back);
+    smallest_cluster =
+        std::min(smallest_cluster, flock_metrics(birds, sim.scenario().species).largest_cluster);
+  }
+  RecordProperty("longest_along_flight_cm", std::to_string(longest));
+  RecordProperty("smallest_largest_cluster", std::to_string(smallest_cluster));
+  std::printf("longest along its flight %.1f m, smallest largest cluster %.3f\n", longest / 100.0,
+              smallest_cluster);
+  EXPECT_LE(longest, 4000.0) << "40 m";
+  EXPECT_GE(smallest_cluster, 0.95);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -252,6 +252,9 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
 // it; a barrier between each.
 void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c) {
   Flocking& f = *flocking_;
+  // The last frame's passes (several frames a submission) are done with the grid before it is
+  // cleared.
+  barrier_to_transfer(cmd);
   vkCmdFillBuffer(cmd, f.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, f.owners.handle(), 0, VK_WHOLE_SIZE, kNoBird);
   vkCmdFillBuffer(cmd, f.keys.handle(), 0, VK_WHOLE_SIZE, uint32_t(kNoFlock));  // every slot empty
