@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "body.h"
 #include "constants.h"
 #include "route.h"
 
@@ -82,6 +83,13 @@ uint32_t reaction_frames(const Species& s, double frame_seconds) {
   return static_cast<uint32_t>(std::max(1.0, std::floor(s.reaction_time / frame_seconds + 0.5)));
 }
 
+dvec3 route_direction(const Species& s, const dvec3& to_goal) {
+  const dvec3 way = horizontal(to_goal);
+  const double length = glm::length(way);
+  if (length <= s.height_capture) return unit_or_zero(to_goal);
+  return unit_or_zero(way * (s.height_capture / length) + dvec3{0.0, to_goal.y, 0.0});
+}
+
 double cohesion_pull(const Species& s, const dvec3& cohesion, const dvec3& ahead) {
   const double weights = s.w_route + s.w_alignment + s.w_cohesion;
   return weights > 0.0 ? s.cruise_speed * s.w_cohesion * glm::dot(cohesion, ahead) / weights : 0.0;
@@ -117,8 +125,8 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   }
   p.nearest = glm::length(birds[seen[0]].position - b.position);
   for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
-  const dvec3 d = s.w_route * unit_or_zero(route_goal - b.position) + s.w_separation * separation +
-                  s.w_alignment * unit_or_zero(heading_sum) +
+  const dvec3 d = s.w_route * route_direction(s, route_goal - b.position) +
+                  s.w_separation * separation + s.w_alignment * unit_or_zero(heading_sum) +
                   s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);

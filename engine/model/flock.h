@@ -38,6 +38,12 @@ bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
 // reaction_time and the frame's length.
 uint32_t reaction_frames(const Species& s, double frame_seconds);
 
+// The route's share of d for a bird `to_goal` (cm) from its route goal: towards the point
+// height_capture ahead on the way to it, at the goal's height (the goal itself when nearer). Far
+// from the goal, u(to_goal) alone has almost no vertical share: a flock's height was then held so
+// weakly that it wandered hundreds of metres off its route's (docs/MODEL.md "Flocking").
+glm::dvec3 route_direction(const Species& s, const glm::dvec3& to_goal);
+
 // The airspeed (cm/s) by which the cohesion pulls a bird flying along `ahead` (unit) towards
 // `cohesion` (unit): cruise_speed w_cohesion (cohesion . ahead) / (w_route + w_alignment +
 // w_cohesion). Steering turns the bird across its flight as far as the cohesion tilts u(d); along
@@ -48,9 +54,9 @@ double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dv
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index): the desired direction d of docs/MODEL.md from separation (fall-off (1 - distance /
 // separation_radius)^2), alignment, cohesion and the route
-// (towards `route_goal`), and the airspeed: cruise_speed plus speed_gain times how far the seen
-// birds are along its flight from where they would be at separation_radius (offset (1 -
-// separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
+// (towards `route_goal`: route_direction), and the airspeed: cruise_speed plus speed_gain times how
+// far the seen birds are along its flight from where they would be at separation_radius (offset (1
+// - separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
 // nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
 // how much faster they fly along its flight, on average (a damper: neighbours match speeds before
 // they pass one another), plus the cohesion's pull (cohesion_pull); within [min_speed,

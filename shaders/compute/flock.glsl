@@ -134,6 +134,14 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   return blocked;
 }
 
+// flock.cpp: route_direction.
+vec3 route_direction(GpuSpecies s, vec3 to_goal) {
+  vec3 way = horizontal(to_goal);
+  float len = length(way);
+  if (len <= s.height_capture) return unit_or_zero(to_goal);
+  return unit_or_zero(way * (s.height_capture / len) + vec3(0.0, to_goal.y, 0.0));
+}
+
 // flock.cpp: cohesion_pull.
 float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
   float weights = s.w_route + s.w_alignment + s.w_cohesion;
@@ -170,7 +178,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   }
   p.nearest = sqrt(near_d2[0]);
   for (uint e = 0u; e < near_count; ++e) p.seen_key += near_index[e] * kSeenKeyFactor;
-  vec3 d = s.w_route * unit_or_zero(route_goal - b.position) + s.w_separation * separation +
+  vec3 d = s.w_route * route_direction(s, route_goal - b.position) + s.w_separation * separation +
            s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
