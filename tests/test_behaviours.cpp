@@ -148,7 +148,7 @@ TEST_P(ClimbDescent, ReachesTheTargetWithFrequencyAndAmplitudeFollowingEqs4And5)
   RecordProperty("reached_at_s", std::to_string(reached_at));
   EXPECT_GT(reached_at, 0.0) << "the sphere " << c.above << " cm above is not entered";
   const double sign = c.above > 0 ? 1.0 : -1.0;
-  const double t = at_half_second.mode_time;  // flying since t = 0
+  const double t = mode_time(at_half_second, sim.scenario().dt);  // flying since t = 0
   EXPECT_NEAR(at_half_second.frequency,
               std::clamp(start.frequency + sign * sp.K_f * t, sp.f_min, sp.f_max), 0.05 * sp.K_f);
   EXPECT_NEAR(at_half_second.amplitude,
@@ -379,6 +379,7 @@ TEST(NanQuarantine, FreezesTheBirdAtItsLastFiniteStateWhileTheOtherFliesOn) {
   const Species& sp = species_of(sim, sim.birds()[1]);
   BirdState last = sim.birds()[1];
   double quarantined_in = -1.0;  // the start of the step that was not finite
+  uint64_t quarantined_step = 0;
   run_steps(sim, s.duration, [&](Simulation& x) {
     alone->step(1);
     const BirdState& b = x.birds()[1];
@@ -389,11 +390,14 @@ TEST(NanQuarantine, FreezesTheBirdAtItsLastFiniteStateWhileTheOtherFliesOn) {
       last = b;
       return;
     }
-    if (quarantined_in < 0.0) quarantined_in = x.time() - x.scenario().dt;
-    EXPECT_NEAR(b.quarantined_at, quarantined_in, 1e-5);  // the device's float time
+    if (quarantined_in < 0.0) {
+      quarantined_in = x.time() - x.scenario().dt;
+      quarantined_step = x.steps() - 1;
+    }
+    EXPECT_EQ(b.quarantined_step, quarantined_step);  // the step, exact on both backends
     BirdState frozen = last;
     frozen.mode = FlightMode::quarantined;
-    frozen.quarantined_at = b.quarantined_at;
+    frozen.quarantined_step = b.quarantined_step;
     ASSERT_TRUE(same_state(b, frozen))
         << "not frozen at its last finite state, at " << x.time() << " s";
   });
@@ -431,7 +435,7 @@ TEST(NanQuarantine, AFlockFliesOnFiniteAroundAQuarantinedBird) {
     const BirdState& b = x.birds()[5];
     if (!frozen) {
       ASSERT_EQ(b.mode, FlightMode::quarantined);
-      EXPECT_EQ(b.quarantined_at, 0.0);
+      EXPECT_EQ(b.quarantined_step, 0u);
       EXPECT_LT(glm::distance(b.position, spawned.position), 1e-3);
       EXPECT_LT(glm::distance(b.velocity, spawned.velocity), 1e-3);
       EXPECT_EQ(float(b.phase), float(spawned.phase));  // not stepped (the device keeps floats)

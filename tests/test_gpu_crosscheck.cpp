@@ -108,7 +108,7 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
         break;
       case 6:  // taking off: crouching or pushing
         b.mode = FlightMode::taking_off;
-        b.mode_time = in(0, sp.crouch_time + sp.leg_time);
+        b.mode_steps = uint32_t(in(0, sp.crouch_time + sp.leg_time) / s.dt);
         b.position.y = s.world.ground_height + sp.stand_height;
         b.velocity = dvec3{0.0};
         b.omega = dvec3{0.0};
@@ -126,14 +126,14 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
         b.landing_progress = in(0, 1);
         if (u(rng) < 0.5) {
           b.mode = FlightMode::landing;
-          b.mode_time = in(0, 2.0 * sp.bank_time);  // the brake incidence ramping in, or in full
+          b.mode_steps = uint32_t(in(0, 2.0 * sp.bank_time) / s.dt);  // the brake incidence ramping
         }
         break;
       }
       case 8:  // standing: waiting, or taking off within this step
         b.mode = FlightMode::standing;
-        b.takeoff_time = in(-s.dt, 2.0 * s.dt);
-        b.mode_time = in(0, 1);
+        b.rest_steps = whole_steps(in(-s.dt, 2.0 * s.dt), s.dt);  // 0, 1, 2: takes off now or rests
+        b.mode_steps = uint32_t(in(0, 1) / s.dt);
         b.position.y = s.world.ground_height + sp.stand_height;
         b.velocity = b.omega = dvec3{0.0};
         b.attitude = heading_attitude(heading);
@@ -141,7 +141,7 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
       case 9:  // perched on the branch
         b.route = 1;
         b.mode = FlightMode::perched;
-        b.mode_time = in(0, 1);
+        b.mode_steps = uint32_t(in(0, 1) / s.dt);
         b.position = perch_point(sp, br);
         b.velocity = b.omega = dvec3{0.0};
         b.attitude = heading_attitude(heading);
@@ -197,15 +197,15 @@ const std::map<std::string, double> kStateTolerance = {
     {"attitude", 1e-6},   // quaternion components
     {"omega", 2e-5},      // rad/s: the bank command divides an angle by bank_time 0.1 s
     {"amplitude", 1e-6},
-    {"tail_bend", 1e-6},         // rad
-    {"tail_twist", 1e-6},        // rad
-    {"sweep", 1e-6},             // rad
-    {"pitch_trim", 1e-6},        // rad
-    {"airspeed", 0},             // cm/s: a command, kept
-    {"mode_time", 1e-6},         // s
-    {"circling", 1e-6},          // s
-    {"quarantined_at", 1e-6},    // s
-    {"takeoff_time", 1e-6},      // s
+    {"tail_bend", 1e-6},   // rad
+    {"tail_twist", 1e-6},  // rad
+    {"sweep", 1e-6},       // rad
+    {"pitch_trim", 1e-6},  // rad
+    {"airspeed", 0},       // cm/s: a command, kept
+    {"mode_steps", 0},
+    {"circling", 1e-6},  // s
+    {"quarantined_step", 0},
+    {"rest_steps", 0},
     {"landing_start", 1e-3},     // cm: placed at the bird's position
     {"landing_progress", 1e-6},  // of the curve
     {"via_point", 0.05},         // cm: the middle of a curve tens of metres long, its crossing
@@ -219,6 +219,72 @@ const std::map<std::string, double> kStateTolerance = {
     {"flock", 0},
     {"flocking", 0},
 };
+
+// Issue 39: the device keeps time as whole steps (a bird's mode, its rest, the step of its
+// quarantine; the clock as a 64-bit step count), exact over days. Two starlings stand for a day and
+// take off at 86,400.0013 s; the second, of a species whose lift is NaN, is quarantined when its
+// legs stop holding it (crouch_time later). Both backends agree on the step of each to the step and
+// the time to the microsecond: the step whole_steps(86,400.0013 s, 2 ms), 43,200,001 (the first
+// whose start is not more than half a step before the take-off time). A float clock (before) counts
+// 86,400 s in its ulp of 7.8 ms, four steps of 2 ms.
+TEST(GpuClock, ATakeOffAndAQuarantineAfterADayHappenOnTheSameStep) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  Scenario s = parse_scenario(R"(
+[simulation]
+fidelity = "fast"
+duration = 90000.0
+[[targets]]
+name = "t"
+centre = [0.0, 3000.0, 100000.0]
+[[routes]]
+name = "r"
+targets = ["t"]
+[[flocks]]
+species = "starling"
+route = "r"
+count = 2
+centre = [0.0, 1000.0, 0.0]
+extent = [500.0, 0.0, 500.0]
+standing = true
+takeoff_time = 86400.0013
+)",
+                              "day.toml");
+  ASSERT_EQ(s.dt, 0.002);
+  std::vector<BirdState> birds = spawn_birds(s);
+  Species doomed = s.species[birds[1].species];
+  doomed.Cl_max = std::numeric_limits<double>::quiet_NaN();
+  birds[1].species = static_cast<uint32_t>(s.species.size());
+  s.species.push_back(doomed);
+  const uint64_t takeoff = 43200001;
+  ASSERT_EQ(birds[0].rest_steps, takeoff);
+  CpuSimulation cpu(s, birds);
+  gpu::GpuSimulation gpu(device, s, birds);
+  uint64_t took_off[2] = {0, 0};
+  for (Simulation* sim : {static_cast<Simulation*>(&cpu), static_cast<Simulation*>(&gpu)}) {
+    while (sim->steps() + 1000000 < takeoff - 10) sim->step(1000000);
+    sim->step(uint32_t(takeoff - 10 - sim->steps()));
+    while (sim->steps() < takeoff + 200) {
+      sim->step(1);
+      const std::vector<BirdState>& b = sim->birds();
+      if (b[0].mode != FlightMode::standing && took_off[sim == &gpu] == 0)
+        took_off[sim == &gpu] = sim->steps() - 1;  // the step it left the ground in
+    }
+  }
+  RecordProperty("take_off_step_cpu_vulkan",
+                 std::to_string(took_off[0]) + " " + std::to_string(took_off[1]));
+  EXPECT_EQ(took_off[0], takeoff);
+  EXPECT_EQ(took_off[1], takeoff);
+  const BirdState c = cpu.birds()[1], g = gpu.birds()[1];
+  ASSERT_EQ(c.mode, FlightMode::quarantined);
+  ASSERT_EQ(g.mode, FlightMode::quarantined);
+  RecordProperty("quarantined_step_cpu_vulkan",
+                 std::to_string(c.quarantined_step) + " " + std::to_string(g.quarantined_step));
+  EXPECT_GT(c.quarantined_step, takeoff);
+  EXPECT_EQ(g.quarantined_step, c.quarantined_step);
+  EXPECT_NEAR(double(g.quarantined_step) * s.dt, double(c.quarantined_step) * s.dt, 1e-6);
+  EXPECT_EQ(gpu.time(), cpu.time());
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
 
 TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
@@ -311,11 +377,11 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
         ASSERT_NE(tolerance, kStateTolerance.end()) << "no tolerance for the state field " << name;
         EXPECT_LE(worst, tolerance->second) << name;
         // Every field but the bird's species, route, flock and commanded airspeed changes in a step
-        // for some of these birds (the take-off time when a bird near the ground touches down).
-        // quarantined_at is the step's start, 0 here (the NaN quarantine tests in
+        // for some of these birds (the rest when a standing bird waits or one touches down).
+        // quarantined_step is the step's, 0 here (the NaN quarantine tests in
         // test_behaviours.cpp compare it later in a flight on both backends).
         if (name != "species" && name != "route" && name != "airspeed" && name != "flock" &&
-            name != "flocking" && name != "quarantined_at") {
+            name != "flocking" && name != "quarantined_step") {
           EXPECT_TRUE(changed[name]) << name << " changed for none of the birds: it is not tested";
         }
       }

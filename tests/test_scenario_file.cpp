@@ -217,6 +217,10 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:2:12: error: simulation.fidelity: expected \"paper\" or \"fast\", got \"quick\""},
       {"fidelity and dt", replace(kValid, "dt = 0.0003", "dt = 0.0003\nfidelity = \"fast\""),
        "bad.toml:3:12: error: simulation.fidelity: dt is given too: give the step in one place"},
+      {"a wait past 2^32 steps",
+       replace(kValid, "dt = 0.0003", "dt = 0.0001") + "standing = true\ntakeoff_time = 500000.0\n",
+       "bad.toml:18:16: error: flocks[0].takeoff_time: more than 2^32 - 1 steps of dt (0.000100 "
+       "s): the wait is counted in whole steps"},
       {"count 0", replace(kValid, "count = 3", "count = 0"),
        "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got 0"},
       {"count negative", replace(kValid, "count = 3", "count = -3"),

@@ -78,15 +78,15 @@ TEST(FlockStatistics, QuarantinedBirdsAreCountedListedAndLeftOut) {
       bird({700, 0, 0}, {700, 0, 0}, FlightMode::quarantined),
       bird({800, 0, 0}, {800, 0, 0}, FlightMode::quarantined),
   };
-  birds[1].quarantined_at = 2.0;
-  birds[3].quarantined_at = 1.0;
-  birds[4].quarantined_at = 2.0;
+  birds[1].quarantined_step = 4000;  // 2 s of 0.5 ms steps
+  birds[3].quarantined_step = 2000;
+  birds[4].quarantined_step = 4000;
   const FlockStatistics s = flock_statistics(birds);
   EXPECT_EQ(s.nan_birds, 3u);
   EXPECT_EQ(s.flying, 2u);
   EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
   EXPECT_DOUBLE_EQ(s.mean_speed, 200.0);
-  const std::vector<QuarantinedBird> listed = quarantined_birds(birds, 2);
+  const std::vector<QuarantinedBird> listed = quarantined_birds(birds, 0.0005, 2);
   ASSERT_EQ(listed.size(), 2u);
   EXPECT_EQ(listed[0].bird, 3u);
   EXPECT_EQ(listed[1].bird, 1u);  // of two at 2 s, the lower index

@@ -250,7 +250,7 @@ int run(const RunOptions& opt) {
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
-  summary.quarantined = quarantined_birds(sim->birds(), kQuarantinedListed);
+  summary.quarantined = quarantined_birds(sim->birds(), sim->scenario().dt, kQuarantinedListed);
   if (vtk) {
     const VtkExporter::QueueUse queue = vtk->queue_high_water();
     summary.vtk_queue_frames = queue.frames;

@@ -360,6 +360,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   c.next_targets = targets_count;
   c.flocking = flocking_ ? 1u : 0u;
   c.frame_seconds = float(scenario().frame_seconds());
+  c.rest_steps = whole_steps(kRestAfterTouchdown, scenario().dt);
   c.wind_profile = uint32_t(world().wind_profile);
   c.wind_height = float(world().wind_height);
   c.wind_exponent = float(world().wind_exponent);
@@ -378,7 +379,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     if (!targets.empty())
       std::memcpy(targets_of + f * per_frame, targets.data(), targets.size() * sizeof(GpuTarget));
 
-    c.time = float(time());
+    c.step = uvec2(uint32_t(this->steps()), uint32_t(this->steps() >> 32));
     c.frame = uint32_t(this->frames() - 1);
     c.targets_base = f * per_frame;
     barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes

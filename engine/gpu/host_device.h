@@ -3,10 +3,10 @@
 // block and the workgroup size. Buffers are std430; in C++ every vec3 and vec4 member is aligned
 // to 16 bytes as std430 aligns it, so one declaration has one layout in both languages
 // (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint,
-// int, vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a mat3 or a vec2 would be laid
-// out differently by C++. All descriptors are in set 0, storage buffers but for the grid that
-// perceive.comp reads as uniform texel buffers (gpu/compute.h: Binding), and no binding number
-// serves two buffers, compute or render.
+// int, uvec2 (aligned to 8, AF_V8), vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a
+// mat3 or a float vec2 would be laid out differently by C++. All descriptors are in set 0, storage
+// buffers but for the grid that perceive.comp reads as uniform texel buffers (gpu/compute.h:
+// Binding), and no binding number serves two buffers, compute or render.
 #ifndef AEROFLOCK_HOST_DEVICE_H
 #define AEROFLOCK_HOST_DEVICE_H
 
@@ -25,10 +25,12 @@ using uvec2 = glm::uvec2;
 using mat4 = glm::mat4;
 using uint = uint32_t;
 #define AF_V16 alignas(16)
+#define AF_V8 alignas(8)
 #define AF_UINT(name, value) inline constexpr uint32_t name = value;
 #define AF_INT(name, value) inline constexpr int32_t name = value;
 #else
 #define AF_V16
+#define AF_V8
 #define AF_UINT(name, value) const uint name = value;
 #define AF_INT(name, value) const int name = value;
 #endif
@@ -114,6 +116,7 @@ AF_UINT(kRoutePathControl, 2)
 // One bird (engine/model/bird_state.def), floats for the CPU reference's doubles.
 #define AF_GPU_float float
 #define AF_GPU_uint uint
+#define AF_GPU_uvec2 AF_V8 uvec2
 #define AF_GPU_vec3 AF_V16 vec3
 #define AF_GPU_vec4 AF_V16 vec4
 // Its position, landing_start and via_point are offsets from the centre of tile (tile_x, tile_z).
@@ -185,8 +188,8 @@ struct GpuPerception {
 struct StepConstants {
   AF_V16 vec4 wind_ground;  // xyz wind (cm/s), w ground height (cm)
   float dt;
-  float time;  // at the start of the frame
-  uint steps;  // steps this dispatch (0: step_forces.comp records the forces only)
+  uint rest_steps;  // whole_steps(kRestAfterTouchdown, dt): the rest after a touch-down
+  uint steps;       // steps this dispatch (0: step_forces.comp records the forces only)
   uint bird_count;
   uint turning;  // TurningModel: 0 tail, 1 fixed-rate
   uint ground_effect;
@@ -203,6 +206,7 @@ struct StepConstants {
   uint targets_base;     // where this frame's targets begin (several frames a submission)
   uint first_step;       // the frame's steps before this dispatch (a long frame takes several)
   uint frame_steps;      // the frame's steps: the dispatch that ends it retiles and records forces
+  AF_V8 uvec2 step;      // the run's steps before the frame's first (low word first): its clock
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

@@ -16,7 +16,7 @@ static_assert(sizeof(GpuBird) % 16 == 0);
 static_assert(sizeof(GpuSpecies) % 4 == 0);
 static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 48);
 static_assert(sizeof(GpuForces) == 11 * 16);
-static_assert(sizeof(StepConstants) == 96 && sizeof(PoseConstants) == 48);
+static_assert(sizeof(StepConstants) == 112 && sizeof(PoseConstants) == 48);
 static_assert(sizeof(GpuPerception) == 32);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 
@@ -25,6 +25,7 @@ float to_gpu(double v) { return static_cast<float>(v); }
 vec3 to_gpu(const glm::dvec3& v) { return vec3(v); }
 vec4 to_gpu(const glm::dquat& q) { return vec4(float(q.x), float(q.y), float(q.z), float(q.w)); }
 uint to_gpu(uint32_t v) { return v; }
+uvec2 to_gpu(uint64_t v) { return uvec2(uint32_t(v), uint32_t(v >> 32)); }
 template <class E>
 requires std::is_enum_v<E> uint to_gpu(E e) { return static_cast<uint>(e); }
 
@@ -32,6 +33,7 @@ void from_gpu(float v, double& out) { out = v; }
 void from_gpu(const vec3& v, glm::dvec3& out) { out = glm::dvec3(v); }
 void from_gpu(const vec4& v, glm::dquat& out) { out = glm::dquat(v.w, v.x, v.y, v.z); }
 void from_gpu(uint v, uint32_t& out) { out = v; }
+void from_gpu(const uvec2& v, uint64_t& out) { out = uint64_t(v.x) | uint64_t(v.y) << 32; }
 template <class E>
 requires std::is_enum_v<E>
 void from_gpu(uint v, E& out) { out = static_cast<E>(v); }

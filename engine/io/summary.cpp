@@ -50,11 +50,12 @@ std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
   return out;
 }
 
-std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, size_t most) {
+std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, double dt,
+                                               size_t most) {
   std::vector<QuarantinedBird> out;
   for (uint64_t i = 0; i < birds.size(); ++i)
     if (birds[i].mode == FlightMode::quarantined)
-      out.push_back({i, birds[i].quarantined_at, birds[i]});
+      out.push_back({i, double(birds[i].quarantined_step) * dt, birds[i]});
   std::stable_sort(out.begin(), out.end(),
                    [](const auto& a, const auto& b) { return a.time < b.time; });
   if (out.size() > most) out.resize(most);

@@ -44,8 +44,10 @@ struct QuarantinedBird {
   double time = 0.0;  // s
   BirdState last;     // its last finite state (mode quarantined)
 };
-// The quarantined birds, the earliest first (then by index), at most `most` of them.
-std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, size_t most);
+// The quarantined birds, the earliest first (then by index), at most `most` of them; the run's step
+// is `dt` long.
+std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& birds, double dt,
+                                               size_t most);
 // How many the summary lists (nan_birds counts them all).
 constexpr size_t kQuarantinedListed = 100;
 

@@ -33,6 +33,17 @@ struct BirdState {
 #undef AF_BIRD_FIELD
 };
 
+// Seconds in the current mode, from its whole steps of dt.
+inline double mode_time(const BirdState& b, double dt) { return double(b.mode_steps) * dt; }
+// One more step in the current mode; the count stops at its largest (2^32 - 1 steps: 99 days at
+// 2 ms), long past every time a mode is compared with.
+inline void count_mode_step(BirdState& b) {
+  if (b.mode_steps < UINT32_MAX) ++b.mode_steps;
+}
+// The whole steps of dt a rest of `seconds` lasts: those that start before it ends, less half a
+// step (the rest ends on the step nearest its end), within [0, 2^32 - 1].
+uint32_t whole_steps(double seconds, double dt);
+
 // Whether every number of a state is finite: a step whose result is not is undone and the bird
 // quarantined (step.cpp; bird_step.glsl's all_finite is the same for the compute shaders).
 inline bool finite_number(double v) { return std::isfinite(v); }

@@ -67,7 +67,7 @@ void come_to_rest(BirdState& b, const glm::dvec3& at) {
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
-  b.mode_time = 0.0;
+  b.mode_steps = 0;
 }
 
 }  // namespace aeroflock

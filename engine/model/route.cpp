@@ -182,13 +182,13 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
   const bool closing = glm::dot(horizontal(to_perch), horizontal(b.velocity)) > 0.0;
   if (b.mode == FlightMode::landing && (flown_past(b, s, to_perch) || sunk_under(b, s, to_perch))) {
     b.mode = FlightMode::flying;
-    b.mode_time = 0.0;
+    b.mode_steps = 0;
     b.landing_stage = LandingStage::none;
   } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&
              (distance <= s.brake_distance ||
               braking_due(s, b, to_perch, wind_at(w, b.position.y), distance))) {
     b.mode = FlightMode::landing;
-    b.mode_time = 0.0;
+    b.mode_steps = 0;
   }
   return false;
 }

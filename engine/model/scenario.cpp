@@ -51,8 +51,20 @@ uint64_t Scenario::frames_reaching(double seconds) const {
   return frames;
 }
 
+namespace {
+// A standing flock's wait, counted in whole steps of dt on both backends, must fit their count.
+void check_takeoff_steps(const Scenario& s, double dt) {
+  for (size_t i = 0; i < s.flocks.size(); ++i)
+    if (s.flocks[i].standing && s.flocks[i].takeoff_time / dt >= double(UINT32_MAX))
+      throw std::invalid_argument("flocks[" + std::to_string(i) + "].takeoff_time of " +
+                                  number(s.flocks[i].takeoff_time) +
+                                  " s is more than 2^32 - 1 steps of " + number(dt) + " s");
+}
+}  // namespace
+
 void set_dt(Scenario& s, double dt) {
   check_dt(dt);
+  check_takeoff_steps(s, dt);
   const double steps = std::round(s.frame_seconds() / dt);
   if (steps > kMaxStepsPerFrame)
     throw std::invalid_argument(
@@ -71,6 +83,7 @@ void validate(const Scenario& s) {
     fail("duration must be within (0, " + number(kMaxDuration) + "] s");
   if (s.species.empty()) fail("no species");
   for (const Species& sp : s.species) validate(sp);
+  check_takeoff_steps(s, s.dt);
   const World& w = s.world;
   if (!(w.wind_height > 0.0) || !std::isfinite(w.wind_height)) fail("wind_height must be > 0");
   if (!(w.wind_exponent >= 0.0 && w.wind_exponent <= 1.0))

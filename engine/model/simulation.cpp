@@ -37,7 +37,7 @@ std::vector<uint32_t> flock_sizes(const Scenario& s, uint32_t total) {
 // see them then and their perception (null: a scenario without flocking); the birds stay as
 // they are.
 void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, const World& world,
-                      double t, const std::vector<Perception>* perception,
+                      uint64_t step, const std::vector<Perception>* perception,
                       std::vector<StepForces>& forces) {
   forces.resize(birds.size());
   const int64_t n = static_cast<int64_t>(birds.size());
@@ -45,7 +45,7 @@ void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, co
   for (int64_t i = 0; i < n; ++i) {
     const size_t k = static_cast<size_t>(i);
     BirdState b = birds[k];
-    step_bird(b, s.species[b.species], world, t, s.dt, &forces[k],
+    step_bird(b, s.species[b.species], world, step, s.dt, &forces[k],
               perception ? &(*perception)[k] : nullptr);
   }
 }
@@ -79,7 +79,7 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
       if (f.standing) {
         b.mode = FlightMode::standing;
         b.position.y = s.world.ground_height + sp.stand_height;
-        b.takeoff_time = f.takeoff_time;
+        b.rest_steps = whole_steps(f.takeoff_time, s.dt);
       } else {
         b.velocity = f.speed * dvec3{std::cos(f.heading), 0.0, std::sin(f.heading)};
       }
@@ -108,8 +108,8 @@ Snapshot Simulation::start_snapshot() {
   if (flocking)
     perceive(*s.birds, scenario_.species, scenario_.world, 0, scenario_.frame_seconds(),
              start_perception_);
-  next_step_forces(*s.birds, scenario_, scenario_.world, 0.0,
-                   flocking ? &start_perception_ : nullptr, start_forces_);
+  next_step_forces(*s.birds, scenario_, scenario_.world, 0, flocking ? &start_perception_ : nullptr,
+                   start_forces_);
   s.forces = &start_forces_;
   s.perception = flocking ? &start_perception_ : nullptr;
   return s;
@@ -140,7 +140,7 @@ std::string CpuSimulation::device() const {
 void CpuSimulation::step(uint32_t steps, bool record_forces) {
   begin_frame();
   const double dt = scenario().dt;
-  const double t0 = time();
+  const uint64_t first = this->steps();
   const World& world = this->world();
   const std::vector<Species>& species = scenario().species;
   const int64_t n = static_cast<int64_t>(birds_.size());
@@ -158,7 +158,7 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
     BirdState& b = birds_[static_cast<size_t>(i)];
     const Species& sp = species[b.species];
     const Perception* seen = flocking ? &perception_[static_cast<size_t>(i)] : nullptr;
-    for (uint32_t k = 0; k < steps; ++k) step_bird(b, sp, world, t0 + k * dt, dt, nullptr, seen);
+    for (uint32_t k = 0; k < steps; ++k) step_bird(b, sp, world, first + k, dt, nullptr, seen);
   }
   end_frame(steps);
   forces_current_ = record_forces;
@@ -166,7 +166,8 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   // The forces of the step each bird takes next, with the targets where it will see them.
   World next = world;
   next.move_targets(frame_start(this->steps()));
-  next_step_forces(birds_, scenario(), next, time(), flocking ? &perception_ : nullptr, forces_);
+  next_step_forces(birds_, scenario(), next, this->steps(), flocking ? &perception_ : nullptr,
+                   forces_);
 }
 
 void CpuSimulation::retire(std::span<const uint32_t> birds) {

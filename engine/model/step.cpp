@@ -35,7 +35,7 @@ struct Commands {
   bool circling;        // the goal lies inside the full-bank circle
 };
 
-Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 goal,
+Commands control(const BirdState& b, const Species& sp, const World& w, double dt, dvec3 goal,
                  double airspeed_command) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
   const double ground = w.ground_height + sp.stand_height;
@@ -89,7 +89,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
   // up: the arms' incidence rises by brake_incidence at full flare, over bank_time.
   const double flare =
       braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, wind), to_perch) : 0.0;
-  c.incidence = sp.brake_incidence * flare * std::min(b.mode_time / sp.bank_time, 1.0);
+  c.incidence = sp.brake_incidence * flare * std::min(mode_time(b, dt) / sp.bank_time, 1.0);
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up.
   const double pitch_command = on_legs   ? pitch
@@ -140,7 +140,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, dvec3 go
 }
 
 // Forces at time t (eqs. 1, 2 at the five points, 11, 15, the legs) and the torque on the body.
-StepForces forces(const BirdState& b, const Species& sp, const World& w, const Commands& c) {
+StepForces forces(const BirdState& b, const Species& sp, const World& w, double dt,
+                  const Commands& c) {
   StepForces f;
   const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
   const glm::dmat3 to_body = glm::transpose(to_world);
@@ -158,8 +159,9 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
   f.torque += f.tail_torque;
   f.gravity = dvec3{0.0, -sp.mass * kGravity, 0.0};
   if (w.ground_effect) f.ground = kUp * ground_effect_force(sp, b.position.y - w.ground_height);
-  if (b.mode == FlightMode::taking_off && b.mode_time >= sp.crouch_time &&
-      b.mode_time < sp.crouch_time + sp.leg_time) {
+  const double in_mode = mode_time(b, dt);
+  if (b.mode == FlightMode::taking_off && in_mode >= sp.crouch_time &&
+      in_mode < sp.crouch_time + sp.leg_time) {
     const dvec3 ahead = glm::normalize(horizontal(to_world[0]));
     f.legs = sp.leg_force * (std::cos(sp.push_angle) * ahead + std::sin(sp.push_angle) * kUp);
   }
@@ -170,26 +172,28 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, const C
 // While taking off the legs hold the bird on the ground: it sinks while crouching, pushes off
 // with its legs, and cannot go below the ground.
 void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
-  const double crouch = std::min(b.mode_time / std::max(sp.crouch_time, dt), 1.0);
+  const double in_mode = mode_time(b, dt);
+  const double crouch = std::min(in_mode / std::max(sp.crouch_time, dt), 1.0);
   const double floor = w.ground_height + sp.stand_height - sp.crouch_depth * crouch;
-  if (b.mode_time < sp.crouch_time) {
+  if (in_mode < sp.crouch_time) {
     b.velocity = dvec3{0.0};
     b.position.y = floor;
   }
   if (b.position.y < floor) {
     b.position.y = floor;
     b.velocity.y = std::max(b.velocity.y, 0.0);
-    if (b.mode_time < sp.crouch_time + sp.leg_time) b.velocity.x = b.velocity.z = 0.0;
+    if (in_mode < sp.crouch_time + sp.leg_time) b.velocity.x = b.velocity.z = 0.0;
   }
   b.omega = dvec3{0.0};
 }
 
 // One step of a bird that is not quarantined (step_bird).
-void advance(BirdState& b, const Species& sp, const World& w, double time, double dt,
-             StepForces* out, const Perception* seen) {
-  if (b.mode == FlightMode::perched ||
-      (b.mode == FlightMode::standing && time + 0.5 * dt < b.takeoff_time)) {
-    b.mode_time += dt;
+void advance(BirdState& b, const Species& sp, const World& w, double dt, StepForces* out,
+             const Perception* seen) {
+  // At rest: perched, or standing until its rest is over (whole steps: exact after days).
+  if (b.mode == FlightMode::perched || (b.mode == FlightMode::standing && b.rest_steps > 0)) {
+    if (b.mode == FlightMode::standing) --b.rest_steps;
+    count_mode_step(b);
     return;
   }
   if (b.mode == FlightMode::standing) {
@@ -197,7 +201,7 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
     const dvec3 wind = wind_at(w, b.position.y);
     if (heeds_wind(sp, glm::length(horizontal(wind)))) b.attitude = facing(-wind);
     b.mode = FlightMode::taking_off;
-    b.mode_time = 0.0;
+    b.mode_steps = 0;
     b.frequency = sp.f_max;
     b.amplitude = sp.amp_max;
   }
@@ -210,8 +214,8 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
     goal = b.position + sp.lookahead * seen->direction;
     airspeed = seen->airspeed;
   }
-  const Commands c = control(b, sp, w, goal, airspeed);
-  const StepForces f = forces(b, sp, w, c);
+  const Commands c = control(b, sp, w, dt, goal, airspeed);
+  const StepForces f = forces(b, sp, w, dt, c);
 
   // Euler integration (eqs. 6-8, 13, 14): position and attitude move with the rates at time t.
   const bool on_legs = b.mode == FlightMode::taking_off;
@@ -232,18 +236,18 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
   b.tail_bend = approach(b.tail_bend, c.bend, sp.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, c.twist, sp.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, sp.sweep_rate, dt);
-  b.mode_time += dt;
+  count_mode_step(b);
   b.circling = c.circling ? b.circling + dt : 0.0;
-  if (on_legs && b.mode_time >= sp.crouch_time + sp.leg_time) {
+  if (on_legs && mode_time(b, dt) >= sp.crouch_time + sp.leg_time) {
     b.mode = FlightMode::flying;
-    b.mode_time = 0.0;
+    b.mode_steps = 0;
   }
   // The ground is solid: a bird in the air whose legs reach it on the way down touches down,
   // stands, and takes off again when it has rested (its route goes on).
   if (!on_legs && b.position.y < w.ground_height + sp.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, dvec3{b.position.x, w.ground_height + sp.stand_height, b.position.z});
     b.mode = FlightMode::standing;
-    b.takeoff_time = time + dt + kRestAfterTouchdown;
+    b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
     b.landing_stage = LandingStage::none;
   }
   if (out) *out = f;
@@ -251,19 +255,24 @@ void advance(BirdState& b, const Species& sp, const World& w, double time, doubl
 
 }  // namespace
 
-void step_bird(BirdState& b, const Species& sp, const World& w, double time, double dt,
+uint32_t whole_steps(double seconds, double dt) {
+  const double steps = std::ceil(seconds / dt - 0.5);
+  return steps <= 0.0 ? 0u : steps >= double(UINT32_MAX) ? UINT32_MAX : uint32_t(steps);
+}
+
+void step_bird(BirdState& b, const Species& sp, const World& w, uint64_t step, double dt,
                StepForces* out, const Perception* seen) {
   if (out) *out = StepForces{};
   if (b.mode == FlightMode::quarantined) return;
   const BirdState before = b;
-  advance(b, sp, w, time, dt, out, seen);
+  advance(b, sp, w, dt, out, seen);
   if (all_finite(b)) return;
   // NaN quarantine (issue 16): the step is undone and the bird frozen at its last finite state,
   // marked with the step's start; it is never stepped again, and its flock no longer sees it
   // (flocks_now). The compute shader does the same (step.glsl).
   b = before;
   b.mode = FlightMode::quarantined;
-  b.quarantined_at = time;
+  b.quarantined_step = step;
   if (out) *out = StepForces{};
 }
 

@@ -22,11 +22,11 @@ struct StepForces {
   glm::dvec3 torque{0.0};       // all five points' r x F, body frame: what turns the body
 };
 
-// Advances `bird` by dt. `time` is the simulation time at the start of the step. `seen`: the
+// Advances `bird` by dt: the run's step number `step` (its start is step x dt). `seen`: the
 // bird's last perception (flocking), none for a bird that flies its route alone. A step whose
-// result is not finite (all_finite) is undone: the bird is quarantined at `time` (FlightMode::
-// quarantined, quarantined_at), frozen at its last finite state with no forces from then on.
-void step_bird(BirdState& bird, const Species& species, const World& world, double time, double dt,
-               StepForces* forces = nullptr, const Perception* seen = nullptr);
+// result is not finite (all_finite) is undone: the bird is quarantined at `step` (FlightMode::
+// quarantined, quarantined_step), frozen at its last finite state with no forces from then on.
+void step_bird(BirdState& bird, const Species& species, const World& world, uint64_t step,
+               double dt, StepForces* forces = nullptr, const Perception* seen = nullptr);
 
 }  // namespace aeroflock

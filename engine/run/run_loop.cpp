@@ -76,11 +76,12 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
 
 void StrictCheck::frame(Simulation& sim, uint64_t) {
   // The newest state ready without waiting for the device: a quarantined bird stays so.
-  quarantined_ = quarantined_ || !quarantined_birds(*sim.ready_snapshot().birds, 1).empty();
+  quarantined_ =
+      quarantined_ || !quarantined_birds(*sim.ready_snapshot().birds, sim.scenario().dt, 1).empty();
 }
 
 void StrictCheck::finish(Simulation& sim) {
-  const std::vector<QuarantinedBird> first = quarantined_birds(sim.birds(), 1);
+  const std::vector<QuarantinedBird> first = quarantined_birds(sim.birds(), sim.scenario().dt, 1);
   if (first.empty()) return;
   char why[160];
   std::snprintf(

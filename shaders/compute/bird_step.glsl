@@ -1,6 +1,12 @@
 // engine/model/step.cpp in float (model.glsl), function for function in its order; the reasons
 // are in the C++.
 
+// bird.h: mode_time, count_mode_step.
+float mode_time(GpuBird b) { return float(b.mode_steps) * pc.dt; }
+void count_mode_step(inout GpuBird b) {
+  if (b.mode_steps < 0xffffffffu) ++b.mode_steps;
+}
+
 struct Commands {
   Steering steering;
   float energy_error;  // what eqs. 4, 5 follow, cm
@@ -49,7 +55,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float flare = braking && to_perch >= 0.0
                     ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
                     : 0.0;
-  c.incidence = s.brake_incidence * flare * min(b.mode_time / s.bank_time, 1.0);
+  c.incidence = s.brake_incidence * flare * min(mode_time(b) / s.bank_time, 1.0);
   float pitch_command = on_legs   ? pitch  // leaves the ground trimmed
                         : braking ? flare_pitch(s, b.pitch_trim, flare)
                                   : commanded_pitch(s, b.pitch_trim, e.balance,
@@ -121,8 +127,9 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
     f.ground.y = ground;
     total.y += ground;
   }
-  if (b.mode == mode_taking_off && b.mode_time >= s.crouch_time &&
-      b.mode_time < s.crouch_time + s.leg_time) {
+  float in_mode = mode_time(b);
+  if (b.mode == mode_taking_off && in_mode >= s.crouch_time &&
+      in_mode < s.crouch_time + s.leg_time) {
     vec3 ahead = normalize(horizontal(rotate(b.attitude, vec3(1, 0, 0))));
     vec3 legs = s.leg_force * (cos_p(s.push_angle) * ahead + sin_p(s.push_angle) * vec3(0, 1, 0));
     f.legs = vec4(legs, 0.0);
@@ -133,16 +140,17 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
 }
 
 void stand_on_legs(inout GpuBird b, GpuSpecies s, float dt) {
-  float crouch = min(b.mode_time / max(s.crouch_time, dt), 1.0);
+  float in_mode = mode_time(b);
+  float crouch = min(in_mode / max(s.crouch_time, dt), 1.0);
   float floor_y = pc.wind_ground.w + s.stand_height - s.crouch_depth * crouch;
-  if (b.mode_time < s.crouch_time) {
+  if (in_mode < s.crouch_time) {
     b.velocity = vec3(0.0);
     b.position.y = floor_y;
   }
   if (b.position.y < floor_y) {
     b.position.y = floor_y;
     b.velocity.y = max(b.velocity.y, 0.0);
-    if (b.mode_time < s.crouch_time + s.leg_time) b.velocity.xz = vec2(0.0);
+    if (in_mode < s.crouch_time + s.leg_time) b.velocity.xz = vec2(0.0);
   }
   b.omega = vec3(0.0);
 }
@@ -164,6 +172,7 @@ bool finite_number(float v) { return !isnan(v) && !isinf(v); }
 bool finite_number(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 bool finite_number(vec4 v) { return !any(isnan(v)) && !any(isinf(v)); }
 bool finite_number(uint v) { return true; }
+bool finite_number(uvec2 v) { return true; }
 bool all_finite(GpuBird b) {
   return true
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&finite_number(b.name)
@@ -172,15 +181,15 @@ bool all_finite(GpuBird b) {
       ;
 }
 
-// step.cpp's step_bird and advance: one step of dt from `time`; returns the step's forces (zero for
+// step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
 // a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
 // alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
 // the bird.
-GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, float dt,
-                    GpuPerception seen) {
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
   if (b.mode == mode_quarantined) return no_forces();
-  if (b.mode == mode_perched || (b.mode == mode_standing && time + 0.5 * dt < b.takeoff_time)) {
-    b.mode_time += dt;
+  if (b.mode == mode_perched || (b.mode == mode_standing && b.rest_steps > 0u)) {
+    if (b.mode == mode_standing) --b.rest_steps;
+    count_mode_step(b);
     return no_forces();
   }
   step_wind = wind_at(b.position.y);
@@ -188,7 +197,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
     vec3 wind = step_wind;
     if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // into the wind
     b.mode = mode_taking_off;
-    b.mode_time = 0.0;
+    b.mode_steps = 0u;
     b.frequency = s.f_max;
     b.amplitude = s.amp_max;
   }
@@ -221,18 +230,18 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float time, fl
   b.tail_bend = approach(b.tail_bend, c.bend, s.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);
-  b.mode_time += dt;
+  count_mode_step(b);
   b.circling = c.circling ? b.circling + dt : 0.0;
-  if (on_legs && b.mode_time >= s.crouch_time + s.leg_time) {
+  if (on_legs && mode_time(b) >= s.crouch_time + s.leg_time) {
     b.mode = mode_flying;
-    b.mode_time = 0.0;
+    b.mode_steps = 0u;
   }
   // The ground is solid: touch down, stand, take off again when rested.
   float ground = pc.wind_ground.w;
   if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
     come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));
     b.mode = mode_standing;
-    b.takeoff_time = time + dt + kRestAfterTouchdown;
+    b.rest_steps = pc.rest_steps;
     b.landing_stage = stage_none;
   }
   return f;

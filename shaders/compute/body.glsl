@@ -56,5 +56,5 @@ void come_to_rest(inout GpuBird b, vec3 at) {
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
-  b.mode_time = 0.0;
+  b.mode_steps = 0u;
 }

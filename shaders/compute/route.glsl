@@ -154,12 +154,12 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   bool closing = dot(to_perch.xz, b.velocity.xz) > 0.0;  // heading in horizontally
   if (b.mode == mode_landing && (flown_past(b, s, to_perch) || sunk_under(b, s, to_perch))) {
     b.mode = mode_flying;
-    b.mode_time = 0.0;
+    b.mode_steps = 0u;
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
              (d <= s.brake_distance || braking_due(s, b, to_perch, step_wind, d))) {
     b.mode = mode_landing;
-    b.mode_time = 0.0;
+    b.mode_steps = 0u;
   }
   return false;
 }

@@ -56,7 +56,7 @@ void main() {
   uint taken = 0u;  // counted apart from k, so that no compiler reads it off the loop's condition
   for (;;) {
     for (uint k = pc.first_step; k < finite_end; ++k) {
-      step_bird(b, s, leg, pc.time + float(k) * pc.dt, pc.dt, seen);
+      step_bird(b, s, leg, pc.dt, seen);
       ++taken;
       if (!all_finite(b)) {
         finite_end = k;
@@ -71,7 +71,9 @@ void main() {
   if (!again && taken != pc.steps) atomicAdd(steps_short, 1u);
   if (again) {
     b.mode = mode_quarantined;
-    b.quarantined_at = pc.time + float(finite_end) * pc.dt;
+    uint carry;
+    b.quarantined_step.x = uaddCarry(pc.step.x, finite_end, carry);
+    b.quarantined_step.y = pc.step.y + carry;
   }
   bool frame_ends = end == pc.frame_steps;
   if (frame_ends) retile(b);
@@ -82,7 +84,7 @@ void main() {
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
-    GpuForces f = step_bird(next, s, next_leg, pc.time + float(end) * pc.dt, pc.dt, seen);
+    GpuForces f = step_bird(next, s, next_leg, pc.dt, seen);
     forces_out[i] = all_finite(next) ? f : no_forces();  // a step that quarantines has none
   }
 #endif
