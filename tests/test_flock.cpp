@@ -118,7 +118,7 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward),
                                   flocking_bird(dvec3{0.0, 0.0, 50.0}, forward)};
   const dvec3 route{10000.0, 0.0, 0.0};
-  Perception p = social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds);
+  Perception p = social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds);
   EXPECT_EQ(p.neighbours, 1u);
   EXPECT_NEAR(p.nearest, 50.0, 1e-9);
   EXPECT_LT(p.direction.z, -0.1);
@@ -126,23 +126,54 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   EXPECT_DOUBLE_EQ(p.airspeed, s.cruise_speed);  // beside it: neither ahead nor behind
   // A bird far ahead and to the left, flying left: the goal turns left, the bird speeds up.
   birds[1] = flocking_bird(dvec3{1500.0, 0.0, -500.0}, dvec3{700.0, 0.0, -700.0});
-  p = social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds);
+  p = social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds);
   EXPECT_LT(p.direction.z, -0.1);
   EXPECT_GT(p.airspeed, s.cruise_speed);
   // One close ahead: it slows.
   birds[1] = flocking_bird(dvec3{50.0, 0.0, 0.0}, forward);
-  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+  EXPECT_LT(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
             s.cruise_speed);
   // One beside flying 2 m/s faster: it speeds up by speed_match x 200 cm/s; slower, it slows.
   ASSERT_GT(s.speed_match, 0.0);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{1200.0, 0.0, 0.0});
-  EXPECT_NEAR(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+  EXPECT_NEAR(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
               std::clamp(s.cruise_speed + s.speed_match * 200.0, s.min_speed, s.max_speed), 1e-9);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{800.0, 0.0, 0.0});
-  EXPECT_LT(social_goal(s, birds[0], route, std::vector<uint32_t>{1}, birds).airspeed,
+  EXPECT_LT(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
             s.cruise_speed);
   // None seen: no goal.
-  EXPECT_EQ(social_goal(s, birds[0], route, {}, birds).neighbours, 0u);
+  EXPECT_EQ(social_goal(s, birds[0], route, false, {}, birds).neighbours, 0u);
+  // One 10 m straight ahead, beyond separation_radius: the cohesion pulls it on through its
+  // airspeed as well (issue 39), cruise_speed w_cohesion / (w_route + w_alignment + w_cohesion).
+  const dvec3 x{1.0, 0.0, 0.0};
+  EXPECT_NEAR(cohesion_pull(s, x, x),
+              s.cruise_speed * s.w_cohesion / (s.w_route + s.w_alignment + s.w_cohesion), 1e-9);
+  EXPECT_EQ(cohesion_pull(s, dvec3{0.0, 0.0, 1.0}, x), 0.0);  // beside: steering does it
+  birds[1] = flocking_bird(dvec3{1000.0, 0.0, 0.0}, forward);
+  EXPECT_NEAR(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
+              s.cruise_speed + s.speed_gain * 1000.0 * (1.0 - s.separation_radius / 1000.0) +
+                  cohesion_pull(s, x, x),
+              1e-9);
+  // Its route over (route_over), a bird flies on with its flock: a route to the right turns it
+  // right, one beside on the left turns it left once the route no longer counts.
+  birds[1] = flocking_bird(dvec3{0.0, 0.0, -500.0}, forward);
+  const dvec3 right{0.0, 0.0, 1e6};
+  EXPECT_GT(social_goal(s, birds[0], right, false, std::vector<uint32_t>{1}, birds).direction.z,
+            0.0);
+  EXPECT_LT(social_goal(s, birds[0], right, true, std::vector<uint32_t>{1}, birds).direction.z,
+            0.0);
+}
+
+// The route's share of d aims at the route goal's height height_capture ahead (issue 39): far
+// from the goal it climbs as steeply towards that height as it would height_capture away;
+// nearer than that, straight at the goal.
+TEST(Perception, TheRouteAimsAtItsGoalsHeightHeightCaptureAhead) {
+  const Species s = starling();
+  const dvec3 far{2.5e6, 15000.0, 0.0};  // 25 km on, 150 m up
+  const dvec3 u = route_direction(s, far);
+  EXPECT_NEAR(u.y / u.x, 15000.0 / s.height_capture, 1e-12);
+  const dvec3 near{0.5 * s.height_capture, 1000.0, 0.0};
+  EXPECT_NEAR(glm::distance(route_direction(s, near), glm::normalize(near)), 0.0, 1e-12);
 }
 
 // docs/MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default

@@ -69,7 +69,7 @@ double approach_speed(const Species& s, double to_branch) {
 
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position,
                        const dvec3& velocity, const dvec3& goal, const dvec3& wind,
-                       double ground_speed, bool by_course) {
+                       double ground_speed, bool by_course, bool commanded) {
   // Braking, the bird steers its course through the air (not its head, which a sideslip turns
   // away from it) onto the crab aim, so that it is not blown off the branch; barely moving
   // through the air, its head.
@@ -79,9 +79,12 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
       by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
-  // Flying faster through the air than the crab asks, the bird holds its track at its airspeed.
+  // Flying faster through the air than the crab asks, or at an airspeed commanded otherwise (its
+  // flock's), the bird holds its track at its airspeed.
   const double aim_speed = glm::length(aim);
-  dvec3 head_for = !by_course && air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim;
+  dvec3 head_for = !by_course && (commanded || air_speed > aim_speed)
+                       ? track_aim(to_goal, wind, air_speed)
+                       : aim;
   // Towards a branch it holds its track in full, lest it be blown off it.
   if (!by_course) head_for = compensated_aim(to_goal, head_for, s.drift_compensation);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).

@@ -96,7 +96,8 @@ double cohesion_pull(const Species& s, const dvec3& cohesion, const dvec3& ahead
 }
 
 Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_goal,
-                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds) {
+                       bool route_done, std::span<const uint32_t> seen,
+                       const std::vector<BirdState>& birds) {
   Perception p;
   p.neighbours = static_cast<uint32_t>(seen.size());
   if (seen.empty()) return p;
@@ -125,8 +126,9 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   }
   p.nearest = glm::length(birds[seen[0]].position - b.position);
   for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
-  const dvec3 d = s.w_route * route_direction(s, route_goal - b.position) +
-                  s.w_separation * separation + s.w_alignment * unit_or_zero(heading_sum) +
+  const dvec3 route = route_done ? dvec3{0.0} : route_direction(s, route_goal - b.position);
+  const dvec3 d = s.w_route * route + s.w_separation * separation +
+                  s.w_alignment * unit_or_zero(heading_sum) +
                   s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
@@ -290,8 +292,11 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
     const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species);
     BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
-    perception[static_cast<size_t>(i)] = social_goal(
-        s, b, seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world), seen, birds);
+    dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
+    bool route_done = route_over(route_bird, world);
+    if (const std::optional<dvec3> on = onward_goal(route_bird, world))
+      goal = *on, route_done = false;
+    perception[static_cast<size_t>(i)] = social_goal(s, b, goal, route_done, seen, birds);
   }
 }
 

@@ -61,8 +61,11 @@ double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dv
 // how much faster they fly along its flight, on average (a damper: neighbours match speeds before
 // they pass one another), plus the cohesion's pull (cohesion_pull); within [min_speed,
 // max_speed].
+// `route_done`: its route is over and has no leg to fly on along (route.h: onward_goal): it flies
+// on with its flock, without the route's share of d.
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& route_goal,
-                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
+                       bool route_done, std::span<const uint32_t> seen,
+                       const std::vector<BirdState>& birds);
 
 // The uniform grid that finds neighbours (FLAME GPU's spatial messaging): cells of `cell` cm,
 // hashed into `buckets` (a power of two) so that memory grows with the birds, not with the world;

@@ -114,6 +114,21 @@ dvec3 perch_point(const Species& s, const Branch& branch) {
   return branch.point + dvec3{0.0, s.stand_height, 0.0};
 }
 
+bool route_over(const BirdState& b, const World& w) {
+  const Route& r = w.routes[b.route];
+  return b.target >= r.targets.size() && r.branch < 0;
+}
+
+std::optional<dvec3> onward_goal(const BirdState& b, const World& w) {
+  const Route& r = w.routes[b.route];
+  if (!route_over(b, w) || r.targets.size() < 2) return std::nullopt;
+  const dvec3& last = w.target_now[r.targets.back()];
+  const dvec3& before = w.target_now[r.targets[r.targets.size() - 2]];
+  dvec3 goal = b.position + horizontal(last - before);
+  goal.y = last.y;
+  return goal;
+}
+
 std::optional<double> distance_to_go(const BirdState& b, const World& w) {
   const Route& r = w.routes[b.route];
   if (r.loop && r.branch < 0) return std::nullopt;

@@ -22,6 +22,15 @@ std::optional<glm::dvec3> way_to_perch(const BirdState& b, const Species& s, con
 // way to the branch. Passes targets and places the landing curve as the bird goes.
 glm::dvec3 route_goal(BirdState& b, const Species& s, const World& w);
 
+// Whether the bird has passed the last target of a route that neither loops nor lands: alone, it
+// keeps steering for that target.
+bool route_over(const BirdState& b, const World& w);
+// Where a flocking bird whose route is over steers on (flock.cpp: perceive): a whole last leg
+// ahead of it along that leg, at the last target's height, so that its flock flies on as one
+// (circling the last target, each bird steering for it from where it was, tore the flock apart
+// there). None for a route of one target: its flock flies on by itself.
+std::optional<glm::dvec3> onward_goal(const BirdState& b, const World& w);
+
 // How far the bird still has to go along its route (cm): to its current target, then from target
 // to target (where they are now) to the last, and on to its branch; 0 once perched. None for a
 // route that loops without end.

@@ -33,7 +33,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   vec3 wind = step_wind;
   Commands c;
   c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind,
-                             approach_speed(s, to_perch), braking);
+                             approach_speed(s, to_perch), braking, airspeed_command > 0.0);
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;

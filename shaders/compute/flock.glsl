@@ -149,7 +149,7 @@ float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
 }
 
 // The social goal from the birds found (flock.cpp: social_goal).
-GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
+GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_done) {
   GpuPerception p = GpuPerception(vec3(0.0), 0.0, near_count, 0.0, 0u, 0u);
   if (near_count == 0u) return p;
   vec3 ahead = flight_direction(b);
@@ -178,7 +178,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal) {
   }
   p.nearest = sqrt(near_d2[0]);
   for (uint e = 0u; e < near_count; ++e) p.seen_key += near_index[e] * kSeenKeyFactor;
-  vec3 d = s.w_route * route_direction(s, route_goal - b.position) + s.w_separation * separation +
+  vec3 route = route_done ? vec3(0.0) : route_direction(s, route_goal - b.position);
+  vec3 d = s.w_route * route + s.w_separation * separation +
            s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);

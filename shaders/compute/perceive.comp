@@ -35,11 +35,18 @@ void main() {
   uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
   if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
   vec3 goal = vec3(0.0);
+  bool route_done = false;
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
     Leg leg = load_leg(route_bird, pc.targets_base);
     step_wind = wind_at(b.position.y);
     goal = route_goal(route_bird, s, leg);
+    route_done = route_over(route_bird, leg);
+    vec3 on;
+    if (onward_goal(route_bird, leg, on)) {
+      goal = on;
+      route_done = false;
+    }
   }
-  perception[i] = social_goal(s, b, goal);
+  perception[i] = social_goal(s, b, goal, route_done);
 }

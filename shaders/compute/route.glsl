@@ -108,6 +108,25 @@ vec3 perch_point(GpuBird b, GpuSpecies s, uint branch) {
          vec3(0.0, s.stand_height, 0.0);
 }
 
+// route.cpp: route_over, onward_goal.
+bool route_over(GpuBird b, Leg leg) {
+  return b.target >= leg.route.count && leg.route.branch == 0u;
+}
+
+bool onward_goal(GpuBird b, Leg leg, out vec3 goal) {
+  goal = vec3(0.0);
+  if (!route_over(b, leg) || leg.route.count < 2u) return false;
+  GpuTarget last =
+      targets[leg.targets_from + route_targets[leg.route.first + leg.route.count - 1u]];
+  GpuTarget before =
+      targets[leg.targets_from + route_targets[leg.route.first + leg.route.count - 2u]];
+  vec3 l = last.centre_radius.xyz + tile_shift(last.tile_x, last.tile_z, b.tile_x, b.tile_z);
+  vec3 p = before.centre_radius.xyz + tile_shift(before.tile_x, before.tile_z, b.tile_x, b.tile_z);
+  goal = b.position + horizontal(l - p);
+  goal.y = l.y;
+  return true;
+}
+
 vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   GpuRoute r = leg.route;
   if (b.target < r.count) {
