@@ -160,7 +160,7 @@ def main():
     csv = ["export,time_s,largest_cluster,off_line_m,median_nearest_m,birds"]
     for d in a.dirs:
         rows, reached = leg(d, targets)
-        series[f"{rows[0][4]} birds ({d})"] = rows
+        series[f"{rows[0][4]} birds"] = rows
         csv += [f"{d},{r[0]:.2f},{r[1]:.4f},{r[2]:.2f},{r[3]:.3f},{r[4]}" for r in rows]
         end = reached.get(len(targets) - 1, math.inf)
         leg_rows = [r for r in rows if 0 < r[0] <= end]
