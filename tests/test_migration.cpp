@@ -100,13 +100,15 @@ void expect_leg(const Leg& leg, const Scenario& s, const char* what, bool as_one
       leg.worst_too_close_at);
   for (size_t t = 0; t < leg.reached_at.size(); ++t)
     EXPECT_GE(leg.reached_at[t], 0.0) << what << ": target " << t << " not reached by the flock";
-  if (as_one) EXPECT_GE(leg.smallest_cluster, 0.95) << what;
+  if (as_one) {
+    EXPECT_GE(leg.smallest_cluster, 0.95) << what;
+    EXPECT_LT(leg.worst_too_close, 0.005) << what;
+  }
   EXPECT_LE(leg.most_off_line, kMostOffLine) << what;
   // docs/MODEL.md "What a flock must show", 1: spacing.
   const double span = s.species[s.flocks[0].species].box_c;
   EXPECT_GE(leg.nearest_low, 1.0 * span) << what;
   EXPECT_LE(leg.nearest_high, 3.0 * span) << what;
-  if (as_one) EXPECT_LT(leg.worst_too_close, 0.005) << what;
   EXPECT_EQ(leg.non_finite, 0u) << what;
 }
 

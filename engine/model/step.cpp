@@ -49,8 +49,10 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   const double to_perch = way ? glm::length(*way) : -1.0;
   const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
-                             approach_speed(sp, to_perch), braking, airspeed_command > 0.0);
+  // On its legs a bird's air is the wind alone: it has no airspeed yet to hold a track at.
+  c.steering =
+      steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
+                    approach_speed(sp, to_perch), braking, airspeed_command > 0.0 && !on_legs);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.

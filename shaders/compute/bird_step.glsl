@@ -32,8 +32,9 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float to_perch = way.w;  // -1: none
   vec3 wind = step_wind;
   Commands c;
-  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind,
-                             approach_speed(s, to_perch), braking, airspeed_command > 0.0);
+  c.steering =
+      steer_towards(s, b.attitude, b.position, b.velocity, goal, wind, approach_speed(s, to_perch),
+                    braking, airspeed_command > 0.0 && !on_legs);
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
