@@ -97,8 +97,8 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.tail_twist = in(-sp.rot_max, sp.rot_max);
     b.sweep = in(-sp.sweep_max, sp.sweep_max);
     b.pitch_trim = in(0.0, radians(20));
-    b.circling =
-        in(0.0, 5.0);  // past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside
+    // Past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside.
+    b.circling_steps = uint32_t(in(0.0, 5.0) / s.dt);
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
     const Route& tour = s.world.routes[0];
     const Branch& br = s.world.branches[0];
@@ -203,7 +203,7 @@ const std::map<std::string, double> kStateTolerance = {
     {"pitch_trim", 1e-6},  // rad
     {"airspeed", 0},       // cm/s: a command, kept
     {"mode_steps", 0},
-    {"circling", 1e-6},  // s
+    {"circling_steps", 0},
     {"quarantined_step", 0},
     {"rest_steps", 0},
     {"landing_start", 1e-3},     // cm: placed at the bird's position
