@@ -20,6 +20,7 @@
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/control.h"
+#include "model/scenario.h"
 #include "model/species.h"
 #include "model/step.h"
 #include "model/tail.h"
@@ -659,6 +660,51 @@ TEST(TakeOff, OnItsLegsTheTailAndSweepStayNeutral) {
       EXPECT_NEAR(b.tail_bend, s.tail_rate * dt, 1e-12) << "nose-up: bent up";
     }
   }
+}
+
+// Issue 39: time is kept in whole steps. A bird standing until t rests through every step that
+// starts more than half a step before t and takes off on the next; its rest counts down a step at
+// a time; the steps in its mode and circling stop at 2^32 - 1 rather than wrap.
+TEST(TakeOff, TheRestCountsDownWholeStepsToTheTakeOff) {
+  const double dt = kFastDt;
+  EXPECT_EQ(whole_steps(0.0, dt), 0u);
+  EXPECT_EQ(whole_steps(0.5 * dt, dt), 0u);  // t + dt / 2 < t' fails at once
+  EXPECT_EQ(whole_steps(0.51 * dt, dt), 1u);
+  EXPECT_EQ(whole_steps(kRestAfterTouchdown, dt), 250u);
+  EXPECT_EQ(whole_steps(86400.0 + 0.7 * dt, dt), 43200001u);  // a day and 0.7 of a step
+  EXPECT_EQ(whole_steps(3.0, kMinDt), 300000u);
+
+  const Species s = starling();
+  World w;
+  w.targets.push_back(Target{"up", dvec3{5000.0, 1000.0, 0.0}});
+  w.routes.push_back(Route{"takeoff", {0}});
+  w.move_targets(0.0);
+  BirdState b;
+  b.mode = FlightMode::standing;
+  b.position = dvec3{0.0, s.stand_height, 0.0};
+  b.rest_steps = 2;
+  b.mode_steps = 7;
+  step_bird(b, s, w, 0, dt);
+  EXPECT_EQ(b.mode, FlightMode::standing);
+  EXPECT_EQ(b.rest_steps, 1u);
+  EXPECT_EQ(b.mode_steps, 8u);
+  step_bird(b, s, w, 1, dt);
+  EXPECT_EQ(b.mode, FlightMode::standing);
+  EXPECT_EQ(b.rest_steps, 0u);
+  step_bird(b, s, w, 2, dt);
+  EXPECT_EQ(b.mode, FlightMode::taking_off);
+  EXPECT_EQ(b.mode_steps, 1u);  // its first step on its legs
+
+  BirdState perched;
+  perched.mode = FlightMode::perched;
+  perched.mode_steps = UINT32_MAX - 1;
+  step_bird(perched, s, w, 0, dt);
+  step_bird(perched, s, w, 1, dt);
+  EXPECT_EQ(perched.mode_steps, UINT32_MAX);
+  BirdState circling;
+  circling.circling_steps = UINT32_MAX;
+  count_circling_step(circling);
+  EXPECT_EQ(circling.circling_steps, UINT32_MAX);
 }
 
 TEST(Landing, FlareShareIsTheDecelerationNeededOverFlareDecel) {

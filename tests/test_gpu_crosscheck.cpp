@@ -97,8 +97,8 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.tail_twist = in(-sp.rot_max, sp.rot_max);
     b.sweep = in(-sp.sweep_max, sp.sweep_max);
     b.pitch_trim = in(0.0, radians(20));
-    b.circling =
-        in(0.0, 5.0);  // past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside
+    // Past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside.
+    b.circling_steps = uint32_t(in(0.0, 5.0) / s.dt);
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
     const Route& tour = s.world.routes[0];
     const Branch& br = s.world.branches[0];
@@ -203,7 +203,7 @@ const std::map<std::string, double> kStateTolerance = {
     {"pitch_trim", 1e-6},  // rad
     {"airspeed", 0},       // cm/s: a command, kept
     {"mode_steps", 0},
-    {"circling", 1e-6},  // s
+    {"circling_steps", 0},
     {"quarantined_step", 0},
     {"rest_steps", 0},
     {"landing_start", 1e-3},     // cm: placed at the bird's position
@@ -223,16 +223,24 @@ const std::map<std::string, double> kStateTolerance = {
 // Issue 39: the device keeps time as whole steps (a bird's mode, its rest, the step of its
 // quarantine; the clock as a 64-bit step count), exact over days. Two starlings stand for a day and
 // take off at 86,400.0013 s; the second, of a species whose lift is NaN, is quarantined when its
-// legs stop holding it (crouch_time later). Both backends agree on the step of each to the step and
-// the time to the microsecond: the step whole_steps(86,400.0013 s, 2 ms), 43,200,001 (the first
-// whose start is not more than half a step before the take-off time). A float clock (before) counts
-// 86,400 s in its ulp of 7.8 ms, four steps of 2 ms.
-TEST(GpuClock, ATakeOffAndAQuarantineAfterADayHappenOnTheSameStep) {
+// legs stop holding it (crouch_time later). A third, with stubs for wings and no leg push, hops
+// from the same take-off, touches down and rests (kRestAfterTouchdown: 250 steps). Both backends
+// agree on the step of each to the step and the time to the microsecond: the take-off on
+// whole_steps(86,400.0013 s, 2 ms), 43,200,001 (the first step whose start is not more than half a
+// step before the take-off time), the next take-off 250 steps after the touch-down's. A float
+// clock (before) counts 86,400 s in its ulp of 7.8 ms, four steps of 2 ms: it took off 2 steps
+// early, rested 246 steps and stamped a quarantine 1.6 ms off.
+TEST(GpuClock, ATakeOffARestAndAQuarantineAfterADayHappenOnTheSameStep) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   Scenario s = parse_scenario(R"(
 [simulation]
 fidelity = "fast"
 duration = 90000.0
+[[species]]
+name = "stub-winged"
+base = "starling"
+wing_area = 10.0
+leg_force = 0.0
 [[targets]]
 name = "t"
 centre = [0.0, 3000.0, 100000.0]
@@ -247,6 +255,13 @@ centre = [0.0, 1000.0, 0.0]
 extent = [500.0, 0.0, 500.0]
 standing = true
 takeoff_time = 86400.0013
+[[flocks]]
+species = "stub-winged"
+route = "r"
+centre = [2000.0, 1000.0, 0.0]
+standing = true
+takeoff_time = 86400.0013
+random_phase = false
 )",
                               "day.toml");
   ASSERT_EQ(s.dt, 0.002);
@@ -255,25 +270,43 @@ takeoff_time = 86400.0013
   doomed.Cl_max = std::numeric_limits<double>::quiet_NaN();
   birds[1].species = static_cast<uint32_t>(s.species.size());
   s.species.push_back(doomed);
-  const uint64_t takeoff = 43200001;
+  const uint64_t takeoff = 43200001, rest = whole_steps(kRestAfterTouchdown, s.dt);
   ASSERT_EQ(birds[0].rest_steps, takeoff);
+  ASSERT_EQ(rest, 250u);
   CpuSimulation cpu(s, birds);
   gpu::GpuSimulation gpu(device, s, birds);
-  uint64_t took_off[2] = {0, 0};
+  // Each backend's steps: the first take-off, the hopping bird's touch-down and its take-off after.
+  uint64_t took_off[2] = {0, 0}, touched_down[2] = {0, 0}, took_off_again[2] = {0, 0};
   for (Simulation* sim : {static_cast<Simulation*>(&cpu), static_cast<Simulation*>(&gpu)}) {
+    const int k = sim == &gpu;
     while (sim->steps() + 1000000 < takeoff - 10) sim->step(1000000);
     sim->step(uint32_t(takeoff - 10 - sim->steps()));
-    while (sim->steps() < takeoff + 200) {
+    FlightMode hopping = FlightMode::standing;
+    while (sim->steps() < takeoff + 600 && took_off_again[k] == 0) {
+      const uint64_t step = sim->steps();  // the step about to be taken
       sim->step(1);
       const std::vector<BirdState>& b = sim->birds();
-      if (b[0].mode != FlightMode::standing && took_off[sim == &gpu] == 0)
-        took_off[sim == &gpu] = sim->steps() - 1;  // the step it left the ground in
+      if (b[0].mode != FlightMode::standing && took_off[k] == 0) took_off[k] = step;
+      if (hopping != FlightMode::standing && b[2].mode == FlightMode::standing &&
+          touched_down[k] == 0)
+        touched_down[k] = step;
+      if (touched_down[k] > 0 && b[2].mode == FlightMode::taking_off) took_off_again[k] = step;
+      hopping = b[2].mode;
     }
   }
   RecordProperty("take_off_step_cpu_vulkan",
                  std::to_string(took_off[0]) + " " + std::to_string(took_off[1]));
+  RecordProperty("touch_down_step_cpu_vulkan",
+                 std::to_string(touched_down[0]) + " " + std::to_string(touched_down[1]));
+  RecordProperty("rested_steps_cpu_vulkan",
+                 std::to_string(took_off_again[0] - touched_down[0] - 1) + " " +
+                     std::to_string(took_off_again[1] - touched_down[1] - 1));
   EXPECT_EQ(took_off[0], takeoff);
   EXPECT_EQ(took_off[1], takeoff);
+  ASSERT_GT(touched_down[0], takeoff) << "the stub-winged bird never touched down";
+  EXPECT_EQ(touched_down[1], touched_down[0]);
+  EXPECT_EQ(took_off_again[0], touched_down[0] + rest + 1);  // it rests `rest` steps
+  EXPECT_EQ(took_off_again[1], touched_down[1] + rest + 1);
   const BirdState c = cpu.birds()[1], g = gpu.birds()[1];
   ASSERT_EQ(c.mode, FlightMode::quarantined);
   ASSERT_EQ(g.mode, FlightMode::quarantined);

@@ -9,6 +9,7 @@
 #include "io/scenario_file.h"
 #include "io/species_fields.h"
 #include "model/constants.h"
+#include "model/simulation.h"
 
 namespace aeroflock {
 namespace {
@@ -603,6 +604,27 @@ TEST(ScenarioLimits, ValidateAndSetDt) {
   EXPECT_THROW(set_dt(s, kMinDt), std::invalid_argument);
   EXPECT_EQ(s.steps_per_frame, kMaxStepsPerFrame);
   EXPECT_EQ(steps_in(1e30, kMinDt), UINT32_MAX);  // clamped, not a double past uint32_t cast
+
+  // Issue 39: a standing flock's rest is counted in 32-bit steps at any dt it is given, and
+  // spawning refuses one that no check saw rather than shorten it.
+  const std::string late =
+      "flocks[0].takeoff_time of 50000 s is more than 2^32 - 1 steps of 1e-05 s";
+  s = ok;
+  s.flocks[0].standing = true;
+  s.flocks[0].takeoff_time = 50000.0;
+  EXPECT_EQ(complaint(s), "");  // 1.7e8 steps of 0.3 ms
+  EXPECT_THROW(set_dt(s, kMinDt), std::invalid_argument);
+  EXPECT_EQ(s.dt, ok.dt);
+  s.dt = kMinDt;
+  EXPECT_EQ(complaint(s), late);
+  try {
+    spawn_birds(s);
+    ADD_FAILURE() << "spawned birds whose rest does not fit its count";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), late);
+  }
+  s.flocks[0].standing = false;  // a flying flock's takeoff_time is not read
+  EXPECT_EQ(complaint(s), "");
 }
 
 // Issue 16 (d): a scenario file is a regular file of at most 16 MiB; neither /dev/zero nor a

@@ -90,6 +90,7 @@ TEST(FlockStatistics, QuarantinedBirdsAreCountedListedAndLeftOut) {
   ASSERT_EQ(listed.size(), 2u);
   EXPECT_EQ(listed[0].bird, 3u);
   EXPECT_EQ(listed[1].bird, 1u);  // of two at 2 s, the lower index
+  EXPECT_EQ(listed[1].step, 4000u);
   EXPECT_EQ(listed[1].time, 2.0);
   EXPECT_EQ(listed[1].last.position.x, 900.0);
   RunSummary r;
@@ -97,6 +98,7 @@ TEST(FlockStatistics, QuarantinedBirdsAreCountedListedAndLeftOut) {
   const nlohmann::ordered_json j = summary_json(r)["quarantined"];
   ASSERT_EQ(j.size(), 2u);
   EXPECT_EQ(j[0]["bird"], 3);
+  EXPECT_EQ(j[0]["step"], 2000);
   EXPECT_EQ(j[0]["time"], 1.0);
   EXPECT_EQ(j[0]["position"], nlohmann::json::array({700.0, 0.0, 0.0}));
   EXPECT_EQ(j[0]["velocity"], nlohmann::json::array({700.0, 0.0, 0.0}));

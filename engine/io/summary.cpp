@@ -54,10 +54,10 @@ std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& bir
                                                size_t most) {
   std::vector<QuarantinedBird> out;
   for (uint64_t i = 0; i < birds.size(); ++i)
-    if (birds[i].mode == FlightMode::quarantined)
-      out.push_back({i, double(birds[i].quarantined_step) * dt, birds[i]});
+    if (const BirdState& b = birds[i]; b.mode == FlightMode::quarantined)
+      out.push_back({i, b.quarantined_step, double(b.quarantined_step) * dt, b});
   std::stable_sort(out.begin(), out.end(),
-                   [](const auto& a, const auto& b) { return a.time < b.time; });
+                   [](const auto& a, const auto& b) { return a.step < b.step; });
   if (out.size() > most) out.resize(most);
   return out;
 }
@@ -77,6 +77,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
   for (const QuarantinedBird& q : r.quarantined) {
     const BirdState& b = q.last;
     quarantined.push_back({{"bird", q.bird},
+                           {"step", q.step},
                            {"time", q.time},
                            {"position", {b.position.x, b.position.y, b.position.z}},
                            {"velocity", {b.velocity.x, b.velocity.y, b.velocity.z}},

@@ -37,11 +37,12 @@ struct FlockingSummary {
 std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
                                               const std::vector<BirdState>& birds);
 
-// A bird quarantined (NaN quarantine, step.cpp): its state became non-finite in the step that
+// A bird quarantined (NaN quarantine, step.cpp): its state became non-finite in step `step`, which
 // began at `time`; frozen at its last finite state since.
 struct QuarantinedBird {
   uint64_t bird = 0;  // its index in the flock, as --vtk-birds and --camera-bird count
-  double time = 0.0;  // s
+  uint64_t step = 0;  // the step that was not finite (BirdState::quarantined_step)
+  double time = 0.0;  // s: when it started, step x dt
   BirdState last;     // its last finite state (mode quarantined)
 };
 // The quarantined birds, the earliest first (then by index), at most `most` of them; the run's step

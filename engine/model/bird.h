@@ -40,6 +40,10 @@ inline double mode_time(const BirdState& b, double dt) { return double(b.mode_st
 inline void count_mode_step(BirdState& b) {
   if (b.mode_steps < UINT32_MAX) ++b.mode_steps;
 }
+// One more step circling a goal (the same stop).
+inline void count_circling_step(BirdState& b) {
+  if (b.circling_steps < UINT32_MAX) ++b.circling_steps;
+}
 // The whole steps of dt a rest of `seconds` lasts: those that start before it ends, less half a
 // step (the rest ends on the step nearest its end), within [0, 2^32 - 1].
 uint32_t whole_steps(double seconds, double dt);

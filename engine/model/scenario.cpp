@@ -51,8 +51,6 @@ uint64_t Scenario::frames_reaching(double seconds) const {
   return frames;
 }
 
-namespace {
-// A standing flock's wait, counted in whole steps of dt on both backends, must fit their count.
 void check_takeoff_steps(const Scenario& s, double dt) {
   for (size_t i = 0; i < s.flocks.size(); ++i)
     if (s.flocks[i].standing && s.flocks[i].takeoff_time / dt >= double(UINT32_MAX))
@@ -60,7 +58,6 @@ void check_takeoff_steps(const Scenario& s, double dt) {
                                   number(s.flocks[i].takeoff_time) +
                                   " s is more than 2^32 - 1 steps of " + number(dt) + " s");
 }
-}  // namespace
 
 void set_dt(Scenario& s, double dt) {
   check_dt(dt);

@@ -97,6 +97,11 @@ void set_dt(Scenario& s, double dt);
 // within [1e-05, 0.01] s (docs/convergence.md), got 2 s".
 void check_dt(double dt);
 
+// Throws std::invalid_argument when a standing flock's takeoff_time is more than 2^32 - 1 steps of
+// `dt`: a bird's rest is counted in whole steps on both backends (BirdState::rest_steps).
+// validate(), set_dt() and spawn_birds() ask it.
+void check_takeoff_steps(const Scenario& s, double dt);
+
 // Whether height `y` (cm) lies above the world's ground, or on it where `on_allowed` (a target may
 // lie on it; nothing may start under it): validate() and the loader ask the same.
 inline bool above_ground(double y, const World& w, bool on_allowed = false) {

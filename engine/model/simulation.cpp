@@ -53,6 +53,7 @@ void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, co
 }  // namespace
 
 std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
+  check_takeoff_steps(s, s.dt);  // a rest too long to count is refused, not shortened
   std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const std::vector<uint32_t> sizes = flock_sizes(s, birds_override);

@@ -17,7 +17,8 @@ namespace aeroflock {
 
 // Places the scenario's birds. `birds_override` > 0 spreads that many birds over the flocks in
 // proportion to their counts, each flock's spawn box scaled to keep its density. Deterministic for
-// a given seed.
+// a given seed. Throws std::invalid_argument for a standing flock's takeoff_time too late to count
+// in steps (check_takeoff_steps).
 std::vector<BirdState> spawn_birds(const Scenario& scenario, uint32_t birds_override = 0);
 // The number of birds spawn_birds places, without placing them.
 uint64_t spawn_count(const Scenario& scenario, uint32_t birds_override = 0);

@@ -124,7 +124,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
     // Circling such a goal for kCirclingTurn of a turn, the bird flies on with its wings level
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
-    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
+    if (!(c.circling && b.circling_steps * dt > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
   }
   const double most =
@@ -239,7 +239,10 @@ void advance(BirdState& b, const Species& sp, const World& w, double dt, StepFor
   b.tail_twist = approach(b.tail_twist, c.twist, sp.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, sp.sweep_rate, dt);
   count_mode_step(b);
-  b.circling = c.circling ? b.circling + dt : 0.0;
+  if (c.circling)
+    count_circling_step(b);
+  else
+    b.circling_steps = 0;
   if (on_legs && mode_time(b, dt) >= sp.crouch_time + sp.leg_time) {
     b.mode = FlightMode::flying;
     b.mode_steps = 0;

@@ -1,10 +1,13 @@
 // engine/model/step.cpp in float (model.glsl), function for function in its order; the reasons
 // are in the C++.
 
-// bird.h: mode_time, count_mode_step.
+// bird.h: mode_time, count_mode_step, count_circling_step.
 float mode_time(GpuBird b) { return float(b.mode_steps) * pc.dt; }
 void count_mode_step(inout GpuBird b) {
   if (b.mode_steps < 0xffffffffu) ++b.mode_steps;
+}
+void count_circling_step(inout GpuBird b) {
+  if (b.circling_steps < 0xffffffffu) ++b.circling_steps;
 }
 
 struct Commands {
@@ -81,7 +84,8 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
     float circle = full_bank_radius(s, speed);
     c.circling = to_target && circles_goal(c.steering.heading_error_ahead, distance, circle, speed,
                                            goal.y - b.position.y, length(wind.xz));
-    if (!(c.circling && b.circling > kCirclingTurn * 2.0 * kPi * circle / speed))
+    if (!(c.circling &&
+          float(b.circling_steps) * pc.dt > kCirclingTurn * 2.0 * kPi * circle / speed))
       bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
   }
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w),
@@ -232,7 +236,10 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   b.tail_twist = approach(b.tail_twist, c.twist, s.tail_rate, dt);
   b.sweep = approach(b.sweep, c.sweep, s.sweep_rate, dt);
   count_mode_step(b);
-  b.circling = c.circling ? b.circling + dt : 0.0;
+  if (c.circling)
+    count_circling_step(b);
+  else
+    b.circling_steps = 0u;
   if (on_legs && mode_time(b) >= s.crouch_time + s.leg_time) {
     b.mode = mode_flying;
     b.mode_steps = 0u;
