@@ -338,7 +338,7 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
   // Nothing starts under the ground (validate() checks the same, unlocated): a standing flock
   // stands at its species' stand_height whatever its centre, a flying one anywhere in its box.
   const Species& sp = s.species[f.species];
-  if (f.standing && f.takeoff_time / s.dt >= double(UINT32_MAX))
+  if (f.standing && !takeoff_counts(f.takeoff_time, s.dt))
     r.fail("takeoff_time", "more than 2^32 - 1 steps of dt (" + std::to_string(s.dt) +
                                " s): the wait is counted in whole steps");
   if (f.standing && !(sp.stand_height > 0.0))

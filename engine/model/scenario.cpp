@@ -53,7 +53,7 @@ uint64_t Scenario::frames_reaching(double seconds) const {
 
 void check_takeoff_steps(const Scenario& s, double dt) {
   for (size_t i = 0; i < s.flocks.size(); ++i)
-    if (s.flocks[i].standing && s.flocks[i].takeoff_time / dt >= double(UINT32_MAX))
+    if (s.flocks[i].standing && !takeoff_counts(s.flocks[i].takeoff_time, dt))
       throw std::invalid_argument("flocks[" + std::to_string(i) + "].takeoff_time of " +
                                   number(s.flocks[i].takeoff_time) +
                                   " s is more than 2^32 - 1 steps of " + number(dt) + " s");

@@ -101,6 +101,8 @@ void check_dt(double dt);
 // `dt`: a bird's rest is counted in whole steps on both backends (BirdState::rest_steps).
 // validate(), set_dt() and spawn_birds() ask it.
 void check_takeoff_steps(const Scenario& s, double dt);
+// Whether a standing bird's wait of `seconds` counts in whole steps of `dt` (rest_steps, 32 bits).
+inline bool takeoff_counts(double seconds, double dt) { return seconds / dt < double(UINT32_MAX); }
 
 // Whether height `y` (cm) lies above the world's ground, or on it where `on_allowed` (a target may
 // lie on it; nothing may start under it): validate() and the loader ask the same.
