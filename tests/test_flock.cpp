@@ -29,8 +29,8 @@ void expect_grid_matches_brute_force(const std::vector<BirdState>& birds,
   const NeighbourGrid grid(birds, grid_shape(species, birds));
   size_t seen = 0;
   for (uint32_t i = 0; i < birds.size(); ++i) {
-    const std::vector<uint32_t> fast = grid.seen_by(i, species);
-    ASSERT_EQ(fast, seen_by_brute_force(i, birds, species)) << what << ": bird " << i;
+    const std::vector<uint32_t> fast = grid.seen_by(i, species, World{});
+    ASSERT_EQ(fast, seen_by_brute_force(i, birds, species, World{})) << what << ": bird " << i;
     seen += fast.size();
   }
   if (birds.size() > 1) {
@@ -85,10 +85,11 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   for (int i = 0; i < 20; ++i)
     apart.push_back(flocking_bird(dvec3{3000.0 * i, 0.0, 0.0}, dvec3{0.0, 0.0, 1000.0}));
   const NeighbourGrid grid(apart, grid_shape(species, apart));
-  for (uint32_t i = 0; i < apart.size(); ++i) EXPECT_TRUE(grid.seen_by(i, species).empty());
+  for (uint32_t i = 0; i < apart.size(); ++i)
+    EXPECT_TRUE(grid.seen_by(i, species, World{}).empty());
   // One bird, and none.
   const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
-  EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, one)).seen_by(0, species).empty());
+  EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, one)).seen_by(0, species, World{}).empty());
   std::vector<Perception> perception;
   perceive({}, species, World{}, 0, 0.03, perception);
   EXPECT_TRUE(perception.empty());
@@ -107,7 +108,7 @@ TEST(Perception, SeesTheNearestOutsideTheBlindSectorWithinTheRadius) {
   std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
   for (int i = 1; i <= 10; ++i)
     birds.push_back(flocking_bird(dvec3{100.0 * ((i + 1) / 2), 0.0, 0.0}, dvec3{1000.0, 0.0, 0.0}));
-  const std::vector<uint32_t> seen = seen_by_brute_force(0, birds, {s});
+  const std::vector<uint32_t> seen = seen_by_brute_force(0, birds, {s}, World{});
   EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7}));
 }
 
@@ -118,7 +119,8 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward),
                                   flocking_bird(dvec3{0.0, 0.0, 50.0}, forward)};
   const dvec3 route{10000.0, 0.0, 0.0};
-  Perception p = social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds);
+  Perception p =
+      social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds);
   EXPECT_EQ(p.neighbours, 1u);
   EXPECT_NEAR(p.nearest, 50.0, 1e-9);
   EXPECT_LT(p.direction.z, -0.1);
@@ -126,23 +128,26 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   EXPECT_DOUBLE_EQ(p.airspeed, s.cruise_speed);  // beside it: neither ahead nor behind
   // A bird far ahead and to the left, flying left: the goal turns left, the bird speeds up.
   birds[1] = flocking_bird(dvec3{1500.0, 0.0, -500.0}, dvec3{700.0, 0.0, -700.0});
-  p = social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds);
+  p = social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds);
   EXPECT_LT(p.direction.z, -0.1);
   EXPECT_GT(p.airspeed, s.cruise_speed);
   // One close ahead: it slows.
   birds[1] = flocking_bird(dvec3{50.0, 0.0, 0.0}, forward);
-  EXPECT_LT(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
-            s.cruise_speed);
+  EXPECT_LT(
+      social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds).airspeed,
+      s.cruise_speed);
   // One beside flying 2 m/s faster: it speeds up by speed_match x 200 cm/s; slower, it slows.
   ASSERT_GT(s.speed_match, 0.0);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{1200.0, 0.0, 0.0});
-  EXPECT_NEAR(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
-              std::clamp(s.cruise_speed + s.speed_match * 200.0, s.min_speed, s.max_speed), 1e-9);
+  EXPECT_NEAR(
+      social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds).airspeed,
+      std::clamp(s.cruise_speed + s.speed_match * 200.0, s.min_speed, s.max_speed), 1e-9);
   birds[1] = flocking_bird(dvec3{0.0, 0.0, 500.0}, dvec3{800.0, 0.0, 0.0});
-  EXPECT_LT(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
-            s.cruise_speed);
+  EXPECT_LT(
+      social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds).airspeed,
+      s.cruise_speed);
   // None seen: no goal.
-  EXPECT_EQ(social_goal(s, birds[0], route, false, {}, birds).neighbours, 0u);
+  EXPECT_EQ(social_goal(s, birds[0], dvec3{0.0}, route, false, {}, birds).neighbours, 0u);
   // One 10 m straight ahead, beyond separation_radius: the cohesion pulls it on through its
   // airspeed as well (issue 39), cruise_speed w_cohesion / (w_route + w_alignment + w_cohesion).
   const dvec3 x{1.0, 0.0, 0.0};
@@ -150,17 +155,20 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
               s.cruise_speed * s.w_cohesion / (s.w_route + s.w_alignment + s.w_cohesion), 1e-9);
   EXPECT_EQ(cohesion_pull(s, dvec3{0.0, 0.0, 1.0}, x), 0.0);  // beside: steering does it
   birds[1] = flocking_bird(dvec3{1000.0, 0.0, 0.0}, forward);
-  EXPECT_NEAR(social_goal(s, birds[0], route, false, std::vector<uint32_t>{1}, birds).airspeed,
-              s.cruise_speed + s.speed_gain * 1000.0 * (1.0 - s.separation_radius / 1000.0) +
-                  cohesion_pull(s, x, x),
-              1e-9);
+  EXPECT_NEAR(
+      social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds).airspeed,
+      s.cruise_speed + s.speed_gain * 1000.0 * (1.0 - s.separation_radius / 1000.0) +
+          cohesion_pull(s, x, x),
+      1e-9);
   // Its route over (route_over), a bird flies on with its flock: a route to the right turns it
   // right, one beside on the left turns it left once the route no longer counts.
   birds[1] = flocking_bird(dvec3{0.0, 0.0, -500.0}, forward);
   const dvec3 right{0.0, 0.0, 1e6};
-  EXPECT_GT(social_goal(s, birds[0], right, false, std::vector<uint32_t>{1}, birds).direction.z,
+  EXPECT_GT(social_goal(s, birds[0], dvec3{0.0}, right, false, std::vector<uint32_t>{1}, birds)
+                .direction.z,
             0.0);
-  EXPECT_LT(social_goal(s, birds[0], right, true, std::vector<uint32_t>{1}, birds).direction.z,
+  EXPECT_LT(social_goal(s, birds[0], dvec3{0.0}, right, true, std::vector<uint32_t>{1}, birds)
+                .direction.z,
             0.0);
 }
 
@@ -174,6 +182,70 @@ TEST(Perception, TheRouteAimsAtItsGoalsHeightHeightCaptureAhead) {
   EXPECT_NEAR(u.y / u.x, 15000.0 / s.height_capture, 1e-12);
   const dvec3 near{0.5 * s.height_capture, 1000.0, 0.0};
   EXPECT_NEAR(glm::distance(route_direction(s, near), glm::normalize(near)), 0.0, 1e-12);
+}
+
+// In a wind the route's share of d is the heading that holds its track (issue 39): 8 m/s straight
+// across at 10 m/s through the air, asin(0.8) = 53.13 degrees into the wind, its climb as it was;
+// in calm air, or drifting in full (drift_compensation 0), route_direction's.
+TEST(Perception, TheRouteHeadsIntoAWindAcrossItToHoldItsTrack) {
+  Species s = starling();
+  const dvec3 far{2.5e6, 15000.0, 0.0}, across{0.0, 0.0, 800.0};
+  const dvec3 calm = route_direction(s, far);
+  EXPECT_NEAR(glm::distance(route_heading(s, far, dvec3{0.0}, 1000.0), calm), 0.0, 1e-12);
+  const dvec3 h = route_heading(s, far, across, 1000.0);
+  EXPECT_NEAR(std::atan2(-h.z, h.x), std::asin(0.8), 1e-12);
+  EXPECT_NEAR(h.y, calm.y, 1e-12);
+  EXPECT_NEAR(glm::length(h), 1.0, 1e-12);
+  // Its head into that heading's air velocity, 10 m/s: over the ground it flies along the way.
+  const dvec3 air = 1000.0 * glm::normalize(horizontal(h));
+  EXPECT_NEAR((air + across).z, 0.0, 1e-9);
+  s.drift_compensation = 0.0;
+  EXPECT_NEAR(glm::distance(route_heading(s, far, across, 1000.0), calm), 0.0, 1e-12);
+}
+
+// A flock flies in the air it moves with (issue 39): in a uniform wind every bird sees the same
+// birds and steers the same heading through the air, at the same airspeed, as the same flock in
+// calm air whose velocities are those less the wind. Taken over the ground, 100 migrants in 8 m/s
+// across spread to 45 m and split into two flocks side by side.
+TEST(Perception, AFlockInAUniformWindFliesAsInCalmAir) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::vector<Species> species = {starling()};
+  const dvec3 wind{300.0, 0.0, 800.0};
+  World windy;
+  windy.wind = wind;
+  std::vector<BirdState> calm_birds, windy_birds;
+  for (int i = 0; i < 300; ++i) {
+    const BirdState b =
+        flocking_bird(1500.0 * dvec3{unit(rng), 0.3 * unit(rng), unit(rng)},
+                      1000.0 * glm::normalize(dvec3{1.0, 0.1 * unit(rng), 0.3 * unit(rng)}));
+    calm_birds.push_back(b);
+    windy_birds.push_back(b);
+    windy_birds.back().velocity += wind;
+  }
+  const NeighbourGrid calm_grid(calm_birds, grid_shape(species, calm_birds));
+  const NeighbourGrid windy_grid(windy_birds, grid_shape(species, windy_birds));
+  size_t seen = 0;
+  for (uint32_t i = 0; i < calm_birds.size(); ++i) {
+    const std::vector<uint32_t> in_calm = calm_grid.seen_by(i, species, World{});
+    ASSERT_EQ(windy_grid.seen_by(i, species, windy), in_calm) << "bird " << i;
+    seen += in_calm.size();
+    // Its route over, the social goal alone.
+    const Perception c =
+        social_goal(species[0], calm_birds[i], dvec3{0.0}, dvec3{0.0}, true, in_calm, calm_birds);
+    const Perception w =
+        social_goal(species[0], windy_birds[i], wind, dvec3{0.0}, true, in_calm, windy_birds);
+    EXPECT_NEAR(glm::distance(c.direction, w.direction), 0.0, 1e-9) << "bird " << i;
+    EXPECT_NEAR(c.airspeed, w.airspeed, 1e-6) << "bird " << i;
+  }
+  EXPECT_GT(seen, 1000u);
+  // Over the ground the same flock would align with other directions: what the wind changed.
+  const std::vector<uint32_t> some = calm_grid.seen_by(0, species, World{});
+  const Perception over_ground =
+      social_goal(species[0], windy_birds[0], dvec3{0.0}, dvec3{0.0}, true, some, windy_birds);
+  const Perception in_air =
+      social_goal(species[0], windy_birds[0], wind, dvec3{0.0}, true, some, windy_birds);
+  EXPECT_GT(glm::distance(over_ground.direction, in_air.direction), 0.05);
 }
 
 // docs/MODEL.md "What a flock must show", criteria 1-4, on the CPU reference: the default

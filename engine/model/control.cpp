@@ -69,7 +69,7 @@ double approach_speed(const Species& s, double to_branch) {
 
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3& position,
                        const dvec3& velocity, const dvec3& goal, const dvec3& wind,
-                       double ground_speed, bool by_course, bool commanded) {
+                       double ground_speed, bool by_course, bool commanded, bool in_air) {
   // Braking, the bird steers its course through the air (not its head, which a sideslip turns
   // away from it) onto the crab aim, so that it is not blown off the branch; barely moving
   // through the air, its head.
@@ -79,14 +79,17 @@ Steering steer_towards(const Species& s, const glm::dquat& attitude, const dvec3
       by_course && air_speed > kSteerAirspeed ? air : attitude * dvec3{1.0, 0.0, 0.0};
   const dvec3 to_goal = goal - position;
   const dvec3 aim = crab_aim(to_goal, wind, ground_speed);
-  // Flying faster through the air than the crab asks, or at an airspeed commanded otherwise (its
-  // flock's), the bird holds its track at its airspeed.
+  // Flying faster through the air than the crab asks, or at an airspeed commanded otherwise, the
+  // bird holds its track at its airspeed; towards a branch it holds it in full, lest it be blown
+  // off it. A heading through the air (a flock's) is where it heads.
   const double aim_speed = glm::length(aim);
-  dvec3 head_for = !by_course && (commanded || air_speed > aim_speed)
-                       ? track_aim(to_goal, wind, air_speed)
-                       : aim;
-  // Towards a branch it holds its track in full, lest it be blown off it.
-  if (!by_course) head_for = compensated_aim(to_goal, head_for, s.drift_compensation);
+  dvec3 head_for = aim;
+  if (in_air)
+    head_for = horizontal(to_goal);
+  else if (!by_course)
+    head_for = compensated_aim(
+        to_goal, commanded || air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim,
+        s.drift_compensation);
   // Right of a horizontal direction (x, z) is (-z, x) in the world's x-z plane (y up).
   const double heading_error = std::atan2(-head.z * head_for.x + head.x * head_for.z,
                                           head.x * head_for.x + head.z * head_for.z);

@@ -16,8 +16,9 @@ double sign_outside(double x, double band);
 // heading_error, phi (Fig. 11): the horizontal angle from the head direction to the goal,
 // target on the right > 0; in a wind, to where the head must point for the bird to fly over the
 // ground towards the goal at `ground_speed` (crab_aim), or, flying faster through the air than
-// that asks, or at an airspeed `commanded` otherwise (a flock's, a scenario's), along the way to it
-// at its airspeed (track_aim): it crabs. With `by_course` (braking)
+// that asks, or at an airspeed `commanded` otherwise (a scenario's), along the way to it at its
+// airspeed (track_aim): it crabs. With `in_air` the way to the goal is itself the heading through
+// the air (a flock's social goal, flock.h: route_heading). With `by_course` (braking)
 // the angle is from its course through the air instead of its head (kSteerAirspeed).
 // heading_error_ahead: the same, less the turn the bank is making (g tan(bank) / v) over
 // heading_lead seconds; the tail twist steers by it, which damps the body's yaw. height_error: y_p
@@ -32,7 +33,8 @@ struct Steering {
 };
 Steering steer_towards(const Species& s, const glm::dquat& attitude, const glm::dvec3& position,
                        const glm::dvec3& velocity, const glm::dvec3& goal, const glm::dvec3& wind,
-                       double ground_speed, bool by_course, bool commanded = false);
+                       double ground_speed, bool by_course, bool commanded = false,
+                       bool in_air = false);
 
 // With the target well behind (more than kBehind off the heading), a bird banked more than half
 // bank_max keeps turning the way it banks: either way round is about as long, and a goal passing

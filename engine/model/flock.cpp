@@ -10,6 +10,7 @@
 
 #include "body.h"
 #include "constants.h"
+#include "control.h"
 #include "route.h"
 
 namespace aeroflock {
@@ -23,10 +24,11 @@ dvec3 unit_or_zero(const dvec3& v) {
   return length > 0.0 ? v / length : dvec3{0.0};
 }
 
-// Where a bird flies: along its velocity (its head's direction while it is still).
-dvec3 flight_direction(const BirdState& b) {
-  return glm::length(b.velocity) > 0.0 ? glm::normalize(b.velocity)
-                                       : b.attitude * dvec3{1.0, 0.0, 0.0};
+// Where a bird flies through the air it flies in, moving with `wind`, and looks: along its air
+// velocity (its head's direction while it is still in that air).
+dvec3 flight_direction(const BirdState& b, const dvec3& wind) {
+  const dvec3 air = b.velocity - wind;
+  return glm::length(air) > 0.0 ? glm::normalize(air) : b.attitude * dvec3{1.0, 0.0, 0.0};
 }
 
 // The k nearest seen so far, nearest first, ties by index: one insertion step.
@@ -90,18 +92,26 @@ dvec3 route_direction(const Species& s, const dvec3& to_goal) {
   return unit_or_zero(way * (s.height_capture / length) + dvec3{0.0, to_goal.y, 0.0});
 }
 
+dvec3 route_heading(const Species& s, const dvec3& to_goal, const dvec3& wind, double airspeed) {
+  const dvec3 route = route_direction(s, to_goal);
+  const dvec3 way = horizontal(route);
+  const dvec3 aim = compensated_aim(way, track_aim(way, wind, airspeed), s.drift_compensation);
+  const dvec3 level = glm::length(aim) > 0.0 ? glm::normalize(aim) * glm::length(way) : way;
+  return level + dvec3{0.0, route.y, 0.0};
+}
+
 double cohesion_pull(const Species& s, const dvec3& cohesion, const dvec3& ahead) {
   const double weights = s.w_route + s.w_alignment + s.w_cohesion;
   return weights > 0.0 ? s.cruise_speed * s.w_cohesion * glm::dot(cohesion, ahead) / weights : 0.0;
 }
 
-Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_goal,
-                       bool route_done, std::span<const uint32_t> seen,
+Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
+                       const dvec3& route_goal, bool route_done, std::span<const uint32_t> seen,
                        const std::vector<BirdState>& birds) {
   Perception p;
   p.neighbours = static_cast<uint32_t>(seen.size());
   if (seen.empty()) return p;
-  const dvec3 ahead = flight_direction(b);
+  const dvec3 ahead = flight_direction(b, wind);
   dvec3 separation{0.0}, heading_sum{0.0}, cohesion_sum{0.0};
   double ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   int beyond = 0;
@@ -112,7 +122,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
       separation -= unit_or_zero(offset) * std::pow(1.0 - distance / s.separation_radius, 2.0);
     else
       cohesion_sum += offset;
-    heading_sum += unit_or_zero(birds[j].velocity);
+    heading_sum += unit_or_zero(birds[j].velocity - wind);
     faster_sum += glm::dot(birds[j].velocity - b.velocity, ahead);
     // Along its flight, how far the neighbour is from separation_radius away (ahead > 0): one
     // nearer than that counts in full, those beyond by their mean.
@@ -126,17 +136,19 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& route_
   }
   p.nearest = glm::length(birds[seen[0]].position - b.position);
   for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
-  const dvec3 route = route_done ? dvec3{0.0} : route_direction(s, route_goal - b.position);
-  const dvec3 d = s.w_route * route + s.w_separation * separation +
-                  s.w_alignment * unit_or_zero(heading_sum) +
-                  s.w_cohesion * unit_or_zero(cohesion_sum);
-  p.direction = unit_or_zero(d);
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
   const double faster = faster_sum / double(seen.size());
   const double pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
   p.airspeed =
       std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                  s.min_speed, s.max_speed);
+  const dvec3 route = route_done ? dvec3{0.0}
+                                 : route_heading(s, route_goal - b.position, wind,
+                                                 glm::length(horizontal(b.velocity - wind)));
+  const dvec3 d = s.w_route * route + s.w_separation * separation +
+                  s.w_alignment * unit_or_zero(heading_sum) +
+                  s.w_cohesion * unit_or_zero(cohesion_sum);
+  p.direction = unit_or_zero(d);
   return p;
 }
 
@@ -225,13 +237,13 @@ NeighbourGrid::NeighbourGrid(const std::vector<BirdState>& birds, GridShape shap
     if (bucket[i] < shape.buckets) sorted_[next[bucket[i]]++] = static_cast<uint32_t>(i);
 }
 
-std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i,
-                                             const std::vector<Species>& species) const {
+std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Species>& species,
+                                             const World& world) const {
   const BirdState& b = birds_[i];
   const Species& s = species[b.species];
   Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
   if (!flocks_now(b) || s.neighbours < 1.0) return {};
-  const dvec3 ahead = flight_direction(b);
+  const dvec3 ahead = flight_direction(b, wind_at(world, b.position.y));
   const double cell = shape_.cell;
   const glm::ivec3 home = grid_cell(b.position, cell);
   const int rings = static_cast<int>(std::ceil(s.perception_radius / cell));
@@ -270,11 +282,11 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i,
 }
 
 std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
-                                          const std::vector<Species>& species) {
+                                          const std::vector<Species>& species, const World& world) {
   const Species& s = species[birds[i].species];
   Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
   if (!flocks_now(birds[i]) || s.neighbours < 1.0) return {};
-  const dvec3 ahead = flight_direction(birds[i]);
+  const dvec3 ahead = flight_direction(birds[i], wind_at(world, birds[i].position.y));
   for (uint32_t j = 0; j < birds.size(); ++j) consider(nearest, s, birds, i, j, ahead);
   return nearest.index;
 }
@@ -290,13 +302,14 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
     const BirdState& b = birds[static_cast<size_t>(i)];
     const Species& s = species[b.species];
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
-    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species);
+    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species, world);
     BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
     dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
     bool route_done = route_over(route_bird, world);
     if (const std::optional<dvec3> on = onward_goal(route_bird, world))
       goal = *on, route_done = false;
-    perception[static_cast<size_t>(i)] = social_goal(s, b, goal, route_done, seen, birds);
+    perception[static_cast<size_t>(i)] =
+        social_goal(s, b, wind_at(world, b.position.y), goal, route_done, seen, birds);
   }
 }
 

@@ -30,8 +30,9 @@ struct Perception {
 // off, landing or perched, nor on its way to a branch). Only such birds see and are seen.
 bool flocks_now(const BirdState& b);
 
-// Whether a bird flying along `ahead` (unit) sees one at `offset` (cm) from it: within
-// perception_radius and outside the blind sector, blind_angle wide, centred straight behind it.
+// Whether a bird flying along `ahead` (unit: through the air, where its head points) sees one at
+// `offset` (cm) from it: within perception_radius and outside the blind sector, blind_angle wide,
+// centred straight behind it.
 bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
 
 // How often a bird of species `s` perceives: every this many frames (at least 1), from
@@ -44,6 +45,17 @@ uint32_t reaction_frames(const Species& s, double frame_seconds);
 // weakly that it wandered hundreds of metres off its route's (docs/MODEL.md "Flocking").
 glm::dvec3 route_direction(const Species& s, const glm::dvec3& to_goal);
 
+// The route's share of d as a heading through the air: route_direction's level part turned to
+// where a bird at `airspeed` (cm/s, its own now) heads in `wind` to make good that track
+// (track_aim), as far as it compensates for drift (compensated_aim); its vertical part as it is. A
+// flock flies in the air it moves with, so every other share of d is taken in that air: the flock's
+// own motion is then the same in any uniform wind as in calm air, and only the route knows the
+// ground. Taken over the ground (as before), a crab of 53 degrees in 8 m/s across made each change
+// of airspeed a move across the flock, and 100 birds split into two flocks side by side
+// (docs/MODEL.md "Flocking").
+glm::dvec3 route_heading(const Species& s, const glm::dvec3& to_goal, const glm::dvec3& wind,
+                         double airspeed);
+
 // The airspeed (cm/s) by which the cohesion pulls a bird flying along `ahead` (unit) towards
 // `cohesion` (unit): cruise_speed w_cohesion (cohesion . ahead) / (w_route + w_alignment +
 // w_cohesion). Steering turns the bird across its flight as far as the cohesion tilts u(d); along
@@ -52,9 +64,10 @@ glm::dvec3 route_direction(const Species& s, const glm::dvec3& to_goal);
 double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dvec3& ahead);
 
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
-// index): the desired direction d of docs/MODEL.md from separation (fall-off (1 - distance /
-// separation_radius)^2), alignment, cohesion and the route
-// (towards `route_goal`: route_direction), and the airspeed: cruise_speed plus speed_gain times how
+// index), for a bird in `wind` (its own: its neighbours are metres away): the desired heading d of
+// docs/MODEL.md through that air from separation (fall-off (1 - distance / separation_radius)^2),
+// alignment (with their air velocities), cohesion and the route (towards `route_goal`:
+// route_heading at the airspeed below), and the airspeed: cruise_speed plus speed_gain times how
 // far the seen birds are along its flight from where they would be at separation_radius (offset (1
 // - separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
 // nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
@@ -63,9 +76,9 @@ double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dv
 // max_speed].
 // `route_done`: its route is over and has no leg to fly on along (route.h: onward_goal): it flies
 // on with its flock, without the route's share of d.
-Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& route_goal,
-                       bool route_done, std::span<const uint32_t> seen,
-                       const std::vector<BirdState>& birds);
+Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& wind,
+                       const glm::dvec3& route_goal, bool route_done,
+                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
 
 // The uniform grid that finds neighbours (FLAME GPU's spatial messaging): cells of `cell` cm,
 // hashed into `buckets` (a power of two) so that memory grows with the birds, not with the world;
@@ -108,7 +121,8 @@ class NeighbourGrid {
   // The birds bird `i` sees, at most its species' `neighbours`, nearest first (ties by index):
   // only birds of its own flock that flock now. Searches the cells ring by ring outwards and stops
   // once no unsearched cell can hold a nearer bird.
-  std::vector<uint32_t> seen_by(uint32_t i, const std::vector<Species>& species) const;
+  std::vector<uint32_t> seen_by(uint32_t i, const std::vector<Species>& species,
+                                const World& world) const;
 
  private:
   const std::vector<BirdState>& birds_;
@@ -119,7 +133,7 @@ class NeighbourGrid {
 
 // The same by testing every bird: what the grid is tested against.
 std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
-                                          const std::vector<Species>& species);
+                                          const std::vector<Species>& species, const World& world);
 
 // Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
 // get a new one from the grid, due birds that do not get none, the rest keep theirs.

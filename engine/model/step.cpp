@@ -36,7 +36,7 @@ struct Commands {
 };
 
 Commands control(const BirdState& b, const Species& sp, const World& w, double dt, dvec3 goal,
-                 double airspeed_command) {
+                 double airspeed_command, bool in_air) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
   const double ground = w.ground_height + sp.stand_height;
   goal.y = std::max(goal.y, ground);
@@ -50,9 +50,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
   // On its legs a bird's air is the wind alone: it has no airspeed yet to hold a track at.
-  c.steering =
-      steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
-                    approach_speed(sp, to_perch), braking, airspeed_command > 0.0 && !on_legs);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
+                             approach_speed(sp, to_perch), braking,
+                             airspeed_command > 0.0 && !on_legs, in_air);
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
@@ -212,11 +212,12 @@ void advance(BirdState& b, const Species& sp, const World& w, double dt, StepFor
   // A bird that sees its flock steers for its social goal, lookahead along u(d), at the airspeed
   // that goal commands (docs/MODEL.md "Flocking"); alone, it flies its route.
   double airspeed = b.airspeed;
-  if (seen && seen->neighbours > 0 && flocks_now(b)) {
+  const bool social = seen && seen->neighbours > 0 && flocks_now(b);
+  if (social) {
     goal = b.position + sp.lookahead * seen->direction;
     airspeed = seen->airspeed;
   }
-  const Commands c = control(b, sp, w, dt, goal, airspeed);
+  const Commands c = control(b, sp, w, dt, goal, airspeed, social);
   const StepForces f = forces(b, sp, w, dt, c);
 
   // Euler integration (eqs. 6-8, 13, 14): position and attitude move with the rates at time t.

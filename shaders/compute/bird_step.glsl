@@ -24,7 +24,8 @@ struct Commands {
 
 // step.cpp's World is pc, step_wind and the bird's route: the route alone, not its Leg, which
 // made glslang's precise propagation blow up (docs/ARCHITECTURE.md).
-Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command) {
+Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command,
+                 bool in_air) {
   float ground = pc.wind_ground.w + s.stand_height;
   goal.y = max(goal.y, ground);  // no bird flies lower than it stands
   bool on_legs = b.mode == mode_taking_off;
@@ -37,7 +38,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   Commands c;
   c.steering =
       steer_towards(s, b.attitude, b.position, b.velocity, goal, wind, approach_speed(s, to_perch),
-                    braking, airspeed_command > 0.0 && !on_legs);
+                    braking, airspeed_command > 0.0 && !on_legs, in_air);
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
@@ -209,11 +210,12 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   vec3 goal = route_goal(b, s, leg);
   if (approach_branch(b, s, leg.route)) return no_forces();
   float airspeed_command = b.airspeed;
-  if (seen.neighbours > 0u && flocks_now(b)) {  // its social goal
+  bool social = seen.neighbours > 0u && flocks_now(b);
+  if (social) {  // its social goal: a heading through the air
     goal = b.position + s.lookahead * seen.direction;
     airspeed_command = seen.airspeed;
   }
-  Commands c = control(b, s, leg.route, goal, airspeed_command);
+  Commands c = control(b, s, leg.route, goal, airspeed_command, social);
   GpuForces f = forces(b, s, c);
 
   bool on_legs = b.mode == mode_taking_off;

@@ -65,17 +65,20 @@ float approach_speed(GpuSpecies s, float to_branch) {
 }
 
 Steering steer_towards(GpuSpecies s, vec4 attitude, vec3 position, vec3 velocity, vec3 goal,
-                       vec3 wind, float ground_speed, bool by_course, bool commanded) {
+                       vec3 wind, float ground_speed, bool by_course, bool commanded, bool in_air) {
   vec3 air = velocity - wind;
   float air_speed = length(air.xz);
   vec3 head = by_course && air_speed > kSteerAirspeed ? air : rotate(attitude, vec3(1, 0, 0));
   vec3 to_goal = goal - position;
   vec3 aim = crab_aim(to_goal, wind, ground_speed);
   float aim_speed = length(aim);
-  vec3 head_for = !by_course && (commanded || air_speed > aim_speed)
-                      ? track_aim(to_goal, wind, air_speed)
-                      : aim;
-  if (!by_course) head_for = compensated_aim(to_goal, head_for, s.drift_compensation);
+  vec3 head_for = aim;
+  if (in_air)
+    head_for = horizontal(to_goal);
+  else if (!by_course)
+    head_for = compensated_aim(
+        to_goal, commanded || air_speed > aim_speed ? track_aim(to_goal, wind, air_speed) : aim,
+        s.drift_compensation);
   float heading_error =
       atan_p(-head.z * head_for.x + head.x * head_for.z, head.x * head_for.x + head.z * head_for.z);
   float turn_rate = air_speed > 1.0 ? kGravity * tan_p(bank_angle(attitude)) / air_speed : 0.0;

@@ -7,8 +7,10 @@ vec3 unit_or_zero(vec3 v) {
   return l > 0.0 ? v / l : vec3(0.0);
 }
 
-vec3 flight_direction(GpuBird b) {
-  return length(b.velocity) > 0.0 ? normalize(b.velocity) : rotate(b.attitude, vec3(1, 0, 0));
+// flock.cpp: flight_direction, through the air moving with `wind`.
+vec3 flight_direction(GpuBird b, vec3 wind) {
+  vec3 air = b.velocity - wind;
+  return length(air) > 0.0 ? normalize(air) : rotate(b.attitude, vec3(1, 0, 0));
 }
 
 // Outside the blind sector (flock.cpp: sees, less the radius): `cos_blind` = cos(blind_angle / 2).
@@ -77,7 +79,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   }
   float worst_d2 = kFar;  // the k-th kept: a bird must be nearer to be kept
   uint worst = kNoBird;
-  vec3 ahead = flight_direction(b);
+  vec3 ahead = flight_direction(b, step_wind);
   float cell = pc.grid_cell;
   vec3 inside;
   ivec3 home = grid_cell(b, cell, inside);
@@ -142,6 +144,15 @@ vec3 route_direction(GpuSpecies s, vec3 to_goal) {
   return unit_or_zero(way * (s.height_capture / len) + vec3(0.0, to_goal.y, 0.0));
 }
 
+// flock.cpp: route_heading.
+vec3 route_heading(GpuSpecies s, vec3 to_goal, vec3 wind, float airspeed) {
+  vec3 route = route_direction(s, to_goal);
+  vec3 way = horizontal(route);
+  vec3 aim = compensated_aim(way, track_aim(way, wind, airspeed), s.drift_compensation);
+  vec3 level = length(aim) > 0.0 ? normalize(aim) * length(way) : way;
+  return level + vec3(0.0, route.y, 0.0);
+}
+
 // flock.cpp: cohesion_pull.
 float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
   float weights = s.w_route + s.w_alignment + s.w_cohesion;
@@ -152,7 +163,8 @@ float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
 GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_done) {
   GpuPerception p = GpuPerception(vec3(0.0), 0.0, near_count, 0.0, 0u, 0u);
   if (near_count == 0u) return p;
-  vec3 ahead = flight_direction(b);
+  vec3 wind = step_wind;
+  vec3 ahead = flight_direction(b, wind);
   vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
   float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   uint beyond = 0u;
@@ -164,7 +176,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
       separation -= unit_or_zero(offset) * pow(1.0 - distance / s.separation_radius, 2.0);
     else
       cohesion_sum += offset;
-    heading_sum += unit_or_zero(o.velocity);
+    heading_sum += unit_or_zero(o.velocity - wind);
     faster_sum += dot(o.velocity - b.velocity, ahead);
     if (distance > 0.0) {
       float along = dot(offset, ahead) * (1.0 - s.separation_radius / distance);
@@ -178,14 +190,16 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   }
   p.nearest = sqrt(near_d2[0]);
   for (uint e = 0u; e < near_count; ++e) p.seen_key += near_index[e] * kSeenKeyFactor;
-  vec3 route = route_done ? vec3(0.0) : route_direction(s, route_goal - b.position);
-  vec3 d = s.w_route * route + s.w_separation * separation +
-           s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
-  p.direction = unit_or_zero(d);
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   float faster = faster_sum / float(near_count);
   float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
   p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                      s.min_speed, s.max_speed);
+  vec3 route = route_done ? vec3(0.0)
+                          : route_heading(s, route_goal - b.position, wind,
+                                          length(horizontal(b.velocity - wind)));
+  vec3 d = s.w_route * route + s.w_separation * separation +
+           s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
+  p.direction = unit_or_zero(d);
   return p;
 }

@@ -32,6 +32,8 @@ void main() {
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
   near_count = 0u;
+  step_wind =
+      wind_at(b.position.y);  // the air it flies in: its search looks along its flight there
   uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
   if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
   vec3 goal = vec3(0.0);
@@ -39,7 +41,6 @@ void main() {
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
     GpuBird route_bird = b;
     Leg leg = load_leg(route_bird, pc.targets_base);
-    step_wind = wind_at(b.position.y);
     goal = route_goal(route_bird, s, leg);
     route_done = route_over(route_bird, leg);
     vec3 on;
