@@ -7,6 +7,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "io/scenario_file.h"
 #include "io/summary.h"
 #include "model/flock_geometry.h"
 
@@ -139,12 +140,17 @@ RunSummary sample_summary() {
 
 TEST(Summary, JsonHasEveryKey) {
   const nlohmann::ordered_json j = summary_json(sample_summary());
-  for (const char* key :
-       {"backend",   "device",          "scenario",    "birds",           "steps",
-        "dt",        "steps_per_frame", "sim_seconds", "wall_seconds",    "bird_steps_per_second",
-        "nan_birds", "centroid",        "mean_speed",  "targets_reached", "perched",
-        "flying",    "flocking",        "quarantined", "signal",          "error",
-        "vtk_queue"})
+  for (const char* key : {"backend",         "device",
+                          "scenario",        "birds",
+                          "steps",           "dt",
+                          "steps_per_frame", "sim_seconds",
+                          "wall_seconds",    "bird_steps_per_second",
+                          "nan_birds",       "centroid",
+                          "mean_speed",      "targets_reached",
+                          "perched",         "flying",
+                          "flocking",        "quarantined",
+                          "signal",          "error",
+                          "vtk_queue",       "wind_beyond_airspeed"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["signal"].is_null());
   EXPECT_TRUE(j["error"].is_null());
@@ -165,6 +171,41 @@ TEST(Summary, JsonHasEveryKey) {
   EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
   EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
   EXPECT_DOUBLE_EQ(j["mean_speed"].get<double>(), 500.0);
+}
+
+// A wind across a leg at least as fast as its flock flies through the air (issue 39) is reported,
+// leg by leg, where it blows so; slower, or along the leg however strong, it is not.
+TEST(Summary, ALegTheWindBlowsAcrossFasterThanItsBirdsFlyIsReported) {
+  Scenario s = load_scenario("migration");  // 100 km east, 300-600 m up, a power law from 10 m
+  const double cruise = s.species[s.flocks[0].species].cruise_speed;
+  s.world.wind_height = 45000.0;  // the wind below at 450 m, the first target's height
+  s.world.wind = glm::dvec3{0.0, 0.0, 0.8 * cruise};
+  EXPECT_TRUE(wind_warnings(s).empty());
+  s.world.wind = glm::dvec3{3.0 * cruise, 0.0, 0.0};  // along every leg
+  EXPECT_TRUE(wind_warnings(s).empty());
+  s.world.wind = glm::dvec3{3.0 * cruise, 0.0, 1.2 * cruise};
+  const std::vector<WindWarning> w = wind_warnings(s);
+  ASSERT_EQ(w.size(), 4u);  // to each of the four targets
+  EXPECT_EQ(w[0].flock, "migrants");
+  EXPECT_EQ(w[0].target, "km-525");
+  EXPECT_NEAR(w[0].across, 1.2 * cruise, 1e-9);  // at the target, 450 m: stronger than at 300 m
+  EXPECT_EQ(w[0].height, 45000.0);
+  EXPECT_EQ(w[0].airspeed, cruise);
+  EXPECT_EQ(w[1].target, "km-550");
+  EXPECT_EQ(w[1].height, 60000.0);
+  EXPECT_GT(w[1].across, w[0].across);
+  EXPECT_EQ(w[0].sentence(),
+            "flock \"migrants\" cannot hold its leg to \"km-525\": the wind across it is 12.0 "
+            "m/s at 450 m, no slower than its birds fly (10.0 m/s); they head into it and drift");
+  RunSummary r;
+  r.wind = w;
+  const nlohmann::ordered_json j = summary_json(r)["wind_beyond_airspeed"];
+  ASSERT_EQ(j.size(), 4u);
+  EXPECT_EQ(j[0]["flock"], "migrants");
+  EXPECT_EQ(j[0]["target"], "km-525");
+  EXPECT_NEAR(j[0]["across_wind"].get<double>(), 1200.0, 1e-9);
+  EXPECT_EQ(j[0]["height"].get<double>(), 45000.0);
+  EXPECT_EQ(j[0]["airspeed"].get<double>(), 1000.0);
 }
 
 // docs/MODEL.md's flock metrics from hand-placed birds: four in a row 1 m apart and one 10 m off.

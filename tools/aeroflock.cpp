@@ -128,6 +128,7 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
         "polarisation %.3f, largest cluster %.1f %%\n",
         f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close,
         f.metrics.polarisation, 100 * f.metrics.largest_cluster);
+  for (const WindWarning& w : r.wind) std::printf("warning          %s\n", w.sentence().c_str());
   // Only the files written are named (summary_path is empty when its write failed).
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
   for (const std::string& line : images) std::printf("%s\n", line.c_str());
@@ -200,6 +201,11 @@ int run(const RunOptions& opt) {
   const double total_seconds = double(frames) * frame_seconds;  // whole frames
 
   RunSummary summary;
+  // A leg the wind blows across faster than its birds fly is flown as it can be (into the wind):
+  // said now, and in the summary.
+  summary.wind = wind_warnings(scenario);
+  for (const WindWarning& w : summary.wind)
+    std::fprintf(stderr, "aeroflock: warning: %s\n", w.sentence().c_str());
   summary.scenario = scenario.name;
   summary.scenario_hash = scenario.hash;
   summary.dt = scenario.dt;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,23 @@ bool in_the_air(FlightMode mode) {
 }
 
 }  // namespace
+
+std::string WindWarning::sentence() const {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "flock \"%s\" cannot hold its leg to \"%s\": the wind across it is %.1f m/s at "
+                "%.0f m, no slower than its birds fly (%.1f m/s); they head into it and drift",
+                flock.c_str(), target.c_str(), across / 100.0, height / 100.0, airspeed / 100.0);
+  return text;
+}
+
+std::vector<WindWarning> wind_warnings(const Scenario& scenario) {
+  std::vector<WindWarning> warnings;
+  for (const WindBeyondAirspeed& w : wind_beyond_airspeed(scenario))
+    warnings.push_back({scenario.flocks[w.flock].name, scenario.world.targets[w.target].name,
+                        w.across, w.height, w.airspeed});
+  return warnings;
+}
 
 FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   FlockStatistics s;
@@ -83,6 +101,13 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                            {"velocity", {b.velocity.x, b.velocity.y, b.velocity.z}},
                            {"attitude", {b.attitude.w, b.attitude.x, b.attitude.y, b.attitude.z}}});
   }
+  nlohmann::ordered_json wind = nlohmann::ordered_json::array();
+  for (const WindWarning& w : r.wind)
+    wind.push_back({{"flock", w.flock},
+                    {"target", w.target},
+                    {"across_wind", w.across},
+                    {"height", w.height},
+                    {"airspeed", w.airspeed}});
   // The file's units (the printed summary's are m and m/s): every quantity named with its unit.
   const nlohmann::ordered_json units = {
       {"dt", "s"},
@@ -99,6 +124,9 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"quarantined.position", "cm"},
       {"quarantined.velocity", "cm/s"},
       {"quarantined.attitude", "quaternion w, x, y, z, body to world"},
+      {"wind_beyond_airspeed.across_wind", "cm/s"},
+      {"wind_beyond_airspeed.height", "cm (world y)"},
+      {"wind_beyond_airspeed.airspeed", "cm/s"},
   };
   return {
       {"units", units},
@@ -124,6 +152,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"quarantined", quarantined},
       {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
       {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},
+      {"wind_beyond_airspeed", wind},
       {"vtk_queue", r.vtk_queue_bound == 0
                         ? nlohmann::ordered_json()
                         : nlohmann::ordered_json{{"high_water_frames", r.vtk_queue_frames},

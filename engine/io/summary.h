@@ -37,6 +37,17 @@ struct FlockingSummary {
 std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
                                               const std::vector<BirdState>& birds);
 
+// A leg its flock cannot hold for the wind across it (model/scenario.h: wind_beyond_airspeed), by
+// name, and the sentence that reports it: 'flock "migrants" cannot hold its leg to "km-525": the
+// wind across it is 12.0 m/s at 450 m, faster than its birds fly (10.0 m/s); they head into it and
+// drift'.
+struct WindWarning {
+  std::string flock, target;
+  double across = 0.0, height = 0.0, airspeed = 0.0;  // cm/s, cm, cm/s
+  std::string sentence() const;
+};
+std::vector<WindWarning> wind_warnings(const Scenario& scenario);
+
 // A bird quarantined (NaN quarantine, step.cpp): its state became non-finite in step `step`, which
 // began at `time`; frozen at its last finite state since.
 struct QuarantinedBird {
@@ -66,6 +77,7 @@ struct RunSummary {
   FlockStatistics stats;
   std::vector<FlockingSummary> flocking;
   std::vector<QuarantinedBird> quarantined;  // the first kQuarantinedListed
+  std::vector<WindWarning> wind;             // legs its flocks cannot hold (wind_warnings)
   std::string signal;  // the signal that stopped the run ("SIGINT", "SIGTERM"), or ""
   std::string error;   // the write error that stopped the run ("cannot write PATH: why"), or ""
   // With --vtk: the most frames (and bytes of bird data) that waited for the writer at once, and
@@ -78,7 +90,9 @@ struct RunSummary {
 // flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
 // too_close, polarisation, largest_cluster; `quarantined`: bird, time, and its last finite
 // position, velocity and attitude (w, x, y, z); `signal` and `error` (null when none) and, with
-// --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null).
+// --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null);
+// `wind_beyond_airspeed`: flock, target, across_wind, height, airspeed for each leg its flock
+// cannot hold (empty when none).
 nlohmann::ordered_json summary_json(const RunSummary& summary);
 
 // Writes summary_json atomically (PATH.tmp, then rename). Throws std::runtime_error naming the

@@ -10,6 +10,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "body.h"
+
 namespace aeroflock {
 
 double dt_of(Fidelity f) { return f == Fidelity::fast ? kFastDt : kPaperDt; }
@@ -196,6 +198,35 @@ bool any_flocking(const Scenario& s) {
   for (const Flock& f : s.flocks)
     if (f.flocking) return true;
   return false;
+}
+
+std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
+  std::vector<WindBeyondAirspeed> legs;
+  for (size_t f = 0; f < s.flocks.size(); ++f) {
+    const Flock& flock = s.flocks[f];
+    if (flock.route >= s.world.routes.size()) continue;
+    const Route& route = s.world.routes[flock.route];
+    const double airspeed = s.species[flock.species].cruise_speed;
+    glm::dvec3 from = flock.spawn_centre;
+    const size_t legs_flown = route.targets.size() + (route.loop && route.targets.size() > 1);
+    for (size_t k = 0; k < legs_flown; ++k) {
+      const uint32_t to = route.targets[k % route.targets.size()];
+      const glm::dvec3 end = s.world.targets[to].centre;
+      const glm::dvec3 way = horizontal(end - from);
+      if (glm::length(way) > 0.0) {
+        const glm::dvec3 along = glm::normalize(way);
+        WindBeyondAirspeed worst{uint32_t(f), to, 0.0, 0.0, airspeed};
+        for (const double y : {from.y, end.y}) {
+          const glm::dvec3 w = horizontal(wind_at(s.world, y));
+          const double across = glm::length(w - along * glm::dot(along, w));
+          if (across > worst.across) worst.across = across, worst.height = y;
+        }
+        if (worst.across >= airspeed) legs.push_back(worst);
+      }
+      from = end;
+    }
+  }
+  return legs;
 }
 
 }  // namespace aeroflock

@@ -137,4 +137,18 @@ void make_flock_non_finite(Scenario& s, const std::string& name);
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);
 
+// A leg of a flock's route (from its spawn centre to the first target, then from target to
+// target, and round again on a loop) across which the wind blows at least as fast as the flock's
+// birds fly through the air (cruise_speed): they cannot hold its track. They head straight into
+// the wind across it (control.h: track_aim) and are blown off the leg, which the run reports
+// rather than flying the leg as if it could be held.
+struct WindBeyondAirspeed {
+  uint32_t flock = 0;     // index into Scenario::flocks
+  uint32_t target = 0;    // index into World::targets: where the leg ends
+  double across = 0.0;    // cm/s: the wind across the leg, the more of its two ends' heights'
+  double height = 0.0;    // cm: the world height where it blows so
+  double airspeed = 0.0;  // cm/s: the species' cruise_speed
+};
+std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s);
+
 }  // namespace aeroflock
