@@ -6,7 +6,7 @@
 For each export DIR (`aeroflock run ... --vtk DIR`), and for each of its frames, it measures:
 - the largest cluster, with birds linked within 5 m (docs/MODEL.md "What a flock must show");
 - the centroid's horizontal distance from the line it flies: from the flock's start to its first
-  target, then from target to target;
+  target, then from target to target, and on along the last leg past the last target;
 - the median nearest-neighbour distance;
 - when the centroid first passes within each target's radius.
 The targets and the route come from the scenario file (metres, [units] length = "m"). The SVG
@@ -71,12 +71,14 @@ def clusters_and_nearest(p):
     return max(sizes.values()) / n, nearest
 
 
-def across(p, a, b):
-    """Horizontal (x-z) distance from p to the segment a-b."""
+def across(p, a, b, onward=False):
+    """Horizontal (x-z) distance from p to the segment a-b (`onward`: to the line on past b)."""
     ax, az, bx, bz = a[0], a[2], b[0], b[2]
     px, pz = p[0] - ax, p[2] - az
     ex, ez = bx - ax, bz - az
-    s = max(0.0, min(1.0, (px * ex + pz * ez) / (ex * ex + ez * ez)))
+    s = max(0.0, (px * ex + pz * ez) / (ex * ex + ez * ez))
+    if not onward:
+        s = min(1.0, s)
     return math.hypot(px - s * ex, pz - s * ez)
 
 
@@ -102,7 +104,8 @@ def leg(directory, targets):
         a = start if k == 0 else targets[k - 1][0]
         largest, nearest = clusters_and_nearest(p)
         finite = [x for x in nearest if x != math.inf]
-        rows.append((t, largest, across(c, a, targets[k][0]),
+        # Past the last target the flock flies on along the last leg (docs/MODEL.md "Flocking").
+        rows.append((t, largest, across(c, a, targets[k][0], len(reached) == len(targets)),
                      statistics.median(finite) if finite else math.nan, len(p)))
     return rows, reached
 
@@ -127,7 +130,7 @@ def svg(series, path):
             out.append(f'<polyline fill="none" stroke="{colours[n % 4]}" stroke-width="1.5" points="{pts}"/>')
 
     panel(top, "largest cluster", lambda r: r[1], 1.0, [0.0, 0.25, 0.5, 0.75, 0.95])
-    step = 50 if off_max <= 300 else 100
+    step = 25 if off_max <= 150 else 50 if off_max <= 300 else 100
     panel(top + ph + gap, "off the line (m)", lambda r: r[2], off_max,
           [v for v in range(0, int(off_max) + 1, step)])
     y = top + 2 * ph + gap
