@@ -24,6 +24,7 @@
 #include "model/route.h"
 #include "model/simulation.h"
 #include "model/tail.h"
+#include "model/touchdown.h"
 
 namespace aeroflock {
 namespace {
@@ -845,6 +846,34 @@ TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
                  std::to_string(direct.approach_off_perpendicular));
   EXPECT_TRUE(direct.perched);
   EXPECT_GT(direct.approach_off_perpendicular, 20.0) << "the direct method keeps its angle";
+}
+
+// Issue 40's criteria, disabled until they hold: the feet meet the branch, so that the centre moves
+// no more in the frame of the grip than the bird flies (plus 1 cm); the mean speed over the
+// wingbeat (or 100 ms) before it at most touchdown_speed; after it the speed falls at no more than
+// 30 m/s^2 and the body turns at no more than 90 degrees/s, over each 30 ms frame; with path
+// control and straight in. Today it grips 68 cm short at 2.4 m/s and is put on the branch.
+TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchWithoutAJump) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  for (const char* name : {"fig18-branch-path-control", "fig18-branch-direct"}) {
+    const auto flight = make_flight(load_scenario(name));
+    Simulation& sim = *flight;
+    TouchdownWatch watch;
+    run(sim, sim.scenario().duration, [&](Simulation& s) { watch.sample(s.time(), s.birds()[0]); });
+    ASSERT_EQ(watch.touchdowns().size(), 1u) << name;
+    const Touchdown& d = watch.touchdowns()[0];
+    std::printf(
+        "%s: jump %.1f cm, mean speed %.2f m/s over %.3f s, speed falls %.1f m/s2, turns "
+        "%.0f deg/s, %zu go-rounds\n",
+        name, d.jump, d.mean_speed / 100.0, d.window, d.speed_fall / 100.0, degrees(d.turn_rate),
+        watch.go_rounds());
+    const Species& sp = sim.scenario().species[0];
+    EXPECT_TRUE(d.on_branch) << name;
+    EXPECT_LE(d.jump, 1.0) << name;
+    EXPECT_LE(d.mean_speed, sp.touchdown_speed) << name;
+    EXPECT_LE(d.speed_fall, 3000.0) << name;
+    EXPECT_LE(d.turn_rate, radians(90.0)) << name;
+  }
 }
 
 TEST(BranchLanding, LinedUpBirdFliesStraightIn) {

@@ -1,0 +1,59 @@
+#include "touchdown.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace aeroflock {
+
+namespace {
+bool holds_on(FlightMode m) { return m == FlightMode::perched || m == FlightMode::standing; }
+
+// The angle (rad) the body turns from `a` to `b`.
+double turned(const glm::dquat& a, const glm::dquat& b) {
+  const double w = std::min(1.0, std::fabs(glm::dot(a, b)));
+  return 2.0 * std::acos(w);
+}
+}  // namespace
+
+void TouchdownWatch::follow(const Sample& before, const Sample& now) {
+  Touchdown& d = touchdowns_.back();
+  const double dt = now.t - before.t;
+  if (dt <= 0.0) return;
+  d.speed_fall = std::max(d.speed_fall, (glm::length(before.velocity) - glm::length(now.velocity)) / dt);
+  d.turn_rate = std::max(d.turn_rate, turned(before.attitude, now.attitude) / dt);
+}
+
+void TouchdownWatch::sample(double t, const BirdState& b) {
+  const Sample now{t,        b.position, b.velocity, b.attitude, b.frequency,
+                   holds_on(b.mode), b.mode == FlightMode::landing};
+  if (!history_.empty()) {
+    const Sample& before = history_.back();
+    if (before.landing && b.mode == FlightMode::flying) ++go_rounds_;
+    if (now.holding && !before.holding) {
+      // A touch-down: the move into it beyond the flight, and the speed over the window before.
+      Touchdown d;
+      d.on_branch = b.mode == FlightMode::perched;
+      d.time = t;
+      d.jump = glm::length(now.position - before.position) -
+               glm::length(before.velocity) * (t - before.t);
+      d.window = std::max(before.frequency > 0.0 ? 1.0 / before.frequency : 0.0, kTouchdownWindow);
+      double sum = 0.0;
+      size_t n = 0;
+      for (const Sample& s : history_)
+        if (s.t >= before.t - d.window && !s.holding) sum += glm::length(s.velocity), ++n;
+      d.mean_speed = n > 0 ? sum / double(n) : 0.0;
+      touchdowns_.push_back(d);
+      follow(before, now);
+    } else if (!touchdowns_.empty() && t <= touchdowns_.back().time + kSettleWatch &&
+               before.holding) {
+      follow(before, now);
+    }
+  }
+  history_.push_back(now);
+  // Keep a window of the slowest wingbeat a species may have and a sample more.
+  while (history_.size() > 2 && history_.front().t < t - 2.0) history_.pop_front();
+}
+
+}  // namespace aeroflock

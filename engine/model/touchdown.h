@@ -1,0 +1,60 @@
+// How a bird comes down (issue 40): a watch fed one bird's state at regular times (the tests' and
+// the envelope's frames) that measures its touch-downs, on a branch or on the ground, by the
+// criteria of docs/MODEL.md "Take-off and landing": the move of its centre at the grip beyond its
+// own flight, its mean speed over the ground just before, and how fast its speed falls and its
+// body turns once it holds on.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include "bird.h"
+
+namespace aeroflock {
+
+// The shortest time the speed before a touch-down is averaged over: a wingbeat period, or this
+// when that is shorter.
+inline constexpr double kTouchdownWindow = 0.1;  // s
+// How long after a touch-down its settling is followed.
+inline constexpr double kSettleWatch = 1.0;  // s
+
+struct Touchdown {
+  bool on_branch = false;     // perched; else it stood on the ground
+  double time = 0.0;          // s: the first sample that holds on
+  double jump = 0.0;          // cm: its centre's move into that sample beyond speed x interval
+  double mean_speed = 0.0;    // cm/s: mean |velocity| over the window before (kTouchdownWindow)
+  double window = 0.0;        // s: that window, max(1 / frequency, kTouchdownWindow)
+  double speed_fall = 0.0;    // cm/s^2: the fastest fall of |velocity| between samples, from the
+                              // sample before to kSettleWatch after
+  double turn_rate = 0.0;     // rad/s: the fastest turn of the body between the same samples
+};
+
+class TouchdownWatch {
+ public:
+  // Feeds the bird's state at time t (s); samples come in order, at any spacing.
+  void sample(double t, const BirdState& b);
+  // Its touch-downs so far, the last one still being followed for kSettleWatch.
+  const std::vector<Touchdown>& touchdowns() const { return touchdowns_; }
+  // Go-rounds: braking towards its branch (mode landing), it flew on instead (route.h).
+  size_t go_rounds() const { return go_rounds_; }
+
+ private:
+  struct Sample {
+    double t;
+    glm::dvec3 position, velocity;
+    glm::dquat attitude;
+    double frequency;
+    bool holding;  // perched, or standing on the ground
+    bool landing;  // braking towards a branch
+  };
+  void follow(const Sample& before, const Sample& now);
+  std::deque<Sample> history_;  // the last window and a bit, oldest first
+  std::vector<Touchdown> touchdowns_;
+  size_t go_rounds_ = 0;
+};
+
+}  // namespace aeroflock
