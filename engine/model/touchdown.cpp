@@ -21,13 +21,19 @@ void TouchdownWatch::follow(const Sample& before, const Sample& now) {
   Touchdown& d = touchdowns_.back();
   const double dt = now.t - before.t;
   if (dt <= 0.0) return;
-  d.speed_fall = std::max(d.speed_fall, (glm::length(before.velocity) - glm::length(now.velocity)) / dt);
+  d.speed_fall =
+      std::max(d.speed_fall, (glm::length(before.velocity) - glm::length(now.velocity)) / dt);
   d.turn_rate = std::max(d.turn_rate, turned(before.attitude, now.attitude) / dt);
 }
 
 void TouchdownWatch::sample(double t, const BirdState& b) {
-  const Sample now{t,        b.position, b.velocity, b.attitude, b.frequency,
-                   holds_on(b.mode), b.mode == FlightMode::landing};
+  const Sample now{t,
+                   b.position,
+                   b.velocity,
+                   b.attitude,
+                   b.frequency,
+                   holds_on(b.mode),
+                   b.mode == FlightMode::landing};
   if (!history_.empty()) {
     const Sample& before = history_.back();
     if (before.landing && b.mode == FlightMode::flying) ++go_rounds_;

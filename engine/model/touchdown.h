@@ -23,14 +23,14 @@ inline constexpr double kTouchdownWindow = 0.1;  // s
 inline constexpr double kSettleWatch = 1.0;  // s
 
 struct Touchdown {
-  bool on_branch = false;     // perched; else it stood on the ground
-  double time = 0.0;          // s: the first sample that holds on
-  double jump = 0.0;          // cm: its centre's move into that sample beyond speed x interval
-  double mean_speed = 0.0;    // cm/s: mean |velocity| over the window before (kTouchdownWindow)
-  double window = 0.0;        // s: that window, max(1 / frequency, kTouchdownWindow)
-  double speed_fall = 0.0;    // cm/s^2: the fastest fall of |velocity| between samples, from the
-                              // sample before to kSettleWatch after
-  double turn_rate = 0.0;     // rad/s: the fastest turn of the body between the same samples
+  bool on_branch = false;   // perched; else it stood on the ground
+  double time = 0.0;        // s: the first sample that holds on
+  double jump = 0.0;        // cm: its centre's move into that sample beyond speed x interval
+  double mean_speed = 0.0;  // cm/s: mean |velocity| over the window before (kTouchdownWindow)
+  double window = 0.0;      // s: that window, max(1 / frequency, kTouchdownWindow)
+  double speed_fall = 0.0;  // cm/s^2: the fastest fall of |velocity| between samples, from the
+                            // sample before to kSettleWatch after
+  double turn_rate = 0.0;   // rad/s: the fastest turn of the body between the same samples
 };
 
 class TouchdownWatch {
