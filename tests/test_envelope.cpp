@@ -64,6 +64,29 @@ TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
   EXPECT_NE(h[1].outcome, Outcome::reached) << name(h[1].outcome);
 }
 
+// Each landing's grip is watched (issue 40's measures, model/touchdown.h): the touch-down on the
+// branch when it perched, its window a wingbeat or 100 ms, and the bird followed for kSettleWatch
+// after it before it is retired.
+TEST(Envelope, EachLandingsGripIsWatched) {
+  std::vector<EnvelopeCase> landings;
+  for (const EnvelopeCase& c : envelope_cases())
+    if (c.kind == EnvelopeCase::Kind::landing && c.crosswind == 0.0 && landings.size() < 6)
+      landings.push_back(c);
+  ASSERT_EQ(landings.size(), 6u);
+  const Species s = starling();
+  for (const EnvelopeResult& r : fly_envelope(s, landings, cpu(), {}, kFastDt)) {
+    ASSERT_EQ(r.outcome, Outcome::reached) << r.c.describe();
+    ASSERT_TRUE(r.touchdown.has_value()) << r.c.describe();
+    const Touchdown& d = *r.touchdown;
+    EXPECT_TRUE(d.on_branch);
+    EXPECT_NEAR(d.time, r.time, 1e-9) << "the grip is the landing's outcome";
+    EXPECT_NEAR(d.window, std::max(1.0 / s.f_max, kTouchdownWindow), 0.5 / s.f_min);
+    EXPECT_GT(d.mean_speed, 0.0);
+    EXPECT_LE(d.mean_speed, 2.0 * s.touchdown_speed);
+    EXPECT_GT(d.speed_fall, 0.0);
+  }
+}
+
 // Issue 10: an eagle 30 % lighter than the preset spirals up to a target 50 m above and 50 m away
 // and then circled it at its height for 15 s, the target 4 m from the centre of its 15 m circle,
 // never passing within three radii. Now it flies off on level wings and turns onto it.
@@ -136,8 +159,13 @@ TEST_P(WholeGrid, EveryCaseSucceeds) {
   ASSERT_EQ(cases.size(), 564u);
   size_t reached = 0;
   double worst_bank = 0.0, worst_pitch = 0.0;
+  double jump = 0.0, before = 0.0;  // the landings' grips (issue 40): the largest
   for (const EnvelopeResult& r : fly_envelope(species, cases, cpu(), {}, GetParam().dt)) {
     reached += r.outcome == Outcome::reached;
+    if (r.touchdown) {
+      jump = std::max(jump, r.touchdown->jump);
+      before = std::max(before, r.touchdown->mean_speed);
+    }
     worst_bank = std::max(worst_bank, r.worst_bank);
     worst_pitch = std::max(worst_pitch, r.worst_pitch);
     EXPECT_EQ(r.outcome, Outcome::reached) << r.c.describe() << ": " << name(r.outcome);
@@ -145,6 +173,8 @@ TEST_P(WholeGrid, EveryCaseSucceeds) {
   RecordProperty("reached", std::to_string(reached) + " of " + std::to_string(cases.size()));
   RecordProperty("worst_bank_deg", std::to_string(degrees(worst_bank)));
   RecordProperty("worst_pitch_deg", std::to_string(degrees(worst_pitch)));
+  RecordProperty("worst_grip_jump_cm", std::to_string(jump));
+  RecordProperty("worst_speed_before_grip_m_s", std::to_string(before / 100.0));
 }
 
 std::string grid_part_name(const ::testing::TestParamInfo<GridPart>& info) {

@@ -1,5 +1,6 @@
 #include "envelope.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -48,6 +49,46 @@ std::string kind_name(EnvelopeCase::Kind k) {
   return k == EnvelopeCase::Kind::flight    ? "flight"
          : k == EnvelopeCase::Kind::takeoff ? "takeoff"
                                             : "landing";
+}
+
+// The touch-downs of the cases (issue 40's measures, model/touchdown.h), on the branch or on the
+// ground: how many, the largest jump into the grip, mean speed before it, speed fall and body turn
+// after it, and the go-rounds of the landings.
+void print_touchdowns(const std::vector<EnvelopeResult>& results) {
+  for (const bool branch : {true, false}) {
+    int n = 0;
+    Touchdown worst;
+    size_t go_rounds = 0;
+    for (const EnvelopeResult& r : results) {
+      if (r.c.kind == EnvelopeCase::Kind::landing && branch) go_rounds += r.go_rounds;
+      if (!r.touchdown || r.touchdown->on_branch != branch) continue;
+      ++n;
+      worst.jump = std::max(worst.jump, r.touchdown->jump);
+      worst.mean_speed = std::max(worst.mean_speed, r.touchdown->mean_speed);
+      worst.speed_fall = std::max(worst.speed_fall, r.touchdown->speed_fall);
+      worst.turn_rate = std::max(worst.turn_rate, r.touchdown->turn_rate);
+    }
+    if (n == 0) continue;
+    std::printf(
+        "  %-22s %5d  jump <= %.1f cm, mean speed before <= %.2f m/s, speed falls <= %.0f "
+        "m/s2, body turns <= %.0f deg/s",
+        branch ? "on the branch" : "on the ground", n, worst.jump, worst.mean_speed / 100,
+        worst.speed_fall / 100, degrees(worst.turn_rate));
+    if (branch) std::printf(", %zu go-rounds", go_rounds);
+    std::printf("\n");
+  }
+}
+
+nlohmann::json touchdown_json(const EnvelopeResult& r) {
+  if (!r.touchdown) return nullptr;
+  const Touchdown& d = *r.touchdown;
+  return {{"on_branch", d.on_branch},
+          {"time_s", d.time},
+          {"jump_cm", d.jump},
+          {"mean_speed_m_s", d.mean_speed / 100},
+          {"window_s", d.window},
+          {"speed_fall_m_s2", d.speed_fall / 100},
+          {"turn_deg_s", degrees(d.turn_rate)}};
 }
 
 }  // namespace
@@ -110,6 +151,8 @@ int run_envelope(const EnvelopeOptions& options) {
   print_table("target height (flights)", by_rise);
   print_table("target bearing (flights)", by_bearing);
   print_table("target distance (flights)", by_distance);
+  std::printf("\ntouch-downs (30 ms frames):\n");
+  print_touchdowns(results);
   int shown = 0;
   for (const EnvelopeResult& r : results)
     if (r.outcome != Outcome::reached && shown++ < 10)
@@ -136,7 +179,9 @@ int run_envelope(const EnvelopeOptions& options) {
                       {"time_s", r.time},
                       {"worst_bank_deg", degrees(r.worst_bank)},
                       {"worst_pitch_deg", degrees(r.worst_pitch)},
-                      {"lowest_m", r.lowest / 100}});
+                      {"lowest_m", r.lowest / 100},
+                      {"touchdown", touchdown_json(r)},
+                      {"go_rounds", r.go_rounds}});
     j["results"] = list;
     write_text_atomically(options.json, j.dump(2) + "\n");
     std::printf("\njson     %s\n", options.json.c_str());

@@ -5,12 +5,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "constants.h"
 #include "simulation.h"
 #include "species.h"
+#include "touchdown.h"
 
 namespace aeroflock {
 
@@ -59,6 +61,10 @@ struct EnvelopeResult {
   double worst_bank = 0.0;   // rad, largest |bank| once settled
   double worst_pitch = 0.0;  // rad, largest |pitch| once settled
   double lowest = 0.0;       // cm, lowest body centre above the ground
+  // Its first touch-down (a landing's grip on the branch, or any flight's on the ground), followed
+  // for kSettleWatch after it, by 30 ms frames (touchdown.h); and its go-rounds before it.
+  std::optional<Touchdown> touchdown;
+  size_t go_rounds = 0;
 };
 
 // The grid: every combination of start speed 5-20 m/s, pitch -30..30 and bank -60..60 degrees,

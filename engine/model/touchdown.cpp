@@ -17,13 +17,18 @@ double turned(const glm::dquat& a, const glm::dquat& b) {
 }
 }  // namespace
 
-void TouchdownWatch::follow(const Sample& before, const Sample& now) {
+void TouchdownWatch::follow(const Sample& now) {
+  // The rates over at least `every` (a frame of the criteria), from the latest sample that long
+  // before.
+  const Sample* before = &history_.front();
+  for (const Sample& s : history_)
+    if (s.t <= now.t - every_ * (1.0 - 1e-9)) before = &s;
   Touchdown& d = touchdowns_.back();
-  const double dt = now.t - before.t;
+  const double dt = now.t - before->t;
   if (dt <= 0.0) return;
   d.speed_fall =
-      std::max(d.speed_fall, (glm::length(before.velocity) - glm::length(now.velocity)) / dt);
-  d.turn_rate = std::max(d.turn_rate, turned(before.attitude, now.attitude) / dt);
+      std::max(d.speed_fall, (glm::length(before->velocity) - glm::length(now.velocity)) / dt);
+  d.turn_rate = std::max(d.turn_rate, turned(before->attitude, now.attitude) / dt);
 }
 
 void TouchdownWatch::sample(double t, const BirdState& b) {
@@ -34,6 +39,11 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
                    b.frequency,
                    holds_on(b.mode),
                    b.mode == FlightMode::landing};
+  // A little under `every`, so that frames of exactly that length are all kept; a sample that
+  // holds on or lets go is kept whenever it comes.
+  if (!history_.empty() && t - history_.back().t < every_ * (1.0 - 1e-9) &&
+      now.holding == history_.back().holding && now.landing == history_.back().landing)
+    return;
   if (!history_.empty()) {
     const Sample& before = history_.back();
     if (before.landing && b.mode == FlightMode::flying) ++go_rounds_;
@@ -51,10 +61,10 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
         if (s.t >= before.t - d.window && !s.holding) sum += glm::length(s.velocity), ++n;
       d.mean_speed = n > 0 ? sum / double(n) : 0.0;
       touchdowns_.push_back(d);
-      follow(before, now);
+      follow(now);
     } else if (!touchdowns_.empty() && t <= touchdowns_.back().time + kSettleWatch &&
                before.holding) {
-      follow(before, now);
+      follow(now);
     }
   }
   history_.push_back(now);

@@ -33,10 +33,19 @@ struct Touchdown {
   double turn_rate = 0.0;   // rad/s: the fastest turn of the body between the same samples
 };
 
+// The spacing the criteria are measured at: a 30 ms frame (kFrameSeconds).
 class TouchdownWatch {
  public:
-  // Feeds the bird's state at time t (s); samples come in order, at any spacing.
+  // Keeps samples at least `every` seconds apart (the envelope judges its birds every 6 ms; the
+  // criteria read 30 ms frames): a sample sooner than that after the last kept is let go, unless
+  // the bird holds on, lets go, or starts or stops braking in it.
+  explicit TouchdownWatch(double every = 0.0) : every_(every) {}
+  // Feeds the bird's state at time t (s); samples come in order.
   void sample(double t, const BirdState& b);
+  // Whether its last touch-down has been followed for kSettleWatch (true with none).
+  bool settled(double t) const {
+    return touchdowns_.empty() || t > touchdowns_.back().time + kSettleWatch;
+  }
   // Its touch-downs so far, the last one still being followed for kSettleWatch.
   const std::vector<Touchdown>& touchdowns() const { return touchdowns_; }
   // Go-rounds: braking towards its branch (mode landing), it flew on instead (route.h).
@@ -51,10 +60,11 @@ class TouchdownWatch {
     bool holding;  // perched, or standing on the ground
     bool landing;  // braking towards a branch
   };
-  void follow(const Sample& before, const Sample& now);
+  void follow(const Sample& now);
   std::deque<Sample> history_;  // the last window and a bit, oldest first
   std::vector<Touchdown> touchdowns_;
   size_t go_rounds_ = 0;
+  double every_;
 };
 
 }  // namespace aeroflock

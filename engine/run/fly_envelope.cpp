@@ -16,6 +16,7 @@ class EnvelopeJudge final : public RunObserver {
                 const std::function<void(double)>& progress)
       : results_(std::move(results)),
         judged_(results_.size(), false),
+        watches_(results_.size(), TouchdownWatch(kFrameSeconds)),
         left_(results_.size()),
         species_(species),
         progress_(progress) {}
@@ -24,25 +25,44 @@ class EnvelopeJudge final : public RunObserver {
     const double t = sim.time();
     const std::vector<BirdState>& now = sim.birds();
     std::vector<uint32_t> done;
-    for (size_t k = 0; k < results_.size(); ++k)
+    for (size_t k = 0; k < results_.size(); ++k) {
+      if (retired(k)) continue;
+      watches_[k].sample(t, now[k]);
       if (!judged_[k] &&
-          judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height)) {
+          judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height))
         judged_[k] = true;
+      // Judged, and its touch-down followed as long as it settles (a landing's outcome is its
+      // grip): no need to fly it on.
+      if (judged_[k] && watches_[k].settled(t)) {
+        keep_touchdown(k);
         done.push_back(uint32_t(k));
         --left_;
       }
-    sim.retire(done);  // judged: no need to fly them on
+    }
+    sim.retire(done);
     if (progress_) progress_(t);
   }
   std::string stop_reason() const override { return left_ == 0 ? "every case judged" : ""; }
   void finish(Simulation& sim) override {
-    for (size_t k = 0; k < results_.size(); ++k)
+    for (size_t k = 0; k < results_.size(); ++k) {
       if (!judged_[k]) results_[k]->time = sim.time();  // late
+      if (!retired(k)) keep_touchdown(k);
+    }
   }
 
  private:
+  bool retired(size_t k) const { return judged_[k] && kept_[k]; }
+  void keep_touchdown(size_t k) {
+    kept_[k] = true;
+    const TouchdownWatch& w = watches_[k];
+    if (!w.touchdowns().empty()) results_[k]->touchdown = w.touchdowns().front();
+    results_[k]->go_rounds = w.go_rounds();
+  }
+
   std::vector<EnvelopeResult*> results_;
   std::vector<bool> judged_;
+  std::vector<TouchdownWatch> watches_;
+  std::vector<bool> kept_ = std::vector<bool>(results_.size(), false);
   size_t left_;
   const Species& species_;
   const std::function<void(double)>& progress_;
