@@ -276,7 +276,8 @@ random_phase = false
   CpuSimulation cpu(s, birds);
   gpu::GpuSimulation gpu(device, s, birds);
   // Each backend's steps: the first take-off, the hopping bird's touch-down and its take-off after.
-  uint64_t took_off[2] = {0, 0}, touched_down[2] = {0, 0}, took_off_again[2] = {0, 0};
+  uint64_t took_off[2] = {0, 0}, touched_down[2] = {0, 0}, took_off_again[2] = {0, 0},
+           settled[2] = {0, 0};
   for (Simulation* sim : {static_cast<Simulation*>(&cpu), static_cast<Simulation*>(&gpu)}) {
     const int k = sim == &gpu;
     while (sim->steps() + 1000000 < takeoff - 10) sim->step(1000000);
@@ -291,6 +292,8 @@ random_phase = false
           touched_down[k] == 0)
         touched_down[k] = step;
       if (touched_down[k] > 0 && b[2].mode == FlightMode::taking_off) took_off_again[k] = step;
+      if (touched_down[k] > 0 && b[2].landing_stage != LandingStage::settling && settled[k] == 0)
+        settled[k] = step;
       hopping = b[2].mode;
     }
   }
@@ -305,6 +308,12 @@ random_phase = false
   EXPECT_EQ(took_off[1], takeoff);
   ASSERT_GT(touched_down[0], takeoff) << "the stub-winged bird never touched down";
   EXPECT_EQ(touched_down[1], touched_down[0]);
+  // It settles (issue 40) within its rest, so that the clock alone ends the rest.
+  RecordProperty("settled_step_cpu_vulkan",
+                 std::to_string(settled[0]) + " " + std::to_string(settled[1]));
+  EXPECT_GT(settled[0], touched_down[0]);
+  EXPECT_LT(settled[0], touched_down[0] + rest);
+  EXPECT_LT(settled[1], touched_down[1] + rest);
   EXPECT_EQ(took_off_again[0], touched_down[0] + rest + 1);  // it rests `rest` steps
   EXPECT_EQ(took_off_again[1], touched_down[1] + rest + 1);
   const BirdState c = cpu.birds()[1], g = gpu.birds()[1];

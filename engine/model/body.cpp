@@ -67,7 +67,22 @@ void come_to_rest(BirdState& b, const glm::dvec3& at) {
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
+}
+
+void hold_on(BirdState& b, FlightMode mode, const glm::dvec3& at) {
+  b.mode = mode;
   b.mode_steps = 0;
+  b.landing_stage = LandingStage::settling;
+  b.via_point = at;
+}
+
+glm::dquat turn_towards(const glm::dquat& q, const glm::dquat& to, double angle) {
+  glm::dquat r = to * glm::conjugate(q);
+  if (r.w < 0.0) r = -r;  // the shorter way round
+  const double s = std::sqrt(r.x * r.x + r.y * r.y + r.z * r.z);
+  if (s == 0.0 || 2.0 * std::atan2(s, r.w) <= angle) return to;
+  const double c = std::cos(0.5 * angle), k = std::sin(0.5 * angle) / s;
+  return glm::normalize(glm::dquat{c, k * r.x, k * r.y, k * r.z} * q);
 }
 
 }  // namespace aeroflock

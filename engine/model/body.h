@@ -39,9 +39,16 @@ glm::dquat level_attitude(const glm::dquat& attitude);
 // Level, facing `head`'s horizontal direction (+x when it has none).
 glm::dquat facing(const glm::dvec3& head);
 
-// Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded, its
-// mode's clock at zero (perching on a branch, touching down on the ground). The caller sets the
-// mode.
+// Brings a bird to rest at `at`: still, level, facing where it faced, wings and tail folded (the
+// end of its settling after a grip or a touch-down, step.h: settle).
 void come_to_rest(BirdState& b, const glm::dvec3& at);
+
+// A bird holds on where it touches down (grips its branch: `perched`; stands on the ground:
+// `standing`): its mode's clock restarts and it settles onto `at` from where it is (step.h:
+// settle), its LandingStage `settling`, `at` kept in via_point.
+void hold_on(BirdState& b, FlightMode mode, const glm::dvec3& at);
+
+// `q` turned towards `to` by at most `angle` (rad), the shorter way round: `to` when it is nearer.
+glm::dquat turn_towards(const glm::dquat& q, const glm::dquat& to, double angle);
 
 }  // namespace aeroflock

@@ -73,8 +73,24 @@ AF_REAL(kSteerAirspeed, 100.0)
 AF_REAL(kTouchdownAim, 0.5)
 // A bird flares once it must brake at this share of its full flare to stop in time (route.h).
 AF_REAL(kBrakeShare, 0.5)
-// A bird that touches down on the ground stands this long before it takes off again, s.
+// A bird that touches down on the ground stands this long (and until it has settled) before it
+// takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)
+// Settling after a grip or a touch-down (step.h: settle): the legs pull the centre to where the
+// bird sits as a critically damped spring of kSettleStiffness (1/s^2: it settles in about half a
+// second), their pull at most kSettleDecel (cm/s^2, within the 30 m/s^2 a landing bird's speed may
+// fall at, issue 40); the body turns level at no more than kSettleTurn (rad/s, 80 degrees/s, within
+// 90). Settled: within kSettledDistance (cm) of it, slower than kSettledSpeed (cm/s), within
+// kSettledAngle (rad) of level.
+AF_REAL(kSettleStiffness, 144.0)
+AF_REAL(kSettleDecel, 2500.0)
+AF_REAL(kSettleTurn, 1.3962634015954636)
+AF_REAL(kSettledDistance, 0.5)
+AF_REAL(kSettledSpeed, 5.0)
+AF_REAL(kSettledAngle, 0.01)
+// Its wings fold from amp_max in this long, s (eq. 5's rate K_a, a quarter of amp_max a second for
+// the presets, is the controller's, not the folding's).
+AF_REAL(kWingFold, 0.25)
 // The most neighbours a bird sees (a species' `neighbours`; the shaders' list is this long).
 AF_COUNT(kMaxNeighbours, 16)
 // Perception::seen_key's multiplier (Knuth's multiplicative hash), odd so that indices stay apart.

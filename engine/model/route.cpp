@@ -103,8 +103,7 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
 }
 
 void perch(BirdState& b, const Species& s, const Branch& br) {
-  come_to_rest(b, perch_point(s, br));
-  b.mode = FlightMode::perched;
+  hold_on(b, FlightMode::perched, perch_point(s, br));
   ++b.targets_reached;
 }
 

@@ -189,9 +189,62 @@ void stand_on_legs(BirdState& b, const Species& sp, const World& w, double dt) {
   b.omega = dvec3{0.0};
 }
 
+// A bird holding on (perched, or standing after a touch-down) settles onto `b.via_point`, where it
+// sits: its legs pull its centre there as a critically damped spring whose pull is at most
+// kSettleDecel, its body turns level at kSettleTurn at most, its wings fold and its tail closes at
+// their own rates while the wingbeat runs down. Before (issue 40) a grip put it there, still and
+// level, in one step.
+void settle(BirdState& b, const Species& sp, const World& w, double dt) {
+  const dvec3 off = b.position - b.via_point;
+  dvec3 pull = -kSettleStiffness * off - 2.0 * std::sqrt(kSettleStiffness) * b.velocity;
+  const double strength = glm::length(pull);
+  if (strength > kSettleDecel) pull *= kSettleDecel / strength;
+  b.velocity += pull * dt;
+  b.position += b.velocity * dt;
+  // On the ground its legs fold no deeper than in a crouch (a hard touch-down stops there).
+  const double floor = w.ground_height + std::max(sp.stand_height - sp.crouch_depth, 0.0);
+  if (b.mode == FlightMode::standing && b.position.y < floor) {
+    b.position.y = floor;
+    b.velocity.y = std::max(b.velocity.y, 0.0);
+  }
+  const glm::dquat level = level_attitude(b.attitude);
+  b.attitude = turn_towards(b.attitude, level, kSettleTurn * dt);
+  b.omega = dvec3{0.0};
+  b.phase = std::fmod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.amplitude = approach(b.amplitude, 0.0, sp.amp_max / kWingFold, dt);
+  b.tail_bend = approach(b.tail_bend, 0.0, sp.tail_rate, dt);
+  b.tail_twist = approach(b.tail_twist, 0.0, sp.tail_rate, dt);
+  b.sweep = approach(b.sweep, 0.0, sp.sweep_rate, dt);
+  const glm::dquat left = level * glm::conjugate(b.attitude);
+  if (glm::length(b.position - b.via_point) < kSettledDistance &&
+      glm::length(b.velocity) < kSettledSpeed && b.amplitude == 0.0 &&
+      2.0 * std::asin(
+                std::min(1.0, std::sqrt(left.x * left.x + left.y * left.y + left.z * left.z))) <
+          kSettledAngle) {
+    come_to_rest(b, b.via_point);
+    b.landing_stage = LandingStage::none;
+  }
+}
+
+// The ground is solid: a bird whose legs reach it on the way down stands, and stops where its
+// legs can stop it from its speed over the ground (kSettleDecel).
+void touch_down(BirdState& b, const Species& sp, const World& w) {
+  const dvec3 level = horizontal(b.velocity);
+  const dvec3 stop = b.position + level * (glm::length(level) / (2.0 * kSettleDecel));
+  hold_on(b, FlightMode::standing, dvec3{stop.x, w.ground_height + sp.stand_height, stop.z});
+}
+
 // One step of a bird that is not quarantined (step_bird).
 void advance(BirdState& b, const Species& sp, const World& w, double dt, StepForces* out,
              const Perception* seen) {
+  // Settling after a grip or a touch-down; on the ground its rest runs meanwhile (the clock alone
+  // ends it), and it takes off once rested and settled.
+  if (b.landing_stage == LandingStage::settling) {
+    settle(b, sp, w, dt);
+    if (b.mode == FlightMode::standing && b.rest_steps > 0) --b.rest_steps;
+    count_mode_step(b);
+    return;
+  }
   // At rest: perched, or standing until its rest is over (whole steps: exact after days).
   if (b.mode == FlightMode::perched || (b.mode == FlightMode::standing && b.rest_steps > 0)) {
     if (b.mode == FlightMode::standing) --b.rest_steps;
@@ -251,10 +304,8 @@ void advance(BirdState& b, const Species& sp, const World& w, double dt, StepFor
   // The ground is solid: a bird in the air whose legs reach it on the way down touches down,
   // stands, and takes off again when it has rested (its route goes on).
   if (!on_legs && b.position.y < w.ground_height + sp.stand_height && b.velocity.y < 0.0) {
-    come_to_rest(b, dvec3{b.position.x, w.ground_height + sp.stand_height, b.position.z});
-    b.mode = FlightMode::standing;
+    touch_down(b, sp, w);
     b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
-    b.landing_stage = LandingStage::none;
   }
   if (out) *out = f;
 }

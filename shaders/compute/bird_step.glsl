@@ -187,12 +187,56 @@ bool all_finite(GpuBird b) {
       ;
 }
 
+// step.cpp: settle.
+void settle(inout GpuBird b, GpuSpecies s, float dt) {
+  vec3 off = b.position - b.via_point;
+  precise vec3 pull = -kSettleStiffness * off - 2.0 * sqrt(kSettleStiffness) * b.velocity;
+  float strength = length(pull);
+  if (strength > kSettleDecel) pull *= kSettleDecel / strength;
+  precise vec3 velocity = b.velocity + pull * dt;
+  precise vec3 position = b.position + velocity * dt;
+  b.velocity = velocity;
+  b.position = position;
+  float floor_y = pc.wind_ground.w + max(s.stand_height - s.crouch_depth, 0.0);
+  if (b.mode == mode_standing && b.position.y < floor_y) {
+    b.position.y = floor_y;
+    b.velocity.y = max(b.velocity.y, 0.0);
+  }
+  vec4 level = level_attitude(b.attitude);
+  b.attitude = turn_towards(b.attitude, level, kSettleTurn * dt);
+  b.omega = vec3(0.0);
+  b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.amplitude = approach(b.amplitude, 0.0, s.amp_max / kWingFold, dt);
+  b.tail_bend = approach(b.tail_bend, 0.0, s.tail_rate, dt);
+  b.tail_twist = approach(b.tail_twist, 0.0, s.tail_rate, dt);
+  b.sweep = approach(b.sweep, 0.0, s.sweep_rate, dt);
+  vec4 left = quat_mul(level, vec4(-b.attitude.xyz, b.attitude.w));
+  if (length(b.position - b.via_point) < kSettledDistance && length(b.velocity) < kSettledSpeed &&
+      b.amplitude == 0.0 && 2.0 * asin_p(min(1.0, length(left.xyz))) < kSettledAngle) {
+    come_to_rest(b, b.via_point);
+    b.landing_stage = stage_none;
+  }
+}
+
+// step.cpp: touch_down.
+void touch_down(inout GpuBird b, GpuSpecies s) {
+  vec3 level = horizontal(b.velocity);
+  vec3 stop = b.position + level * (length(level) / (2.0 * kSettleDecel));
+  hold_on(b, mode_standing, vec3(stop.x, pc.wind_ground.w + s.stand_height, stop.z));
+}
+
 // step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
 // a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
 // alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
 // the bird.
 GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
   if (b.mode == mode_quarantined) return no_forces();
+  if (b.landing_stage == stage_settling) {
+    settle(b, s, dt);
+    if (b.mode == mode_standing && b.rest_steps > 0u) --b.rest_steps;
+    count_mode_step(b);
+    return no_forces();
+  }
   if (b.mode == mode_perched || (b.mode == mode_standing && b.rest_steps > 0u)) {
     if (b.mode == mode_standing) --b.rest_steps;
     count_mode_step(b);
@@ -249,10 +293,8 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   // The ground is solid: touch down, stand, take off again when rested.
   float ground = pc.wind_ground.w;
   if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
-    come_to_rest(b, vec3(b.position.x, ground + s.stand_height, b.position.z));
-    b.mode = mode_standing;
+    touch_down(b, s);
     b.rest_steps = pc.rest_steps;
-    b.landing_stage = stage_none;
   }
   return f;
 }

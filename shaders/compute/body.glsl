@@ -56,5 +56,25 @@ void come_to_rest(inout GpuBird b, vec3 at) {
   b.amplitude = 0.0;
   b.tail_bend = 0.0;
   b.tail_twist = 0.0;
+}
+
+void hold_on(inout GpuBird b, uint mode, vec3 at) {
+  b.mode = mode;
   b.mode_steps = 0u;
+  b.landing_stage = stage_settling;
+  b.via_point = at;
+}
+
+// Quaternions (x, y, z, w): a b, as glm's operator*.
+vec4 quat_mul(vec4 a, vec4 b) {
+  return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
+}
+
+vec4 turn_towards(vec4 q, vec4 to, float angle) {
+  vec4 r = quat_mul(to, vec4(-q.xyz, q.w));
+  if (r.w < 0.0) r = -r;
+  float s = length(r.xyz);
+  if (s == 0.0 || 2.0 * atan_p(s, r.w) <= angle) return to;
+  float c = cos_p(0.5 * angle), k = sin_p(0.5 * angle) / s;
+  return normalize(quat_mul(vec4(k * r.xyz, c), q));
 }

@@ -96,8 +96,7 @@ vec3 landing_goal(inout GpuBird b, GpuSpecies s, uint branch, vec3 wind) {
 }
 
 void perch(inout GpuBird b, GpuSpecies s, uint branch) {
-  come_to_rest(b, perch_point(b, s, branch));
-  b.mode = mode_perched;
+  hold_on(b, mode_perched, perch_point(b, s, branch));
   b.targets_reached += 1u;
 }
 
