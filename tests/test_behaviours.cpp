@@ -870,16 +870,19 @@ TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchWithoutAJump) {
     ASSERT_EQ(watch.touchdowns().size(), 1u) << name;
     const Touchdown& d = watch.touchdowns()[0];
     std::printf(
-        "%s: jump %.1f cm, mean speed %.2f m/s over %.3f s, speed falls %.1f m/s2, turns "
-        "%.0f deg/s, %zu go-rounds\n",
-        name, d.jump, d.mean_speed / 100.0, d.window, d.speed_fall / 100.0, degrees(d.turn_rate),
-        watch.go_rounds());
+        "%s: jump %.1f cm (body %.1f deg), mean speed %.2f m/s over %.3f s, speed falls "
+        "%.1f m/s2, turns %.0f deg/s, %zu go-rounds\n",
+        name, d.jump, degrees(d.turn_jump), d.mean_speed / 100.0, d.window, d.speed_fall / 100.0,
+        degrees(d.turn_rate), watch.go_rounds());
     const Species& sp = sim.scenario().species[0];
     EXPECT_TRUE(d.on_branch) << name;
+    // Its feet, under its centre as when it stands, on the branch within a few centimetres.
+    EXPECT_LE(glm::distance(d.at, perch_point(sp, sim.world().branches[0])), 5.0) << name;
     EXPECT_LE(d.jump, 1.0) << name;
     EXPECT_LE(d.mean_speed, sp.touchdown_speed) << name;
     EXPECT_LE(d.speed_fall, 3000.0) << name;
     EXPECT_LE(d.turn_rate, radians(90.0)) << name;
+    EXPECT_LE(d.turn_jump, radians(90.0) * kFrameSeconds) << name;
   }
 }
 

@@ -43,7 +43,8 @@ TEST(TouchdownWatch, MeasuresTheJumpTheSpeedBeforeAndTheSnapAfter) {
   EXPECT_NEAR(d.window, 0.2, 1e-12);  // the wingbeat period: longer than kTouchdownWindow
   EXPECT_NEAR(d.mean_speed, 240.0, 1e-9);
   EXPECT_NEAR(d.speed_fall, 240.0 / 0.03, 1e-6);
-  EXPECT_NEAR(d.turn_rate, radians(30.0) / 0.03, 1e-6);
+  EXPECT_NEAR(d.turn_jump, radians(30.0), 1e-9);  // levelled in the grip, turning at no rate
+  EXPECT_EQ(d.turn_rate, 0.0);                    // and still after it
   EXPECT_EQ(watch.go_rounds(), 0u);
 }
 

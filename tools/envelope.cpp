@@ -67,13 +67,14 @@ void print_touchdowns(const std::vector<EnvelopeResult>& results) {
       worst.mean_speed = std::max(worst.mean_speed, r.touchdown->mean_speed);
       worst.speed_fall = std::max(worst.speed_fall, r.touchdown->speed_fall);
       worst.turn_rate = std::max(worst.turn_rate, r.touchdown->turn_rate);
+      worst.turn_jump = std::max(worst.turn_jump, r.touchdown->turn_jump);
     }
     if (n == 0) continue;
     std::printf(
-        "  %-22s %5d  jump <= %.1f cm, mean speed before <= %.2f m/s, speed falls <= %.0f "
-        "m/s2, body turns <= %.0f deg/s",
-        branch ? "on the branch" : "on the ground", n, worst.jump, worst.mean_speed / 100,
-        worst.speed_fall / 100, degrees(worst.turn_rate));
+        "  %-22s %5d  jump <= %.1f cm (body %.1f deg), mean speed before <= %.2f m/s, "
+        "speed falls <= %.0f m/s2, body turns <= %.0f deg/s",
+        branch ? "on the branch" : "on the ground", n, worst.jump, degrees(worst.turn_jump),
+        worst.mean_speed / 100, worst.speed_fall / 100, degrees(worst.turn_rate));
     if (branch) std::printf(", %zu go-rounds", go_rounds);
     std::printf("\n");
   }
@@ -88,7 +89,8 @@ nlohmann::json touchdown_json(const EnvelopeResult& r) {
           {"mean_speed_m_s", d.mean_speed / 100},
           {"window_s", d.window},
           {"speed_fall_m_s2", d.speed_fall / 100},
-          {"turn_deg_s", degrees(d.turn_rate)}};
+          {"turn_deg_s", degrees(d.turn_rate)},
+          {"turn_jump_deg", degrees(d.turn_jump)}};
 }
 
 }  // namespace

@@ -19,26 +19,32 @@ double turned(const glm::dquat& a, const glm::dquat& b) {
 
 void TouchdownWatch::follow(const Sample& now) {
   // The rates over at least `every` (a frame of the criteria), from the latest sample that long
-  // before.
-  const Sample* before = &history_.front();
-  for (const Sample& s : history_)
-    if (s.t <= now.t - every_ * (1.0 - 1e-9)) before = &s;
+  // before: the speed's from the frame of the touch-down on, the body's turn from the touch-down on
+  // (in the frame before it the bird still flies, and turns as it flies; its turn into the
+  // touch-down is turn_jump's).
   Touchdown& d = touchdowns_.back();
+  const Sample* before = &history_.front();
+  const Sample* turned_from = nullptr;
+  for (const Sample& s : history_)
+    if (s.t <= now.t - every_ * (1.0 - 1e-9)) {
+      before = &s;
+      if (s.t >= d.time) turned_from = &s;
+    }
+  if (!turned_from && now.t > d.time)
+    for (const Sample& s : history_)
+      if (s.t == d.time) turned_from = &s;  // within a frame of the touch-down
   const double dt = now.t - before->t;
-  if (dt <= 0.0) return;
-  d.speed_fall =
-      std::max(d.speed_fall, (glm::length(before->velocity) - glm::length(now.velocity)) / dt);
-  d.turn_rate = std::max(d.turn_rate, turned(before->attitude, now.attitude) / dt);
+  if (dt > 0.0)
+    d.speed_fall =
+        std::max(d.speed_fall, (glm::length(before->velocity) - glm::length(now.velocity)) / dt);
+  if (turned_from && now.t > turned_from->t)
+    d.turn_rate = std::max(d.turn_rate,
+                           turned(turned_from->attitude, now.attitude) / (now.t - turned_from->t));
 }
 
 void TouchdownWatch::sample(double t, const BirdState& b) {
-  const Sample now{t,
-                   b.position,
-                   b.velocity,
-                   b.attitude,
-                   b.frequency,
-                   holds_on(b.mode),
-                   b.mode == FlightMode::landing};
+  const Sample now{t,       b.position,  b.velocity,       b.attitude,
+                   b.omega, b.frequency, holds_on(b.mode), b.mode == FlightMode::landing};
   // A little under `every`, so that frames of exactly that length are all kept; a sample that
   // holds on or lets go is kept whenever it comes.
   if (!history_.empty() && t - history_.back().t < every_ * (1.0 - 1e-9) &&
@@ -52,8 +58,11 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
       Touchdown d;
       d.on_branch = b.mode == FlightMode::perched;
       d.time = t;
+      d.at = now.position;
       d.jump = glm::length(now.position - before.position) -
                glm::length(before.velocity) * (t - before.t);
+      d.turn_jump =
+          turned(before.attitude, now.attitude) - glm::length(before.omega) * (t - before.t);
       d.window = std::max(before.frequency > 0.0 ? 1.0 / before.frequency : 0.0, kTouchdownWindow);
       double sum = 0.0;
       size_t n = 0;

@@ -25,12 +25,14 @@ inline constexpr double kSettleWatch = 1.0;  // s
 struct Touchdown {
   bool on_branch = false;   // perched; else it stood on the ground
   double time = 0.0;        // s: the first sample that holds on
+  glm::dvec3 at{0.0};       // cm: its centre then
   double jump = 0.0;        // cm: its centre's move into that sample beyond speed x interval
   double mean_speed = 0.0;  // cm/s: mean |velocity| over the window before (kTouchdownWindow)
   double window = 0.0;      // s: that window, max(1 / frequency, kTouchdownWindow)
-  double speed_fall = 0.0;  // cm/s^2: the fastest fall of |velocity| between samples, from the
-                            // sample before to kSettleWatch after
-  double turn_rate = 0.0;   // rad/s: the fastest turn of the body between the same samples
+  double speed_fall = 0.0;  // cm/s^2: the fastest fall of |velocity| over a frame, from the one
+                            // it touched down in to kSettleWatch after
+  double turn_rate = 0.0;   // rad/s: the fastest turn of the body over a frame after it
+  double turn_jump = 0.0;   // rad: the body's turn into it beyond what its rates turned it
 };
 
 // The spacing the criteria are measured at: a 30 ms frame (kFrameSeconds).
@@ -56,6 +58,7 @@ class TouchdownWatch {
     double t;
     glm::dvec3 position, velocity;
     glm::dquat attitude;
+    glm::dvec3 omega;
     double frequency;
     bool holding;  // perched, or standing on the ground
     bool landing;  // braking towards a branch
