@@ -25,6 +25,7 @@
 #include "model/simulation.h"
 #include "model/tail.h"
 #include "model/touchdown.h"
+#include "stub_winged.h"
 
 namespace aeroflock {
 namespace {
@@ -893,20 +894,8 @@ TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchWithoutAJump) {
 // Before, it was put on its legs, still and level, in one step: its speed fell at 100 m/s^2.
 TEST(TouchDown, OnTheGroundWithoutAJump) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
-  const auto flight = make_flight(parse_scenario(R"(
-[simulation]
-duration = 3.0
-[[species]]
-name = "stub-winged"
-base = "starling"
-wing_area = 10.0
-leg_force = 0.0
-[[targets]]
-name = "t"
-centre = [0.0, 3000.0, 100000.0]
-[[routes]]
-name = "r"
-targets = ["t"]
+  const auto flight = make_flight(
+      parse_scenario(std::string("[simulation]\nduration = 3.0\n") + testing::kStubWingedWorld + R"(
 [[flocks]]
 species = "stub-winged"
 route = "r"
@@ -914,7 +903,7 @@ centre = [0.0, 15.0, 0.0]
 speed = 300.0
 random_phase = false
 )",
-                                                 "hop.toml"));
+                     "hop.toml"));
   Simulation& sim = *flight;
   TouchdownWatch watch;
   double lowest = 1e9;

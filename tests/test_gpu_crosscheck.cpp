@@ -29,6 +29,7 @@
 #include "model/simulation.h"
 #include "model/step.h"
 #include "run/fly_envelope.h"
+#include "stub_winged.h"
 
 namespace aeroflock {
 namespace {
@@ -232,21 +233,9 @@ const std::map<std::string, double> kStateTolerance = {
 // early, rested 246 steps and stamped a quarantine 1.6 ms off.
 TEST(GpuClock, ATakeOffARestAndAQuarantineAfterADayHappenOnTheSameStep) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  Scenario s = parse_scenario(R"(
-[simulation]
-fidelity = "fast"
-duration = 90000.0
-[[species]]
-name = "stub-winged"
-base = "starling"
-wing_area = 10.0
-leg_force = 0.0
-[[targets]]
-name = "t"
-centre = [0.0, 3000.0, 100000.0]
-[[routes]]
-name = "r"
-targets = ["t"]
+  Scenario s =
+      parse_scenario(std::string("[simulation]\nfidelity = \"fast\"\nduration = 90000.0\n") +
+                         testing::kStubWingedWorld + R"(
 [[flocks]]
 species = "starling"
 route = "r"
@@ -263,7 +252,7 @@ standing = true
 takeoff_time = 86400.0013
 random_phase = false
 )",
-                              "day.toml");
+                     "day.toml");
   ASSERT_EQ(s.dt, 0.002);
   std::vector<BirdState> birds = spawn_birds(s);
   Species doomed = s.species[birds[1].species];
