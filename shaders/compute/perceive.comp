@@ -32,8 +32,8 @@ void main() {
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;
   near_count = 0u;
-  step_wind =
-      wind_at(b.position.y);  // the air it flies in: its search looks along its flight there
+  // The air it flies in: its search looks along its flight through it.
+  step_wind = wind_at(b.position.y);
   uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
   if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
   vec3 goal = vec3(0.0);
