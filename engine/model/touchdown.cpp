@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "scenario.h"
+
 namespace aeroflock {
 
 namespace {
@@ -77,8 +79,10 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
     }
   }
   history_.push_back(now);
-  // Keep a window of the slowest wingbeat a species may have and a sample more.
-  while (history_.size() > 2 && history_.front().t < t - 2.0) history_.pop_front();
+  // Keep the window before a touch-down now (a wingbeat or kTouchdownWindow) and a frame more.
+  const double keep = std::max(b.frequency > 0.0 ? 1.0 / b.frequency : 0.0, kTouchdownWindow) +
+                      std::max(every_, kFrameSeconds);
+  while (history_.size() > 2 && history_.front().t < t - keep) history_.pop_front();
 }
 
 }  // namespace aeroflock
