@@ -238,12 +238,12 @@ NeighbourGrid::NeighbourGrid(const std::vector<BirdState>& birds, GridShape shap
 }
 
 std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Species>& species,
-                                             const World& world) const {
+                                             const dvec3& wind) const {
   const BirdState& b = birds_[i];
   const Species& s = species[b.species];
   Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
   if (!flocks_now(b) || s.neighbours < 1.0) return {};
-  const dvec3 ahead = flight_direction(b, wind_at(world, b.position.y));
+  const dvec3 ahead = flight_direction(b, wind);
   const double cell = shape_.cell;
   const glm::ivec3 home = grid_cell(b.position, cell);
   const int rings = static_cast<int>(std::ceil(s.perception_radius / cell));
@@ -282,11 +282,11 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Speci
 }
 
 std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
-                                          const std::vector<Species>& species, const World& world) {
+                                          const std::vector<Species>& species, const dvec3& wind) {
   const Species& s = species[birds[i].species];
   Nearest nearest{static_cast<uint32_t>(s.neighbours), {}, {}};
   if (!flocks_now(birds[i]) || s.neighbours < 1.0) return {};
-  const dvec3 ahead = flight_direction(birds[i], wind_at(world, birds[i].position.y));
+  const dvec3 ahead = flight_direction(birds[i], wind);
   for (uint32_t j = 0; j < birds.size(); ++j) consider(nearest, s, birds, i, j, ahead);
   return nearest.index;
 }
@@ -302,14 +302,14 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
     const BirdState& b = birds[static_cast<size_t>(i)];
     const Species& s = species[b.species];
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
-    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species, world);
+    const dvec3 wind = wind_at(world, b.position.y);  // the air it flies in
+    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species, wind);
     BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
     dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
     bool route_done = route_over(route_bird, world);
     if (const std::optional<dvec3> on = onward_goal(route_bird, world))
       goal = *on, route_done = false;
-    perception[static_cast<size_t>(i)] =
-        social_goal(s, b, wind_at(world, b.position.y), goal, route_done, seen, birds);
+    perception[static_cast<size_t>(i)] = social_goal(s, b, wind, goal, route_done, seen, birds);
   }
 }
 

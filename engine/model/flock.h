@@ -118,11 +118,11 @@ class NeighbourGrid {
  public:
   // Sorts the birds that flock now (flocks_now) into their buckets.
   NeighbourGrid(const std::vector<BirdState>& birds, GridShape shape);
-  // The birds bird `i` sees, at most its species' `neighbours`, nearest first (ties by index):
-  // only birds of its own flock that flock now. Searches the cells ring by ring outwards and stops
-  // once no unsearched cell can hold a nearer bird.
+  // The birds bird `i`, in `wind` (where it flies), sees, at most its species' `neighbours`,
+  // nearest first (ties by index): only birds of its own flock that flock now. Searches the cells
+  // ring by ring outwards and stops once no unsearched cell can hold a nearer bird.
   std::vector<uint32_t> seen_by(uint32_t i, const std::vector<Species>& species,
-                                const World& world) const;
+                                const glm::dvec3& wind) const;
 
  private:
   const std::vector<BirdState>& birds_;
@@ -133,7 +133,8 @@ class NeighbourGrid {
 
 // The same by testing every bird: what the grid is tested against.
 std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdState>& birds,
-                                          const std::vector<Species>& species, const World& world);
+                                          const std::vector<Species>& species,
+                                          const glm::dvec3& wind);
 
 // Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
 // get a new one from the grid, due birds that do not get none, the rest keep theirs.
