@@ -26,7 +26,7 @@ class EnvelopeJudge final : public RunObserver {
     const std::vector<BirdState>& now = sim.birds();
     std::vector<uint32_t> done;
     for (size_t k = 0; k < results_.size(); ++k) {
-      if (retired(k)) continue;
+      if (retired_[k]) continue;
       watches_[k].sample(t, now[k]);
       if (!judged_[k] &&
           judge_envelope(*results_[k], now[k], species_, t, sim.world().ground_height))
@@ -46,14 +46,14 @@ class EnvelopeJudge final : public RunObserver {
   void finish(Simulation& sim) override {
     for (size_t k = 0; k < results_.size(); ++k) {
       if (!judged_[k]) results_[k]->time = sim.time();  // late
-      if (!retired(k)) keep_touchdown(k);
+      if (!retired_[k]) keep_touchdown(k);
     }
   }
 
  private:
-  bool retired(size_t k) const { return judged_[k] && kept_[k]; }
+  // Done with case k: its touch-down (if any) kept, its bird retired.
   void keep_touchdown(size_t k) {
-    kept_[k] = true;
+    retired_[k] = true;
     const TouchdownWatch& w = watches_[k];
     if (!w.touchdowns().empty()) results_[k]->touchdown = w.touchdowns().front();
     results_[k]->go_rounds = w.go_rounds();
@@ -62,7 +62,7 @@ class EnvelopeJudge final : public RunObserver {
   std::vector<EnvelopeResult*> results_;
   std::vector<bool> judged_;
   std::vector<TouchdownWatch> watches_;
-  std::vector<bool> kept_ = std::vector<bool>(results_.size(), false);
+  std::vector<bool> retired_ = std::vector<bool>(results_.size(), false);
   size_t left_;
   const Species& species_;
   const std::function<void(double)>& progress_;
