@@ -76,6 +76,12 @@ void hold_on(BirdState& b, FlightMode mode, const glm::dvec3& at) {
   b.via_point = at;
 }
 
+double turn_angle(const glm::dquat& a, const glm::dquat& b) {
+  // acos(w) as atan2: well conditioned near w = 1, a body all but turned to `b`.
+  const double w = std::min(1.0, std::fabs(glm::dot(a, b)));
+  return 2.0 * std::atan2(std::sqrt(1.0 - w * w), w);
+}
+
 glm::dquat turn_towards(const glm::dquat& q, const glm::dquat& to, double angle) {
   glm::dquat r = to * glm::conjugate(q);
   if (r.w < 0.0) r = -r;  // the shorter way round

@@ -48,6 +48,9 @@ void come_to_rest(BirdState& b, const glm::dvec3& at);
 // settle), its LandingStage `settling`, `at` kept in via_point.
 void hold_on(BirdState& b, FlightMode mode, const glm::dvec3& at);
 
+// The angle (rad) a body turns from attitude `a` to `b`, the shorter way round.
+double turn_angle(const glm::dquat& a, const glm::dquat& b);
+
 // `q` turned towards `to` by at most `angle` (rad), the shorter way round: `to` when it is nearer.
 glm::dquat turn_towards(const glm::dquat& q, const glm::dquat& to, double angle);
 

@@ -215,12 +215,9 @@ void settle(BirdState& b, const Species& sp, const World& w, double dt) {
   b.tail_bend = approach(b.tail_bend, 0.0, sp.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, 0.0, sp.tail_rate, dt);
   b.sweep = approach(b.sweep, 0.0, sp.sweep_rate, dt);
-  const glm::dquat left = level * glm::conjugate(b.attitude);
   if (glm::length(b.position - b.via_point) < kSettledDistance &&
       glm::length(b.velocity) < kSettledSpeed && b.amplitude == 0.0 &&
-      2.0 * std::asin(
-                std::min(1.0, std::sqrt(left.x * left.x + left.y * left.y + left.z * left.z))) <
-          kSettledAngle) {
+      turn_angle(b.attitude, level) < kSettledAngle) {
     come_to_rest(b, b.via_point);
     b.landing_stage = LandingStage::none;
   }

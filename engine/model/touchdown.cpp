@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "body.h"
 #include "scenario.h"
 
 namespace aeroflock {
@@ -12,11 +13,6 @@ namespace aeroflock {
 namespace {
 bool holds_on(FlightMode m) { return m == FlightMode::perched || m == FlightMode::standing; }
 
-// The angle (rad) the body turns from `a` to `b`.
-double turned(const glm::dquat& a, const glm::dquat& b) {
-  const double w = std::min(1.0, std::fabs(glm::dot(a, b)));
-  return 2.0 * std::acos(w);
-}
 }  // namespace
 
 void TouchdownWatch::follow(const Sample& now) {
@@ -40,8 +36,8 @@ void TouchdownWatch::follow(const Sample& now) {
     d.speed_fall =
         std::max(d.speed_fall, (glm::length(before->velocity) - glm::length(now.velocity)) / dt);
   if (turned_from && now.t > turned_from->t)
-    d.turn_rate = std::max(d.turn_rate,
-                           turned(turned_from->attitude, now.attitude) / (now.t - turned_from->t));
+    d.turn_rate = std::max(
+        d.turn_rate, turn_angle(turned_from->attitude, now.attitude) / (now.t - turned_from->t));
 }
 
 void TouchdownWatch::sample(double t, const BirdState& b) {
@@ -64,7 +60,7 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
       d.jump = glm::length(now.position - before.position) -
                glm::length(before.velocity) * (t - before.t);
       d.turn_jump =
-          turned(before.attitude, now.attitude) - glm::length(before.omega) * (t - before.t);
+          turn_angle(before.attitude, now.attitude) - glm::length(before.omega) * (t - before.t);
       d.window = std::max(before.frequency > 0.0 ? 1.0 / before.frequency : 0.0, kTouchdownWindow);
       double sum = 0.0;
       size_t n = 0;

@@ -210,9 +210,8 @@ void settle(inout GpuBird b, GpuSpecies s, float dt) {
   b.tail_bend = approach(b.tail_bend, 0.0, s.tail_rate, dt);
   b.tail_twist = approach(b.tail_twist, 0.0, s.tail_rate, dt);
   b.sweep = approach(b.sweep, 0.0, s.sweep_rate, dt);
-  vec4 left = quat_mul(level, vec4(-b.attitude.xyz, b.attitude.w));
   if (length(b.position - b.via_point) < kSettledDistance && length(b.velocity) < kSettledSpeed &&
-      b.amplitude == 0.0 && 2.0 * asin_p(min(1.0, length(left.xyz))) < kSettledAngle) {
+      b.amplitude == 0.0 && turn_angle(b.attitude, level) < kSettledAngle) {
     come_to_rest(b, b.via_point);
     b.landing_stage = stage_none;
   }

@@ -70,6 +70,11 @@ vec4 quat_mul(vec4 a, vec4 b) {
   return vec4(a.w * b.xyz + b.w * a.xyz + cross(a.xyz, b.xyz), a.w * b.w - dot(a.xyz, b.xyz));
 }
 
+float turn_angle(vec4 a, vec4 b) {
+  float w = min(1.0, abs(dot(a, b)));
+  return 2.0 * atan_p(sqrt(1.0 - w * w), w);
+}
+
 vec4 turn_towards(vec4 q, vec4 to, float angle) {
   vec4 r = quat_mul(to, vec4(-q.xyz, q.w));
   if (r.w < 0.0) r = -r;
