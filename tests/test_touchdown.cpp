@@ -32,6 +32,7 @@ TEST(TouchdownWatch, MeasuresTheJumpTheSpeedBeforeAndTheSnapAfter) {
   const dvec3 last = v * (t - 0.03);
   BirdState perched = flying(last + dvec3{68.0 + 240.0 * 0.03, 0.0, 0.0}, dvec3{0.0});
   perched.mode = FlightMode::perched;
+  perched.via_point = perched.position + dvec3{0.0, 3.0, 4.0};  // where it will sit
   perched.attitude = glm::angleAxis(radians(30.0), dvec3{0.0, 0.0, 1.0});
   watch.sample(t, perched);
   for (int k = 1; k <= 40; ++k) watch.sample(t + 0.03 * k, perched);
@@ -40,6 +41,7 @@ TEST(TouchdownWatch, MeasuresTheJumpTheSpeedBeforeAndTheSnapAfter) {
   EXPECT_TRUE(d.on_branch);
   EXPECT_DOUBLE_EQ(d.time, t);
   EXPECT_NEAR(d.jump, 68.0, 1e-9);
+  EXPECT_NEAR(d.reach, 5.0, 1e-12);   // its centre 5 cm from the perch point as it grips
   EXPECT_NEAR(d.window, 0.2, 1e-12);  // the wingbeat period: longer than kTouchdownWindow
   EXPECT_NEAR(d.mean_speed, 240.0, 1e-9);
   EXPECT_NEAR(d.speed_fall, 240.0 / 0.03, 1e-6);
@@ -70,6 +72,7 @@ TEST(TouchdownWatch, ASmoothStopAndAGoRound) {
   ASSERT_EQ(watch.touchdowns().size(), 1u);
   const Touchdown& d = watch.touchdowns()[0];
   EXPECT_FALSE(d.on_branch);
+  EXPECT_EQ(d.reach, 0.0);  // measured on a branch only
   EXPECT_LE(d.jump, 1e-9);
   EXPECT_NEAR(d.window, kTouchdownWindow, 1e-12);
   // The samples within 0.1 s up to the last in the air: 25, 20, 15 and 10 cm/s.

@@ -64,6 +64,7 @@ void print_touchdowns(const std::vector<EnvelopeResult>& results) {
       if (!r.touchdown || r.touchdown->on_branch != branch) continue;
       ++n;
       worst.jump = std::max(worst.jump, r.touchdown->jump);
+      worst.reach = std::max(worst.reach, r.touchdown->reach);
       worst.mean_speed = std::max(worst.mean_speed, r.touchdown->mean_speed);
       worst.speed_fall = std::max(worst.speed_fall, r.touchdown->speed_fall);
       worst.turn_rate = std::max(worst.turn_rate, r.touchdown->turn_rate);
@@ -75,6 +76,7 @@ void print_touchdowns(const std::vector<EnvelopeResult>& results) {
         "speed falls <= %.0f m/s2, body turns <= %.0f deg/s",
         branch ? "on the branch" : "on the ground", n, worst.jump, degrees(worst.turn_jump),
         worst.mean_speed / 100, worst.speed_fall / 100, degrees(worst.turn_rate));
+    if (branch) std::printf(", feet <= %.1f cm from the branch point", worst.reach);
     if (branch) std::printf(", %zu go-rounds", go_rounds);
     std::printf("\n");
   }
@@ -86,6 +88,7 @@ nlohmann::json touchdown_json(const EnvelopeResult& r) {
   return {{"on_branch", d.on_branch},
           {"time_s", d.time},
           {"jump_cm", d.jump},
+          {"reach_cm", d.reach},
           {"mean_speed_m_s", d.mean_speed / 100},
           {"window_s", d.window},
           {"speed_fall_m_s2", d.speed_fall / 100},

@@ -57,6 +57,7 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
       d.on_branch = b.mode == FlightMode::perched;
       d.time = t;
       d.at = now.position;
+      if (d.on_branch) d.reach = glm::length(now.position - b.via_point);
       d.jump = glm::length(now.position - before.position) -
                glm::length(before.velocity) * (t - before.t);
       d.turn_jump =

@@ -26,6 +26,8 @@ struct Touchdown {
   bool on_branch = false;   // perched; else it stood on the ground
   double time = 0.0;        // s: the first sample that holds on
   glm::dvec3 at{0.0};       // cm: its centre then
+  double reach = 0.0;       // cm: on a branch, its centre's distance then from the perch point
+                            // (its feet's from the branch point)
   double jump = 0.0;        // cm: its centre's move into that sample beyond speed x interval
   double mean_speed = 0.0;  // cm/s: mean |velocity| over the window before (kTouchdownWindow)
   double window = 0.0;      // s: that window, max(1 / frequency, kTouchdownWindow)
