@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -23,6 +24,7 @@
 #include "model/flock_geometry.h"
 #include "model/route.h"
 #include "model/simulation.h"
+#include "model/species.h"
 #include "model/tail.h"
 #include "model/touchdown.h"
 #include "stub_winged.h"
@@ -856,34 +858,52 @@ TEST(BranchLanding, PathControlComesInPerpendicularAndPerches) {
   EXPECT_GT(direct.approach_off_perpendicular, 20.0) << "the direct method keeps its angle";
 }
 
-// Issue 40's criteria, disabled until they hold: the feet meet the branch, so that the centre moves
-// no more in the frame of the grip than the bird flies (plus 1 cm); the mean speed over the
-// wingbeat (or 100 ms) before it at most touchdown_speed; after it the speed falls at no more than
-// 30 m/s^2 and the body turns at no more than 90 degrees/s, over each 30 ms frame; with path
-// control and straight in. Today it grips 68 cm short at 2.4 m/s and is put on the branch.
-TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchWithoutAJump) {
-  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
-  for (const char* name : {"fig18-branch-path-control", "fig18-branch-direct"}) {
-    const auto flight = make_flight(load_scenario(name));
-    Simulation& sim = *flight;
-    TouchdownWatch watch;
-    run(sim, sim.scenario().duration, [&](Simulation& s) { watch.sample(s.time(), s.birds()[0]); });
-    ASSERT_EQ(watch.touchdowns().size(), 1u) << name;
-    const Touchdown& d = watch.touchdowns()[0];
+// Issue 40: Fig. 18 with path control and straight in, on both backends. The centre moves no more
+// in the frame of the grip than the bird flies (plus 1 cm); its mean speed over the ground over
+// the wingbeat (or 100 ms) before it is at most touchdown_speed; after it the speed falls at no
+// more than 30 m/s^2 and the body turns at no more than 90 degrees/s, over each 30 ms frame.
+// Before, it gripped 68 cm short at 2.4 m/s and was put on the branch in one step.
+std::vector<Touchdown> fig18_touchdowns(const char* name) {
+  const auto flight = make_flight(load_scenario(name));
+  Simulation& sim = *flight;
+  TouchdownWatch watch;
+  run(sim, sim.scenario().duration, [&](Simulation& s) { watch.sample(s.time(), s.birds()[0]); });
+  for (const Touchdown& d : watch.touchdowns())
     std::printf(
         "%s: jump %.1f cm (body %.1f deg), mean speed %.2f m/s over %.3f s, speed falls "
-        "%.1f m/s2, turns %.0f deg/s, %zu go-rounds\n",
+        "%.1f m/s2, turns %.0f deg/s, feet %.1f cm from the branch point, %zu go-rounds\n",
         name, d.jump, degrees(d.turn_jump), d.mean_speed / 100.0, d.window, d.speed_fall / 100.0,
-        degrees(d.turn_rate), watch.go_rounds());
-    const Species& sp = sim.scenario().species[0];
+        degrees(d.turn_rate), d.reach, watch.go_rounds());
+  return watch.touchdowns();
+}
+
+TEST(BranchLanding, TheGripEndsTheFlightWithoutAJump) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  const Species sp = starling();
+  for (const char* name : {"fig18-branch-path-control", "fig18-branch-direct"}) {
+    const std::vector<Touchdown> touchdowns = fig18_touchdowns(name);
+    ASSERT_EQ(touchdowns.size(), 1u) << name;
+    const Touchdown& d = touchdowns[0];
+    RecordProperty(std::string(name) + "_mean_speed_m_s", std::to_string(d.mean_speed / 100.0));
+    RecordProperty(std::string(name) + "_reach_cm", std::to_string(d.reach));
     EXPECT_TRUE(d.on_branch) << name;
-    // Its feet, under its centre as when it stands, on the branch within a few centimetres.
-    EXPECT_LE(glm::distance(d.at, perch_point(sp, sim.world().branches[0])), 5.0) << name;
     EXPECT_LE(d.jump, 1.0) << name;
     EXPECT_LE(d.mean_speed, sp.touchdown_speed) << name;
     EXPECT_LE(d.speed_fall, 3000.0) << name;
     EXPECT_LE(d.turn_rate, radians(90.0)) << name;
     EXPECT_LE(d.turn_jump, radians(90.0) * kFrameSeconds) << name;
+  }
+}
+
+// Issue 40's last criterion, disabled until it holds: the feet, under the centre as when the bird
+// stands, meet the branch within a few centimetres as it grips. Today its centre is 63 and 49 cm
+// from the perch point, mostly under it, and settles the rest of the way (docs/VALIDATION.md).
+TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchPoint) {
+  if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
+  for (const char* name : {"fig18-branch-path-control", "fig18-branch-direct"}) {
+    const std::vector<Touchdown> touchdowns = fig18_touchdowns(name);
+    ASSERT_EQ(touchdowns.size(), 1u) << name;
+    EXPECT_LE(touchdowns[0].reach, 5.0) << name;
   }
 }
 

@@ -87,7 +87,7 @@ AF_REAL(kSettleDecel, 2500.0)
 AF_REAL(kSettleTurn, 1.3962634015954636)
 AF_REAL(kSettledDistance, 0.5)
 AF_REAL(kSettledSpeed, 5.0)
-AF_REAL(kSettledAngle, 0.01)
+AF_REAL(kSettledAngle, 0.001)
 // Its wings fold from amp_max in this long, s (eq. 5's rate K_a, a quarter of amp_max a second for
 // the presets, is the controller's, not the folding's).
 AF_REAL(kWingFold, 0.25)

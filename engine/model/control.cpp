@@ -127,12 +127,14 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
   return std::clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
-Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded) {
+Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded,
+                     double room) {
   const double deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
   const double height_share =
       std::clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
   return {height_error + deficit,
-          height_share * std::clamp(height_error, -s.balance_band, s.balance_band) - deficit};
+          height_share * std::clamp(height_error, -s.balance_band, s.balance_band) -
+              std::min(deficit, std::max(room, 0.0))};
 }
 
 double spool_lead(const Species& s, double amplitude, double air_climb) {

@@ -2,6 +2,7 @@
 // height control (eqs. 4, 5), tail commands, bank, and the landing point P.
 #pragma once
 
+#include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
@@ -133,7 +134,10 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 struct Energy {
   double total, balance;
 };
-Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded);
+// Low down, the height it lowers its nose to trade for speed is at most `room`, what it has above
+// its clearance: a slow bird near the ground beats its wings for speed rather than dive for it.
+Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded,
+                     double room = INFINITY);
 
 // How far (cm) a bird sinking through the air at `air_climb` < 0 (cm/s) still sinks while its
 // wingbeat rises from `amplitude` to amp_max at K_a (eq. 5): half the time that takes, the

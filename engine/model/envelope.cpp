@@ -141,7 +141,8 @@ FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
   f.below_ground = b.position.y < ground_height;
   if (t >= kSettleTime && b.mode != FlightMode::perched) {
     f.over_bank = std::fabs(bank_angle(b.attitude)) > species.bank_max + kBankMargin;
-    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
+    const double limit = b.mode == FlightMode::landing ? kLandingPitchLimit : kPitchLimit;
+    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > limit;
   }
   return f;
 }

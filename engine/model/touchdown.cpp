@@ -40,6 +40,23 @@ void TouchdownWatch::follow(const Sample& now) {
         d.turn_rate, turn_angle(turned_from->attitude, now.attitude) / (now.t - turned_from->t));
 }
 
+double TouchdownWatch::mean_speed(double from, double to) const {
+  // The path over the ground between the samples (a chord a frame: a flapping bird's speed swings
+  // within a wingbeat, its path does not), the first frame's share of its chord from `from` on.
+  double path = 0.0;
+  const Sample* last = nullptr;
+  for (const Sample& s : history_) {
+    if (s.t > to) break;
+    if (last && s.t > from) {
+      const double share = std::min(1.0, (s.t - from) / (s.t - last->t));
+      path += share * glm::length(s.position - last->position);
+    }
+    last = &s;
+  }
+  const double start = std::max(from, history_.front().t);
+  return to > start ? path / (to - start) : 0.0;
+}
+
 void TouchdownWatch::sample(double t, const BirdState& b) {
   const Sample now{t,       b.position,  b.velocity,       b.attitude,
                    b.omega, b.frequency, holds_on(b.mode), b.mode == FlightMode::landing};
@@ -63,11 +80,7 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
       d.turn_jump =
           turn_angle(before.attitude, now.attitude) - glm::length(before.omega) * (t - before.t);
       d.window = std::max(before.frequency > 0.0 ? 1.0 / before.frequency : 0.0, kTouchdownWindow);
-      double sum = 0.0;
-      size_t n = 0;
-      for (const Sample& s : history_)
-        if (s.t >= before.t - d.window && !s.holding) sum += glm::length(s.velocity), ++n;
-      d.mean_speed = n > 0 ? sum / double(n) : 0.0;
+      d.mean_speed = mean_speed(before.t - d.window, before.t);
       touchdowns_.push_back(d);
       follow(now);
     } else if (!touchdowns_.empty() && t <= touchdowns_.back().time + kSettleWatch &&

@@ -29,7 +29,7 @@ struct Touchdown {
   double reach = 0.0;       // cm: on a branch, its centre's distance then from the perch point
                             // (its feet's from the branch point)
   double jump = 0.0;        // cm: its centre's move into that sample beyond speed x interval
-  double mean_speed = 0.0;  // cm/s: mean |velocity| over the window before (kTouchdownWindow)
+  double mean_speed = 0.0;  // cm/s: its path over the ground over the window before, by its time
   double window = 0.0;      // s: that window, max(1 / frequency, kTouchdownWindow)
   double speed_fall = 0.0;  // cm/s^2: the fastest fall of |velocity| over a frame, from the one
                             // it touched down in to kSettleWatch after
@@ -66,6 +66,8 @@ class TouchdownWatch {
     bool landing;  // braking towards a branch
   };
   void follow(const Sample& now);
+  // The mean speed over the ground between times `from` and `to` (the kept samples').
+  double mean_speed(double from, double to) const;
   std::deque<Sample> history_;  // the last window and a bit, oldest first
   std::vector<Touchdown> touchdowns_;
   size_t go_rounds_ = 0;

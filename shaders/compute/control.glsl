@@ -108,12 +108,14 @@ float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_b
   return clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
-Energy energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded) {
+Energy energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded,
+                     float room) {
   precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
   float height_share =
       clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
   return Energy(height_error + deficit,
-                height_share * clamp(height_error, -s.balance_band, s.balance_band) - deficit);
+                height_share * clamp(height_error, -s.balance_band, s.balance_band) -
+                    min(deficit, max(room, 0.0)));
 }
 
 float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
