@@ -102,9 +102,6 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     // Past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside.
     b.circling_steps = uint32_t(in(0.0, 5.0) / s.dt);
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
-    // The wingbeats' path (bird.h: beat_mean_speed).
-    b.beat_path =
-        glm::length(b.velocity) / b.frequency * (1.0 + b.phase / (2.0 * kPi)) * in(0.8, 1.2);
     const Route& tour = s.world.routes[0];
     const Branch& br = s.world.branches[0];
     switch (i % 12) {
@@ -134,13 +131,11 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
           b.mode_steps = uint32_t(in(0, 2.0 * sp.bank_time) / s.dt);  // the brake incidence ramping
         }
         if (u(rng) < 0.4) {
-          // Braking within perch_radius, its mean speed over the last wingbeat about
-          // touchdown_speed (issue 40): some grip the branch in this step, some not yet.
+          // Braking within perch_radius at about touchdown_speed: some grip the branch in this
+          // step, some not yet.
           b.mode = FlightMode::landing;
           b.position = perch + dvec3{in(-0.5, 0.5), in(-0.5, 0.5), in(-0.5, 0.5)} * sp.perch_radius;
-          b.velocity = glm::normalize(perch - b.position) * in(100, 300);
-          const double mean = sp.touchdown_speed * in(0.7, 1.3);
-          b.beat_path = mean / b.frequency * (1.0 + b.phase / (2.0 * kPi));
+          b.velocity = glm::normalize(perch - b.position) * sp.touchdown_speed * in(0.7, 1.3);
         }
         break;
       }
@@ -220,7 +215,6 @@ const std::map<std::string, double> kStateTolerance = {
     {"circling_steps", 0},
     {"quarantined_step", 0},
     {"rest_steps", 0},
-    {"beat_path", 1e-3},         // cm: of up to two wingbeats, a few metres
     {"landing_start", 1e-3},     // cm: placed at the bird's position
     {"landing_progress", 1e-6},  // of the curve
     {"via_point", 0.05},         // cm: the middle of a curve tens of metres long, its crossing
@@ -406,8 +400,8 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
       for (size_t i = birds.size() - 12; i < birds.size(); ++i)
         quarantined += gpu_after[i].mode == FlightMode::quarantined;
       EXPECT_GT(quarantined, 6u);
-      // Birds that grip the branch in this step by their mean speed over the last wingbeat, and
-      // birds within perch_radius that do not yet (the modes themselves are compared above).
+      // Birds that grip the branch in this step, and birds within perch_radius that do not yet
+      // (the modes themselves are compared above).
       size_t gripped = 0, braking_on = 0;
       for (size_t i = 0; i < birds.size(); ++i)
         if (birds[i].mode == FlightMode::landing)
@@ -477,7 +471,7 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
     same += a[i].outcome == b[i].outcome;
     EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome)
                                           << ", vulkan " << name(b[i].outcome);
-    expect_smooth_touchdown(b[i], sp);
+    expect_smooth_touchdown(b[i]);
   }
   RecordProperty("same_outcomes", std::to_string(same) + " of " + std::to_string(cases.size()));
   EXPECT_EQ(device.validation_errors(), 0u);

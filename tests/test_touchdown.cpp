@@ -5,7 +5,6 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "model/bird.h"
 #include "model/constants.h"
 #include "model/touchdown.h"
 
@@ -81,43 +80,6 @@ TEST(TouchdownWatch, ASmoothStopAndAGoRound) {
   EXPECT_NEAR(d.mean_speed, (25.0 / 3.0 + 20.0 + 15.0 + 10.0) * 0.03 / 0.1, 1e-9);
   EXPECT_NEAR(d.speed_fall, 5.0 / 0.03, 1e-6);
   EXPECT_EQ(watch.go_rounds(), 1u);
-}
-
-// The grip's speed (issue 40): the mean over the ground over the last wingbeats, counted step by
-// step (bird.h). A bird whose speed swings between 1 and 3 m/s within each wingbeat (2 m/s on
-// average) dips to 1 m/s at an instant; its mean stays 2 m/s, whatever the phase it is read at,
-// within the part-wingbeat's share. Then, slowing to 1 m/s, it reads no lower than 1.5 m/s for the
-// next wingbeat: an instant's speed would read 1 m/s at once.
-TEST(BeatMeanSpeed, IsTheMeanOverTheLastWingbeatsNotAnInstant) {
-  BirdState b;
-  b.frequency = 10.0;
-  b.velocity = dvec3{200.0, 0.0, 0.0};
-  steady_beat_path(b);
-  EXPECT_NEAR(beat_mean_speed(b), 200.0, 1e-9) << "placed in flight: as if it had flown so";
-  const double dt = 1e-4;
-  double lowest_instant = 1e9, lowest_mean = 1e9, highest_mean = 0.0;
-  auto fly = [&](double speed) {
-    const double phase_before = b.phase;
-    b.velocity = dvec3{speed, 0.0, 0.0};
-    b.phase = std::fmod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
-    count_beat_path(b, phase_before, speed, dt);
-  };
-  for (int k = 0; k < 5000; ++k) {  // 0.5 s, five wingbeats
-    const double speed = 200.0 - 100.0 * std::cos(b.phase);
-    fly(speed);
-    lowest_instant = std::min(lowest_instant, speed);
-    lowest_mean = std::min(lowest_mean, beat_mean_speed(b));
-    highest_mean = std::max(highest_mean, beat_mean_speed(b));
-  }
-  EXPECT_NEAR(lowest_instant, 100.0, 0.1);
-  // 200 - 100 sin(theta) / (2 pi + theta) at theta into a wingbeat: within 13 cm/s of 2 m/s.
-  EXPECT_GT(lowest_mean, 186.0);
-  EXPECT_LT(highest_mean, 214.0);
-  for (int k = 0; k < 1000; ++k) {  // a wingbeat at 1 m/s
-    fly(100.0);
-    // (2 m/s x a wingbeat + 1 m/s x t) / (a wingbeat + t), t up to a wingbeat.
-    EXPECT_GT(beat_mean_speed(b), 149.9);
-  }
 }
 
 }  // namespace

@@ -6,11 +6,8 @@
 #include <cstdint>
 #include <type_traits>
 
-#include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
-
-#include "constants.h"
 
 namespace aeroflock {
 
@@ -46,27 +43,6 @@ inline void count_mode_step(BirdState& b) {
 // One more step circling a goal (the same stop).
 inline void count_circling_step(BirdState& b) {
   if (b.circling_steps < UINT32_MAX) ++b.circling_steps;
-}
-// Its mean speed over the ground over its last wingbeats, what a grip is judged by (route.h), not
-// the speed at an instant inside a wingbeat. beat_path holds the path of the current wingbeat so
-// far and, carried from the wingbeats before, their paths weighted by half, a quarter, ...: one
-// wingbeat's worth in all (in steady flight, exactly the last whole wingbeat's path). So the mean
-// is over at least one wingbeat, and a bird that slows reads it no lower than its last wingbeat's.
-// One float, so that GpuBird keeps its size.
-inline double beat_mean_speed(const BirdState& b) {
-  if (b.frequency <= 0.0) return glm::length(b.velocity);
-  return b.beat_path * b.frequency / (1.0 + b.phase / (2.0 * kPi));
-}
-// Counts a step of dt flown at `speed` into the wingbeat's path; a phase that passed 0 in it
-// (below `phase_before`) began a new wingbeat, and what was counted is carried at half weight.
-inline void count_beat_path(BirdState& b, double phase_before, double speed, double dt) {
-  if (b.phase < phase_before) b.beat_path *= 0.5;
-  b.beat_path += speed * dt;
-}
-// As if it had flown its wingbeats so far at its present speed (a bird placed in flight).
-inline void steady_beat_path(BirdState& b) {
-  if (b.frequency <= 0.0) return;
-  b.beat_path = glm::length(b.velocity) / b.frequency * (1.0 + b.phase / (2.0 * kPi));
 }
 // The whole steps of dt a rest of `seconds` lasts: those that start before it ends, less half a
 // step (the rest ends on the step nearest its end), within [0, 2^32 - 1].

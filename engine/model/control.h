@@ -134,8 +134,9 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 struct Energy {
   double total, balance;
 };
-// Low down, the height it lowers its nose to trade for speed is at most `room`, what it has above
-// its clearance: a slow bird near the ground beats its wings for speed rather than dive for it.
+// Low down, the height it lowers its nose to trade for speed is at most `room`: below its goal,
+// what it has above its clearance (or the goal, if lower). A slow bird near the ground that has to
+// climb beats its wings for speed rather than dive for it.
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded,
                      double room = INFINITY);
 

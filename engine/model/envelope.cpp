@@ -141,8 +141,7 @@ FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
   f.below_ground = b.position.y < ground_height;
   if (t >= kSettleTime && b.mode != FlightMode::perched) {
     f.over_bank = std::fabs(bank_angle(b.attitude)) > species.bank_max + kBankMargin;
-    const double limit = b.mode == FlightMode::landing ? kLandingPitchLimit : kPitchLimit;
-    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > limit;
+    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
   }
   return f;
 }

@@ -32,16 +32,12 @@ struct EnvelopeCase {
 inline constexpr double kSettleTime = 3.0;           // s: the limits hold from then on
 inline constexpr double kBankMargin = radians(5.0);  // beyond the species' bank_max
 inline constexpr double kPitchLimit = radians(60.0);
-// Braking for a branch a bird flares: pigeons' body angle rises by over 50 degrees as they land,
-// to near vertical (Berg and Biewener 2010, J. Exp. Biol. 213:1651). Past vertical it has turned
-// over.
-inline constexpr double kLandingPitchLimit = radians(90.0);
 
 enum class Outcome {
   reached,       // the target passed (landing: perched) in time, within the limits throughout
   late,          // within the limits, but not there in time
   over_bank,     // banked past bank_max + 5 degrees once settled
-  over_pitch,    // pitched past 60 degrees once settled (90 braking for a branch)
+  over_pitch,    // pitched past 60 degrees once settled
   below_ground,  // the body centre below the ground
   not_finite,    // NaN or infinity in its state
 };
@@ -50,8 +46,7 @@ const char* name(Outcome o);
 // One state of a flight against what a flight never does (the envelope's judge and the
 // convergence study's, written once): finite; its body centre above the ground; once settled
 // (t >= kSettleTime, and not perched) banked at most bank_max + kBankMargin and pitched at most
-// kPitchLimit (kLandingPitchLimit braking for a branch). A non-finite state is that alone; the
-// others may come together.
+// kPitchLimit. A non-finite state is that alone; the others may come together.
 struct FlightFaults {
   bool not_finite = false, below_ground = false, over_bank = false, over_pitch = false;
   bool any() const { return not_finite || below_ground || over_bank || over_pitch; }

@@ -187,7 +187,7 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
   if (!br) return false;
   const dvec3 to_perch = perch_point(s, *br) - b.position;
   const double distance = glm::length(to_perch);
-  if (distance <= s.perch_radius && beat_mean_speed(b) <= s.touchdown_speed) {
+  if (distance <= s.perch_radius && glm::length(b.velocity) <= s.touchdown_speed) {
     perch(b, s, *br);
     return true;
   }

@@ -83,7 +83,6 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
         b.rest_steps = whole_steps(f.takeoff_time, s.dt);
       } else {
         b.velocity = f.speed * dvec3{std::cos(f.heading), 0.0, std::sin(f.heading)};
-        steady_beat_path(b);
       }
       birds.push_back(b);
     }

@@ -72,8 +72,11 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   const double air_climb = b.velocity.y - wind.y;
   const double commanded =
       commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
-  const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded,
-                                 b.position.y - ground - sp.clearance);
+  // Below its goal, it trades for speed only the height it has above its clearance (control.h).
+  const double room = goal.y > b.position.y
+                          ? b.position.y - ground - std::min(sp.clearance, goal.y - ground)
+                          : INFINITY;
+  const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded, room);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).
@@ -321,7 +324,6 @@ void step_bird(BirdState& b, const Species& sp, const World& w, uint64_t step, d
   if (b.mode == FlightMode::quarantined) return;
   const BirdState before = b;
   advance(b, sp, w, dt, out, seen);
-  count_beat_path(b, before.phase, glm::length(before.velocity), dt);
   if (all_finite(b)) return;
   // NaN quarantine (issue 16): the step is undone and the bird frozen at its last finite state,
   // marked with the step's start; it is never stepped again, and its flock no longer sees it

@@ -1,23 +1,13 @@
 // engine/model/step.cpp in float (model.glsl), function for function in its order; the reasons
 // are in the C++.
 
-// bird.h: mode_time, count_mode_step, count_circling_step, beat_mean_speed, count_beat_path.
+// bird.h: mode_time, count_mode_step, count_circling_step.
 float mode_time(GpuBird b) { return float(b.mode_steps) * pc.dt; }
 void count_mode_step(inout GpuBird b) {
   if (b.mode_steps < 0xffffffffu) ++b.mode_steps;
 }
 void count_circling_step(inout GpuBird b) {
   if (b.circling_steps < 0xffffffffu) ++b.circling_steps;
-}
-float beat_mean_speed(GpuBird b) {
-  if (b.frequency <= 0.0) return length(b.velocity);
-  precise float mean = b.beat_path * b.frequency / (1.0 + b.phase / (2.0 * kPi));
-  return mean;
-}
-void count_beat_path(inout GpuBird b, float phase_before, float speed, float dt) {
-  if (b.phase < phase_before) b.beat_path *= 0.5;
-  precise float path = b.beat_path + speed * dt;
-  b.beat_path = path;
 }
 
 struct Commands {
@@ -60,8 +50,9 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float airspeed = length(b.velocity - wind);
   float air_climb = b.velocity.y - wind.y;
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
-  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded,
-                           b.position.y - ground - s.clearance);
+  float room = goal.y > b.position.y ? b.position.y - ground - min(s.clearance, goal.y - ground)
+                                     : 3.4e38;  // above it: any
+  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded, room);
   c.energy_error =
       braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
@@ -235,9 +226,12 @@ void touch_down(inout GpuBird b, GpuSpecies s) {
   hold_on(b, mode_standing, vec3(stop.x, pc.wind_ground.w + s.stand_height, stop.z));
 }
 
-// step.cpp's advance: one step of dt of a bird that is not quarantined; returns the step's forces
-// (zero for a bird at rest). `seen`: its last perception (none seen: it flies its route alone).
-GpuForces advance(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
+// step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
+// a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
+// alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
+// the bird.
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
+  if (b.mode == mode_quarantined) return no_forces();
   if (b.landing_stage == stage_settling) {
     settle(b, s, dt);
     if (b.mode == mode_standing && b.rest_steps > 0u) --b.rest_steps;
@@ -303,15 +297,5 @@ GpuForces advance(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPer
     touch_down(b, s);
     b.rest_steps = pc.rest_steps;
   }
-  return f;
-}
-
-// step.cpp's step_bird: advance, and the step's flight counted into the wingbeat's path. A step
-// whose result is not finite is undone by the caller (step.glsl), which quarantines the bird.
-GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
-  if (b.mode == mode_quarantined) return no_forces();
-  float phase_before = b.phase, speed_before = length(b.velocity);
-  GpuForces f = advance(b, s, leg, dt, seen);
-  count_beat_path(b, phase_before, speed_before, dt);
   return f;
 }

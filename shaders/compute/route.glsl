@@ -32,7 +32,6 @@ Leg load_leg(GpuBird b, uint targets_from) {
 uint route_branch(GpuBird b, GpuRoute r) { return b.target < r.count ? 0u : r.branch; }
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);  // declared ahead (route.h)
-float beat_mean_speed(GpuBird b);                        // declared ahead (bird_step.glsl)
 
 bool into_wind(GpuSpecies s, vec3 across, vec3 wind) {
   return heeds_wind(s, abs(dot(wind, across)));
@@ -166,7 +165,7 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   uint branch = br - 1u;
   vec3 to_perch = perch_point(b, s, branch) - b.position;
   float d = length(to_perch);
-  if (d <= s.perch_radius && beat_mean_speed(b) <= s.touchdown_speed) {
+  if (d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed) {
     perch(b, s, branch);
     return true;
   }
