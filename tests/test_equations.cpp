@@ -569,22 +569,40 @@ TEST(Landing, PerchAirspeedMakesHalfTouchdownSpeedTowardsThePerch) {
 // above, by nothing at kSpeedFirst min_speed and below: near the stall the pitch seeks speed.
 TEST(Energy, BalanceLetsTheAirspeedComeFirstNearTheStall) {
   const Species s = starling();  // min_speed 6 m/s, cruise 10, balance_band 5 m
+  const double high = 1e6;       // cm above the ground: the clearance does not count
   const double c = s.cruise_speed;
   auto deficit = [&](double v) { return (c * c - v * v) / (2.0 * kGravity); };
   for (double v : {s.min_speed, 1.2 * s.min_speed, c}) {
-    const Energy e = energy_errors(s, 3000.0, v, c);
+    const Energy e = energy_errors(s, 3000.0, v, c, high, high + 3000.0);
     EXPECT_NEAR(e.total, 3000.0 + deficit(v), 1e-9) << v;
     EXPECT_NEAR(e.balance, s.balance_band - deficit(v), 1e-9) << v;
   }
   const double slow = kSpeedFirst * s.min_speed;
   for (double v : {slow, 0.5 * slow}) {
-    const Energy e = energy_errors(s, 3000.0, v, c);
+    const Energy e = energy_errors(s, 3000.0, v, c, high, high + 3000.0);
     EXPECT_NEAR(e.total, 3000.0 + deficit(v), 1e-9) << v;
     EXPECT_NEAR(e.balance, -deficit(v), 1e-9) << v << ": the height does not count";
   }
   const double between = 0.5 * (slow + s.min_speed);  // half the height's share
-  EXPECT_NEAR(energy_errors(s, -3000.0, between, c).balance,
+  EXPECT_NEAR(energy_errors(s, -3000.0, between, c, high, high - 3000.0).balance,
               -0.5 * s.balance_band - deficit(between), 1e-9);
+}
+
+// Issue 40: a slow bird low down and below its goal lowers its nose for no more height than it has
+// above its clearance floor; going down to a goal on the ground, it trades all it likes. An eagle
+// going round 4.7 m up at 3 m/s, its goal above it, had dived into the ground at 9.5 m/s.
+TEST(Energy, BelowItsGoalASlowBirdTradesOnlyTheHeightAboveItsClearance) {
+  const Species s = eagle();
+  const double v = 0.5 * kSpeedFirst * s.min_speed, c = s.cruise_speed;
+  const double deficit = (c * c - v * v) / (2.0 * kGravity);
+  ASSERT_GT(deficit, 300.0);
+  // 4.7 m up, its goal 5 m up: 1.7 m above the 3 m clearance to trade.
+  EXPECT_NEAR(energy_errors(s, 30.0, v, c, 470.0, 500.0).balance, -(470.0 - s.clearance), 1e-9);
+  EXPECT_NEAR(energy_errors(s, 30.0, v, c, 200.0, 500.0).balance, 0.0, 1e-9) << "under it";
+  // Its goal below it (on the ground): the whole deficit, as high up.
+  EXPECT_NEAR(energy_errors(s, -470.0, v, c, 470.0, 0.0).balance, -deficit, 1e-9);
+  EXPECT_NEAR(clearance_floor(s, 500.0), s.clearance, 0.0);
+  EXPECT_NEAR(clearance_floor(s, 100.0), 100.0, 0.0);
 }
 
 // What a bird sinking at 3 m/s still sinks while its wingbeat rises to full amplitude at K_a: half

@@ -127,14 +127,21 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
   return std::clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
+double clearance_floor(const Species& s, double goal_height) {
+  return std::min(s.clearance, goal_height);
+}
+
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded,
-                     double room) {
+                     double height, double goal_height) {
+  // Below its goal, only the height it has above its clearance floor is there to trade for speed.
+  const double room =
+      goal_height > height ? std::max(height - clearance_floor(s, goal_height), 0.0) : INFINITY;
   const double deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
   const double height_share =
       std::clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
   return {height_error + deficit,
           height_share * std::clamp(height_error, -s.balance_band, s.balance_band) -
-              std::min(deficit, std::max(room, 0.0))};
+              std::min(deficit, room)};
 }
 
 double spool_lead(const Species& s, double amplitude, double air_climb) {
@@ -145,7 +152,7 @@ double spool_lead(const Species& s, double amplitude, double air_climb) {
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height,
                        double goal_height) {
   const double pitch = std::clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
-  const double floor = std::min(s.clearance, goal_height);
+  const double floor = clearance_floor(s, goal_height);
   if (height >= floor) return pitch;
   return std::max(pitch, s.climb_pitch * (1.0 - height / floor));
 }

@@ -2,7 +2,6 @@
 // height control (eqs. 4, 5), tail commands, bank, and the landing point P.
 #pragma once
 
-#include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
@@ -134,11 +133,14 @@ double commanded_airspeed(const Species& s, double command, double aim_speed, bo
 struct Energy {
   double total, balance;
 };
-// Low down, the height it lowers its nose to trade for speed is at most `room`: below its goal,
-// what it has above its clearance (or the goal, if lower). A slow bird near the ground that has to
-// climb beats its wings for speed rather than dive for it.
+// `height` and `goal_height` are above where it would stand. Below its goal, the height it lowers
+// its nose to trade for speed is at most what it has above clearance_floor: a slow bird near the
+// ground that has to climb beats its wings for speed rather than dive for it.
 Energy energy_errors(const Species& s, double height_error, double airspeed, double commanded,
-                     double room = INFINITY);
+                     double height, double goal_height);
+// The height below which a bird climbs out (commanded_pitch) and trades no height for speed
+// (energy_errors): clearance, or its goal's height if lower.
+double clearance_floor(const Species& s, double goal_height);
 
 // How far (cm) a bird sinking through the air at `air_climb` < 0 (cm/s) still sinks while its
 // wingbeat rises from `amplitude` to amp_max at K_a (eq. 5): half the time that takes, the

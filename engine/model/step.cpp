@@ -72,11 +72,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   const double air_climb = b.velocity.y - wind.y;
   const double commanded =
       commanded_airspeed(sp, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
-  // Below its goal, it trades for speed only the height it has above its clearance (control.h).
-  const double room = goal.y > b.position.y
-                          ? b.position.y - ground - std::min(sp.clearance, goal.y - ground)
-                          : INFINITY;
-  const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded, room);
+  const Energy e = energy_errors(sp, c.steering.height_error, airspeed, commanded,
+                                 b.position.y - ground, goal.y - ground);
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).

@@ -47,7 +47,7 @@ double TouchdownWatch::mean_speed(double from, double to) const {
   const Sample* last = nullptr;
   for (const Sample& s : history_) {
     if (s.t > to) break;
-    if (last && s.t > from) {
+    if (last && s.t > from && s.t > last->t) {
       const double share = std::min(1.0, (s.t - from) / (s.t - last->t));
       path += share * glm::length(s.position - last->position);
     }

@@ -50,9 +50,8 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float airspeed = length(b.velocity - wind);
   float air_climb = b.velocity.y - wind.y;
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
-  float room = goal.y > b.position.y ? b.position.y - ground - min(s.clearance, goal.y - ground)
-                                     : 3.4e38;  // above it: any
-  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded, room);
+  Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded, b.position.y - ground,
+                           goal.y - ground);
   c.energy_error =
       braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)

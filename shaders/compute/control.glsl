@@ -108,14 +108,17 @@ float commanded_airspeed(GpuSpecies s, float command, float aim_speed, bool to_b
   return clamp(aim_speed, s.cruise_speed, s.max_speed);
 }
 
+float clearance_floor(GpuSpecies s, float goal_height) { return min(s.clearance, goal_height); }
+
 Energy energy_errors(GpuSpecies s, float height_error, float airspeed, float commanded,
-                     float room) {
+                     float height, float goal_height) {
+  float room = goal_height > height ? max(height - clearance_floor(s, goal_height), 0.0) : 3.4e38;
   precise float deficit = (commanded * commanded - airspeed * airspeed) / (2.0 * kGravity);
   float height_share =
       clamp((airspeed / s.min_speed - kSpeedFirst) / (1.0 - kSpeedFirst), 0.0, 1.0);
-  return Energy(height_error + deficit,
-                height_share * clamp(height_error, -s.balance_band, s.balance_band) -
-                    min(deficit, max(room, 0.0)));
+  return Energy(
+      height_error + deficit,
+      height_share * clamp(height_error, -s.balance_band, s.balance_band) - min(deficit, room));
 }
 
 float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
@@ -126,7 +129,7 @@ float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
 float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height,
                       float goal_height) {
   float pitch = clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);
-  float floor_height = min(s.clearance, goal_height);
+  float floor_height = clearance_floor(s, goal_height);
   if (height >= floor_height) return pitch;
   return max(pitch, s.climb_pitch * (1.0 - height / floor_height));
 }
