@@ -1,0 +1,276 @@
+#include "model/flock_structure.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+#include "model/statistics.h"
+
+namespace aeroflock {
+namespace {
+
+using glm::dvec3;
+
+// The points in cubic cells of `cell` cm: the neighbours of a point ring by ring.
+class PointGrid {
+ public:
+  PointGrid(std::span<const dvec3> points, double cell) : points_(points), cell_(cell) {
+    for (uint32_t i = 0; i < points.size(); ++i) cells_[key(cell_of(points[i]))].push_back(i);
+  }
+  // Calls f(j) for every point in the cells within `rings` cells of p's (Chebyshev): every
+  // point nearer p than rings x cell is among them.
+  template <class F>
+  void around(const dvec3& p, int rings, F f) const {
+    const glm::ivec3 home = cell_of(p);
+    for (int dx = -rings; dx <= rings; ++dx)
+      for (int dy = -rings; dy <= rings; ++dy)
+        for (int dz = -rings; dz <= rings; ++dz) {
+          const auto it = cells_.find(key(home + glm::ivec3(dx, dy, dz)));
+          if (it != cells_.end())
+            for (uint32_t j : it->second) f(j);
+        }
+  }
+  double cell() const { return cell_; }
+
+ private:
+  glm::ivec3 cell_of(const dvec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
+  static uint64_t key(const glm::ivec3& c) {
+    const auto part = [](int v) {
+      return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu);
+    };
+    return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
+  }
+  std::span<const dvec3> points_;
+  double cell_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+// A cell about as wide as the space each point has: the bounding box's volume per point (each
+// edge at least a thousandth of the longest, so that a flat flock has a volume).
+double typical_cell(std::span<const dvec3> points) {
+  dvec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
+  for (const dvec3& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const dvec3 edge = hi - lo;
+  const double longest = std::max({edge.x, edge.y, edge.z, 1e-3});
+  const dvec3 e = glm::max(edge, dvec3{1e-3 * longest});
+  return std::cbrt(e.x * e.y * e.z / double(points.size()));
+}
+
+// Whether direction u keeps a ball of radius R centred at p + R u clear of every neighbour:
+// u . n_j <= h_j for each (n_j the unit offset to neighbour j, h_j = |offset| / 2R).
+bool clear(const dvec3& u, const std::vector<dvec3>& n, const std::vector<double>& h) {
+  for (size_t j = 0; j < n.size(); ++j)
+    if (glm::dot(u, n[j]) > h[j] + 1e-9) return false;
+  return true;
+}
+
+// Any unit vector perpendicular to unit n.
+dvec3 perpendicular(const dvec3& n) {
+  const dvec3 other = std::fabs(n.x) < 0.6 ? dvec3{1, 0, 0} : dvec3{0, 1, 0};
+  return glm::normalize(glm::cross(n, other));
+}
+
+// Whether the caps of the neighbours n, h (nearest first) leave a direction clear: one on a cap's
+// circle, or where two circles cross, if any is (the clear region's boundary is made of them).
+bool any_clear(const std::vector<dvec3>& n, const std::vector<double>& h) {
+  if (n.empty()) return true;
+  for (size_t a = 0; a < n.size(); ++a) {
+    if (clear(h[a] * n[a] + std::sqrt(1.0 - h[a] * h[a]) * perpendicular(n[a]), n, h)) return true;
+    for (size_t b = a + 1; b < n.size(); ++b) {
+      const double g = glm::dot(n[a], n[b]);
+      const dvec3 axis = glm::cross(n[a], n[b]);
+      const double axis2 = glm::dot(axis, axis);
+      if (axis2 < 1e-12) continue;  // the same or opposite circles' centres: no single crossing
+      const double ca = (h[a] - g * h[b]) / (1.0 - g * g), cb = (h[b] - g * h[a]) / (1.0 - g * g);
+      const dvec3 base = ca * n[a] + cb * n[b];
+      const double rest = 1.0 - glm::dot(base, base);
+      if (rest < 0.0) continue;  // the circles do not cross
+      const dvec3 off = std::sqrt(rest / axis2) * axis;
+      if (clear(base + off, n, h) || clear(base - off, n, h)) return true;
+    }
+  }
+  return false;
+}
+
+bool exposed(std::span<const dvec3> points, const PointGrid& grid, uint32_t i, double radius) {
+  std::vector<std::pair<double, dvec3>> near;
+  const int rings = int(std::ceil(2.0 * radius / grid.cell()));
+  grid.around(points[i], rings, [&](uint32_t j) {
+    const dvec3 d = points[j] - points[i];
+    const double r = glm::length(d);
+    if (j == i || r == 0.0 || r >= 2.0 * radius) return;  // a ball through p never holds these
+    near.push_back({r, d / r});
+  });
+  std::sort(near.begin(), near.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  // Fewer neighbours leave more clear: the nearest 16, 32, ... first, so that an inner bird is
+  // settled by its nearest few (the test costs the cube of their number).
+  for (size_t take = std::min<size_t>(16, near.size());; take = std::min(2 * take, near.size())) {
+    std::vector<dvec3> n;
+    std::vector<double> h;
+    for (size_t k = 0; k < take; ++k) {
+      n.push_back(near[k].second);
+      h.push_back(near[k].first / (2.0 * radius));
+    }
+    if (!any_clear(n, h)) return false;
+    if (take == near.size()) return true;
+  }
+}
+
+}  // namespace
+
+SymmetricEigen symmetric_eigen(const glm::dmat3& m) {
+  // Cyclic Jacobi: rotations zero the off-diagonal terms; a(c)(r) is column c, row r (GLM).
+  glm::dmat3 a = m, v(1.0);
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    const double scale = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+    if (off <= 1e-30 * scale || off == 0.0) break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0.0) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        const double t = (theta >= 0 ? 1.0 : -1.0) /
+                         (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        glm::dmat3 r(1.0);
+        r[p][p] = c, r[q][q] = c, r[q][p] = s, r[p][q] = -s;
+        a = glm::transpose(r) * a * r;
+        v = v * r;
+      }
+  }
+  std::array<int, 3> order{0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return a[x][x] < a[y][y]; });
+  SymmetricEigen e;
+  for (int k = 0; k < 3; ++k) {
+    e.value[k] = a[order[k]][order[k]];
+    e.vector[size_t(k)] = glm::normalize(v[order[k]]);
+  }
+  return e;
+}
+
+std::vector<uint32_t> k_nearest(std::span<const dvec3> points, size_t k) {
+  const size_t count = points.size();
+  if (k == 0 || count <= k) return {};
+  const PointGrid grid(points, typical_cell(points));
+  std::vector<uint32_t> out(count * k);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int64_t s = 0; s < int64_t(count); ++s) {
+    const auto i = uint32_t(s);
+    std::vector<std::pair<double, uint32_t>> found;
+    const auto take = [&](uint32_t j) {
+      if (j != i) found.push_back({glm::distance(points[i], points[j]), j});
+    };
+    // Ring by ring, until the k-th nearest found is nearer than any point not yet looked at.
+    bool done = false;
+    for (int r = 1; r <= 8 && !done; ++r) {
+      found.clear();
+      grid.around(points[i], r, take);
+      if (found.size() < k) continue;
+      std::nth_element(found.begin(), found.begin() + ptrdiff_t(k - 1), found.end());
+      done = found[k - 1].first <= r * grid.cell();
+    }
+    if (!done) {  // a straggler far from the rest: all of them
+      found.clear();
+      for (uint32_t j = 0; j < count; ++j) take(j);
+    }
+    std::sort(found.begin(), found.end());
+    for (size_t m = 0; m < k; ++m) out[size_t(i) * k + m] = found[m].second;
+  }
+  return out;
+}
+
+std::vector<bool> alpha_exposed(std::span<const dvec3> points, double radius) {
+  std::vector<char> out(points.size(), 0);
+  if (points.empty()) return {};
+  const PointGrid grid(points, std::max(typical_cell(points), radius));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int64_t s = 0; s < int64_t(points.size()); ++s)
+    out[size_t(s)] = exposed(points, grid, uint32_t(s), radius);
+  return {out.begin(), out.end()};
+}
+
+FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const dvec3> velocities,
+                               double border_radius) {
+  FlockStructure f;
+  const size_t n = positions.size();
+  f.birds = n;
+  f.border_radius = border_radius;
+  if (n < 2) return f;
+
+  // Principal axes: the eigenvectors of the positions' covariance.
+  dvec3 centre{0.0}, velocity{0.0};
+  for (size_t i = 0; i < n; ++i) centre += positions[i], velocity += velocities[i];
+  centre /= double(n);
+  glm::dmat3 covariance(0.0);
+  for (const dvec3& p : positions) covariance += glm::outerProduct(p - centre, p - centre);
+  const SymmetricEigen shape = symmetric_eigen(covariance / double(n));
+  f.axis = shape.vector;
+  if (glm::length(velocity) > 0.0) f.motion = glm::normalize(velocity);
+  for (int k = 0; k < 3; ++k) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const dvec3& p : positions) {
+      const double x = glm::dot(p - centre, f.axis[size_t(k)]);
+      lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    f.size[k] = hi - lo;
+    f.motion_on_axes[k] = std::fabs(glm::dot(f.motion, f.axis[size_t(k)]));
+  }
+  f.thinnest_from_vertical = std::acos(std::min(1.0, std::fabs(f.axis[0].y)));
+
+  // Each bird's neighbours, nearest first.
+  const size_t ranks = std::min(kStructureRanks, n - 1);
+  const std::vector<uint32_t> near = k_nearest(positions, ranks);
+  std::vector<double> r1(n);
+  double along = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const dvec3 d = positions[near[i * ranks]] - positions[i];
+    r1[i] = glm::length(d);
+    if (r1[i] > 0.0) along += std::pow(glm::dot(d / r1[i], f.motion), 2);
+  }
+  f.median_nearest = median(r1);
+  f.nearest_along_motion = along / double(n);
+
+  // The border, its birds' spacing against the rest, and each bird's distance from it.
+  const std::vector<bool> border = alpha_exposed(positions, border_radius);
+  std::vector<double> at_border, inside;
+  std::vector<dvec3> border_points;
+  for (size_t i = 0; i < n; ++i) {
+    (border[i] ? at_border : inside).push_back(r1[i]);
+    if (border[i]) border_points.push_back(positions[i]);
+  }
+  f.border = at_border.size();
+  f.border_nearest = median(at_border);
+  f.interior_nearest = median(inside);
+  std::vector<double> from_border(n, 0.0);
+#pragma omp parallel for schedule(static)
+  for (int64_t s = 0; s < int64_t(n); ++s) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const dvec3& b : border_points) d = std::min(d, glm::distance(positions[size_t(s)], b));
+    from_border[size_t(s)] = d;
+  }
+
+  // gamma(n) over the internal birds.
+  for (size_t rank = 0; rank < ranks; ++rank) {
+    glm::dmat3 m(0.0);
+    size_t counted = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const dvec3 d = positions[near[i * ranks + rank]] - positions[i];
+      const double r = glm::length(d);
+      if (r == 0.0 || r >= from_border[i]) continue;
+      m += glm::outerProduct(d / r, d / r);
+      ++counted;
+    }
+    f.internal[rank] = counted;
+    if (counted == 0) continue;
+    const dvec3 w = symmetric_eigen(m / double(counted)).vector[0];
+    f.anisotropy[rank] = std::pow(glm::dot(w, f.motion), 2);
+  }
+  return f;
+}
+
+}  // namespace aeroflock
