@@ -28,8 +28,8 @@ struct Cubic {
 Cubic smallest_eigen(const glm::dmat3& m) {
   const double q = (m[0][0] + m[1][1] + m[2][2]) / 3.0;
   const double p1 = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
-  const double p2 = std::pow(m[0][0] - q, 2) + std::pow(m[1][1] - q, 2) + std::pow(m[2][2] - q, 2) +
-                    2 * p1;
+  const double p2 =
+      std::pow(m[0][0] - q, 2) + std::pow(m[1][1] - q, 2) + std::pow(m[2][2] - q, 2) + 2 * p1;
   const double p = std::sqrt(p2 / 6.0);
   const glm::dmat3 b = (m - q * glm::dmat3(1.0)) / p;
   const double r = std::clamp(glm::determinant(b) / 2.0, -1.0, 1.0);
@@ -37,9 +37,8 @@ Cubic smallest_eigen(const glm::dmat3& m) {
   Cubic c;
   c.smallest = q + 2 * p * std::cos(phi + 2 * std::numbers::pi / 3);
   const glm::dmat3 a = m - c.smallest * glm::dmat3(1.0);
-  const dvec3 rows[3] = {{a[0][0], a[1][0], a[2][0]},
-                         {a[0][1], a[1][1], a[2][1]},
-                         {a[0][2], a[1][2], a[2][2]}};
+  const dvec3 rows[3] = {
+      {a[0][0], a[1][0], a[2][0]}, {a[0][1], a[1][1], a[2][1]}, {a[0][2], a[1][2], a[2][2]}};
   dvec3 best{0.0};
   for (int i = 0; i < 3; ++i)
     for (int j = i + 1; j < 3; ++j) {
@@ -75,8 +74,8 @@ std::vector<uint32_t> brute_nearest(const std::vector<dvec3>& p, size_t i, size_
 TEST(SymmetricEigen, FindsTheAxesOfARotatedEllipsoid) {
   const glm::dquat turn = glm::angleAxis(0.7, glm::normalize(dvec3{1, 2, 3}));
   const glm::dmat3 r = glm::mat3_cast(turn);
-  const glm::dmat3 m = r * glm::dmat3(dvec3{4, 0, 0}, dvec3{0, 1, 0}, dvec3{0, 0, 9}) *
-                       glm::transpose(r);
+  const glm::dmat3 m =
+      r * glm::dmat3(dvec3{4, 0, 0}, dvec3{0, 1, 0}, dvec3{0, 0, 9}) * glm::transpose(r);
   const SymmetricEigen e = symmetric_eigen(m);
   EXPECT_NEAR(e.value[0], 1.0, 1e-12);
   EXPECT_NEAR(e.value[1], 4.0, 1e-12);

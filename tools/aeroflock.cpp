@@ -35,6 +35,7 @@
 #include "output/vtk_export.h"
 #include "progress.h"
 #include "render/viewer.h"
+#include "run/structure.h"
 
 namespace aeroflock {
 namespace {
@@ -56,6 +57,10 @@ struct RunOptions {
   VtkOptions vtk;                  // vtk.dir empty: no export
   std::optional<double> vtk_from;  // s: --vtk-from
   bool strict = false;             // the first bird quarantined (NaN) is an error
+  // --structure-from: measure each flock's structure (run/structure.h) from then on.
+  std::optional<double> structure_from;
+  std::optional<double> structure_to;
+  double structure_every = 1.0;
 };
 
 // Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
@@ -100,6 +105,35 @@ std::string flock_counts(const Scenario& scenario, const std::vector<BirdState>&
   return text;
 }
 
+// --structure-from: a flock's figures beside what the field measures (docs/FIELD.md).
+void print_structure(const FlockStructureSummary& f) {
+  const StructureMean& s = f.structure;
+  const StructureFigures& m = s.mean;
+  std::printf("structure %-10s ", f.flock.c_str());
+  if (s.samples == 0) {
+    std::printf("no snapshot (fewer than two of its birds flocked in the window)\n");
+    return;
+  }
+  std::printf("%zu snapshot%s from %.1f to %.1f s, %.0f birds each\n", s.samples,
+              s.samples == 1 ? "" : "s", s.first, s.last, m.birds);
+  std::printf("  nearest neighbour  %.2f m, %.2f wingspans of its %s (%.2f m)\n",
+              m.median_nearest / 100, m.median_nearest_wingspans, f.species.c_str(),
+              f.wingspan / 100);
+  std::printf(
+      "  shape              %.1f x %.1f x %.1f m; thickness / length %.2f, width / length %.2f; "
+      "thinnest axis %.0f deg from vertical; motion |cos| on thickness, width, length %.2f %.2f "
+      "%.2f\n",
+      m.thickness / 100, m.width / 100, m.length / 100, m.thickness_over_length,
+      m.width_over_length, degrees(m.thinnest_from_vertical), m.motion_on_axes[0],
+      m.motion_on_axes[1], m.motion_on_axes[2]);
+  std::printf(
+      "  border             %.0f %% of the birds; their nearest neighbour / the interior's %.2f\n",
+      100 * m.border_fraction, m.border_over_interior);
+  std::printf("  anisotropy gamma(n), n = 1..%zu:", kStructureRanks);
+  for (double g : m.anisotropy) std::printf(" %.2f", g);
+  std::printf(" (1/3 isotropic); nearest along the motion %.2f\n", m.nearest_along_motion);
+}
+
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
                    const std::string& summary_path, const VtkExporter* vtk,
                    const std::vector<std::string>& images, bool interrupted) {
@@ -128,6 +162,7 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
         "polarisation %.3f, largest cluster %.1f %%\n",
         f.name.c_str(), f.metrics.median_nearest / 100, 100 * f.metrics.too_close,
         f.metrics.polarisation, 100 * f.metrics.largest_cluster);
+  for (const FlockStructureSummary& f : r.structure) print_structure(f);
   for (const WindWarning& w : r.wind) std::printf("warning          %s\n", w.sentence().c_str());
   // Only the files written are named (summary_path is empty when its write failed).
   if (!summary_path.empty()) std::printf("summary          %s\n", summary_path.c_str());
@@ -239,6 +274,15 @@ int run(const RunOptions& opt) {
   if (opt.strict) observers.push_back(&strict);
   if (images) observers.push_back(images.get());
   if (vtk) observers.push_back(vtk.get());
+  std::unique_ptr<StructureObserver> structure;
+  if (opt.structure_from) {
+    StructureWindow window{*opt.structure_from, opt.structure_to.value_or(total_seconds),
+                           opt.structure_every};
+    if (window.to < window.from)
+      throw std::runtime_error("--structure-to must not be before --structure-from");
+    structure = std::make_unique<StructureObserver>(window);
+    observers.push_back(structure.get());
+  }
   RunLimits limits;
   limits.frames = frames;
   limits.signal = &g_signal;
@@ -256,6 +300,7 @@ int run(const RunOptions& opt) {
   summary.interrupted = interrupted;
   summary.stats = flock_statistics(sim->birds());
   summary.flocking = flocking_summary(sim->scenario(), sim->birds());
+  if (structure) summary.structure = structure->flocks();
   summary.quarantined = quarantined_birds(sim->birds(), sim->scenario().dt, kQuarantinedListed);
   if (vtk) {
     const VtkExporter::QueueUse queue = vtk->queue_high_water();
@@ -368,6 +413,20 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
                 "trajectories.vtp and frames/flock_*.vtp, no other file); without it such a DIR "
                 "is an error")
       ->needs(vtk);
+  CLI::Option* structure =
+      cmd->add_option("--structure-from", opt.structure_from,
+                      "Measure each flock that flocks as the field measures starlings (nearest "
+                      "neighbours, principal axes, border, anisotropy; docs/FIELD.md) from this "
+                      "simulated time in seconds on, and print and summarise the means")
+          ->check(kSeconds);
+  cmd->add_option("--structure-to", opt.structure_to,
+                  "With --structure-from: until this simulated time (default: the end)")
+      ->check(kSeconds)
+      ->needs(structure);
+  cmd->add_option("--structure-every", opt.structure_every,
+                  "With --structure-from: seconds of simulated time between snapshots (default 1)")
+      ->check(kPositive)
+      ->needs(structure);
   cmd->add_flag(
       "--strict", opt.strict,
       "A bird whose state becomes non-finite (NaN) stops the run with an error (exit 2), its "

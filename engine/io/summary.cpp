@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
+#include "model/constants.h"
 #include "model/flock_geometry.h"
 
 namespace aeroflock {
@@ -91,6 +92,34 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                         {"too_close", f.metrics.too_close},
                         {"polarisation", f.metrics.polarisation},
                         {"largest_cluster", f.metrics.largest_cluster}});
+  nlohmann::ordered_json structure = nlohmann::ordered_json::array();
+  for (const FlockStructureSummary& f : r.structure) {
+    const StructureFigures& m = f.structure.mean;
+    structure.push_back(
+        nlohmann::ordered_json{{"flock", f.flock},
+                               {"species", f.species},
+                               {"wingspan", f.wingspan},
+                               {"first", f.structure.first},
+                               {"last", f.structure.last},
+                               {"samples", f.structure.samples},
+                               {"birds", m.birds},
+                               {"median_nearest", m.median_nearest},
+                               {"median_nearest_wingspans", m.median_nearest_wingspans},
+                               {"thickness", m.thickness},
+                               {"width", m.width},
+                               {"length", m.length},
+                               {"thickness_over_length", m.thickness_over_length},
+                               {"width_over_length", m.width_over_length},
+                               {"thinnest_from_vertical", degrees(m.thinnest_from_vertical)},
+                               {"motion_on_axes",
+                                {{"thickness", m.motion_on_axes[0]},
+                                 {"width", m.motion_on_axes[1]},
+                                 {"length", m.motion_on_axes[2]}}},
+                               {"border_fraction", m.border_fraction},
+                               {"border_over_interior_nearest", m.border_over_interior},
+                               {"anisotropy", m.anisotropy},
+                               {"nearest_along_motion", m.nearest_along_motion}});
+  }
   nlohmann::ordered_json quarantined = nlohmann::ordered_json::array();
   for (const QuarantinedBird& q : r.quarantined) {
     const BirdState& b = q.last;
@@ -120,6 +149,23 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"flocking.too_close", "fraction of the flock's birds"},
       {"flocking.polarisation", "0 to 1"},
       {"flocking.largest_cluster", "fraction of the flock's birds"},
+      {"structure.wingspan", "cm"},
+      {"structure.first", "s: the first snapshot"},
+      {"structure.last", "s: the last snapshot"},
+      {"structure.birds", "mean birds measured a snapshot"},
+      {"structure.median_nearest", "cm: r1, each snapshot's median, averaged"},
+      {"structure.median_nearest_wingspans", "r1 in the species' wingspans"},
+      {"structure.thickness", "cm: I1, along the thinnest principal axis"},
+      {"structure.width", "cm: I2"},
+      {"structure.length", "cm: I3"},
+      {"structure.thinnest_from_vertical", "degrees"},
+      {"structure.motion_on_axes", "|cos| of the angle between the mean velocity and each axis"},
+      {"structure.border_fraction", "fraction of the flock's birds on its alpha-shape border"},
+      {"structure.border_over_interior_nearest",
+       "median r1 at the border over the interior's (< 1: denser border)"},
+      {"structure.anisotropy", "gamma(n) for n = 1.., 1/3 isotropic"},
+      {"structure.nearest_along_motion",
+       "mean squared cosine of the nearest neighbour's direction with the motion, 1/3 isotropic"},
       {"quarantined.time", "s"},
       {"quarantined.position", "cm"},
       {"quarantined.velocity", "cm/s"},
@@ -149,6 +195,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"perched", s.perched},
       {"flying", s.flying},
       {"flocking", flocking},
+      {"structure", structure},
       {"quarantined", quarantined},
       {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
       {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},

@@ -10,6 +10,7 @@
 
 #include "model/bird.h"
 #include "model/flock_geometry.h"
+#include "model/flock_structure.h"
 #include "model/scenario.h"
 
 namespace aeroflock {
@@ -76,8 +77,9 @@ struct RunSummary {
   double wall_seconds = 0.0;
   FlockStatistics stats;
   std::vector<FlockingSummary> flocking;
-  std::vector<QuarantinedBird> quarantined;  // the first kQuarantinedListed
-  std::vector<WindWarning> wind;             // legs its flocks cannot hold (wind_warnings)
+  std::vector<FlockStructureSummary> structure;  // with --structure-from (run/structure.h)
+  std::vector<QuarantinedBird> quarantined;      // the first kQuarantinedListed
+  std::vector<WindWarning> wind;                 // legs its flocks cannot hold (wind_warnings)
   std::string signal;  // the signal that stopped the run ("SIGINT", "SIGTERM"), or ""
   std::string error;   // the write error that stopped the run ("cannot write PATH: why"), or ""
   // With --vtk: the most frames (and bytes of bird data) that waited for the writer at once, and
@@ -88,8 +90,10 @@ struct RunSummary {
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
 // flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
-// too_close, polarisation, largest_cluster; `quarantined`: bird, time, and its last finite
-// position, velocity and attitude (w, x, y, z); `signal` and `error` (null when none) and, with
+// too_close, polarisation, largest_cluster; with --structure-from, `structure`: each flocking
+// flock's figures averaged over its snapshots (units in the file's `units`); `quarantined`: bird,
+// time, and its last finite position, velocity and attitude (w, x, y, z); `signal` and `error`
+// (null when none) and, with
 // --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null);
 // `wind_beyond_airspeed`: flock, target, across_wind, height, airspeed for each leg its flock
 // cannot hold (empty when none).

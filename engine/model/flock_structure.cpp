@@ -134,8 +134,8 @@ SymmetricEigen symmetric_eigen(const glm::dmat3& m) {
       for (int q = p + 1; q < 3; ++q) {
         if (a[p][q] == 0.0) continue;
         const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) /
-                         (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1.0));
         const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
         glm::dmat3 r(1.0);
         r[p][p] = c, r[q][q] = c, r[q][p] = s, r[p][q] = -s;
@@ -194,12 +194,15 @@ std::vector<bool> alpha_exposed(std::span<const dvec3> points, double radius) {
   return {out.begin(), out.end()};
 }
 
-FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const dvec3> velocities,
-                               double border_radius) {
+namespace {
+
+// flock_structure with the border's ball `ball(r1)` cm for the flock's median r1.
+template <class Ball>
+FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dvec3> velocities,
+                            Ball ball) {
   FlockStructure f;
   const size_t n = positions.size();
   f.birds = n;
-  f.border_radius = border_radius;
   if (n < 2) return f;
 
   // Principal axes: the eigenvectors of the positions' covariance.
@@ -212,12 +215,7 @@ FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const
   f.axis = shape.vector;
   if (glm::length(velocity) > 0.0) f.motion = glm::normalize(velocity);
   for (int k = 0; k < 3; ++k) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const dvec3& p : positions) {
-      const double x = glm::dot(p - centre, f.axis[size_t(k)]);
-      lo = std::min(lo, x), hi = std::max(hi, x);
-    }
-    f.size[k] = hi - lo;
+    f.size[k] = 2.0 * std::sqrt(5.0 * std::max(shape.value[k], 0.0));
     f.motion_on_axes[k] = std::fabs(glm::dot(f.motion, f.axis[size_t(k)]));
   }
   f.thinnest_from_vertical = std::acos(std::min(1.0, std::fabs(f.axis[0].y)));
@@ -234,6 +232,7 @@ FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const
   }
   f.median_nearest = median(r1);
   f.nearest_along_motion = along / double(n);
+  const double border_radius = f.border_radius = ball(f.median_nearest);
 
   // The border, its birds' spacing against the rest, and each bird's distance from it.
   const std::vector<bool> border = alpha_exposed(positions, border_radius);
@@ -271,6 +270,65 @@ FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const
     f.anisotropy[rank] = std::pow(glm::dot(w, f.motion), 2);
   }
   return f;
+}
+
+}  // namespace
+
+FlockStructure flock_structure(std::span<const dvec3> positions, std::span<const dvec3> velocities,
+                               double border_radius) {
+  return structure_of(positions, velocities, [=](double) { return border_radius; });
+}
+
+FlockStructure flock_structure_by_spacing(std::span<const dvec3> positions,
+                                          std::span<const dvec3> velocities, double border_r1) {
+  return structure_of(positions, velocities, [=](double r1) { return border_r1 * r1; });
+}
+
+}  // namespace aeroflock
+
+namespace aeroflock {
+
+StructureFigures structure_figures(const FlockStructure& f, double wingspan) {
+  StructureFigures s;
+  s.birds = double(f.birds);
+  if (f.birds < 2) return s;
+  s.median_nearest = f.median_nearest;
+  s.median_nearest_wingspans = f.median_nearest / wingspan;
+  s.thickness = f.size[0], s.width = f.size[1], s.length = f.size[2];
+  if (f.size[2] > 0.0) {
+    s.thickness_over_length = f.size[0] / f.size[2];
+    s.width_over_length = f.size[1] / f.size[2];
+  }
+  s.thinnest_from_vertical = f.thinnest_from_vertical;
+  s.motion_on_axes = f.motion_on_axes;
+  s.border_fraction = double(f.border) / double(f.birds);
+  if (f.interior_nearest > 0.0) s.border_over_interior = f.border_nearest / f.interior_nearest;
+  s.anisotropy = f.anisotropy;
+  s.nearest_along_motion = f.nearest_along_motion;
+  return s;
+}
+
+void StructureMean::add(const StructureFigures& f, double time) {
+  if (samples == 0) first = time;
+  last = time;
+  ++samples;
+  // Every figure is a double or a vector of them: summed and divided member by member.
+  auto each = [](StructureFigures& to, const StructureFigures& from, auto op) {
+    op(to.birds, from.birds), op(to.median_nearest, from.median_nearest);
+    op(to.median_nearest_wingspans, from.median_nearest_wingspans);
+    op(to.thickness, from.thickness), op(to.width, from.width), op(to.length, from.length);
+    op(to.thickness_over_length, from.thickness_over_length);
+    op(to.width_over_length, from.width_over_length);
+    op(to.thinnest_from_vertical, from.thinnest_from_vertical);
+    for (int k = 0; k < 3; ++k) op(to.motion_on_axes[k], from.motion_on_axes[k]);
+    op(to.border_fraction, from.border_fraction);
+    op(to.border_over_interior, from.border_over_interior);
+    for (size_t k = 0; k < kStructureRanks; ++k) op(to.anisotropy[k], from.anisotropy[k]);
+    op(to.nearest_along_motion, from.nearest_along_motion);
+  };
+  each(sum_, f, [](double& to, double from) { to += from; });
+  const double n = double(samples);
+  each(mean, sum_, [n](double& to, double from) { to = from / n; });
 }
 
 }  // namespace aeroflock

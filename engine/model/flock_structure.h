@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -18,6 +19,9 @@ namespace aeroflock {
 
 // gamma(n) is measured for the n-th neighbour, n = 1 .. kStructureRanks (2008b: to about 10).
 inline constexpr size_t kStructureRanks = 10;
+// The alpha shape's ball that draws the border, in median nearest-neighbour distances
+// (docs/FIELD.md "The border").
+inline constexpr double kBorderBallNearest = 3.0;
 
 // A symmetric 3x3 matrix's eigenvalues, smallest first, and their unit eigenvectors (Jacobi).
 struct SymmetricEigen {
@@ -42,8 +46,9 @@ struct FlockStructure {
   size_t birds = 0;
   double median_nearest = 0.0;  // cm: the median of each bird's distance to its nearest (r1)
   // The principal axes (2008a): the eigenvectors of the positions' covariance, thinnest first, and
-  // the flock's size along each, the extent of the birds' positions projected on it (cm):
-  // thickness I1 <= width I2 <= length I3.
+  // the flock's size along each (cm), thickness I1 <= width I2 <= length I3: the diameters of the
+  // uniform ellipsoid of the same second moments, 2 sqrt(5 lambda) (as Young et al. 2013 read the
+  // same data; a straggler or two barely move them, as they would the extents).
   std::array<glm::dvec3, 3> axis{};
   glm::dvec3 size{0.0};
   double thinnest_from_vertical = 0.0;  // rad: the angle between the I1 axis and the vertical
@@ -67,8 +72,54 @@ struct FlockStructure {
   double nearest_along_motion = 0.0;
 };
 
-// One snapshot of a flock (positions in cm, velocities in cm/s, both of the same birds).
+// One snapshot of a flock (positions in cm, velocities in cm/s, both of the same birds), its border
+// drawn with a ball of `border_radius` cm.
 FlockStructure flock_structure(std::span<const glm::dvec3> positions,
                                std::span<const glm::dvec3> velocities, double border_radius);
+// The same with a ball of `border_r1` times the snapshot's median r1 (kBorderBallNearest: as the
+// field draws it).
+FlockStructure flock_structure_by_spacing(std::span<const glm::dvec3> positions,
+                                          std::span<const glm::dvec3> velocities, double border_r1);
+
+}  // namespace aeroflock
+
+namespace aeroflock {
+
+// The figures the field reports, of one snapshot or averaged over several (each snapshot's figure,
+// then their mean: as 2008a and 2008b average over flocks). Lengths in cm and in the species'
+// wingspans (its box_c).
+struct StructureFigures {
+  double birds = 0.0;
+  double median_nearest = 0.0;                        // cm
+  double median_nearest_wingspans = 0.0;              // r1 / wingspan
+  double thickness = 0.0, width = 0.0, length = 0.0;  // I1 <= I2 <= I3, cm
+  double thickness_over_length = 0.0;                 // I1 / I3
+  double width_over_length = 0.0;                     // I2 / I3
+  double thinnest_from_vertical = 0.0;                // rad
+  glm::dvec3 motion_on_axes{0.0};     // |cos| with the thickness, width and length axes
+  double border_fraction = 0.0;       // border birds / birds
+  double border_over_interior = 0.0;  // median r1 at the border / inside (< 1: denser border)
+  std::array<double, kStructureRanks> anisotropy{};  // gamma(n)
+  double nearest_along_motion = 0.0;
+};
+StructureFigures structure_figures(const FlockStructure& f, double wingspan);
+
+// The mean of several snapshots' figures (zeros for none).
+struct StructureMean {
+  size_t samples = 0;
+  double first = 0.0, last = 0.0;  // s: when the first and the last were taken
+  StructureFigures mean;
+  void add(const StructureFigures& f, double time);
+
+ private:
+  StructureFigures sum_;
+};
+
+// One flock's figures, averaged over a run's snapshots (run/structure.h).
+struct FlockStructureSummary {
+  std::string flock, species;
+  double wingspan = 0.0;  // cm: the species' box_c
+  StructureMean structure;
+};
 
 }  // namespace aeroflock

@@ -1,0 +1,46 @@
+#include "run/structure.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/flock.h"
+#include "model/flock_geometry.h"
+
+namespace aeroflock {
+
+std::optional<StructureFigures> measure_structure(const Scenario& scenario,
+                                                  const std::vector<BirdState>& birds,
+                                                  uint32_t flock) {
+  std::vector<glm::dvec3> position, velocity;
+  for (const BirdState& b : birds)
+    if (b.flock == flock && flocks_now(b) && is_finite(b))
+      position.push_back(b.position), velocity.push_back(b.velocity);
+  if (position.size() < 2) return std::nullopt;
+  const FlockStructure f = flock_structure_by_spacing(position, velocity, kBorderBallNearest);
+  return structure_figures(f, scenario.species[scenario.flocks[flock].species].box_c);
+}
+
+void StructureObserver::start(Simulation& sim) {
+  const Scenario& sc = sim.scenario();
+  next_ = window_.from;
+  for (uint32_t f = 0; f < sc.flocks.size(); ++f)
+    if (sc.flocks[f].flocking) {
+      flocking_.push_back(f);
+      const Species& s = sc.species[sc.flocks[f].species];
+      flocks_.push_back({sc.flocks[f].name, s.name, s.box_c, {}});
+    }
+}
+
+void StructureObserver::frame(Simulation& sim, uint64_t) {
+  const double t = sim.time();
+  // A frame's time is a multiple of its length: the small allowance keeps a sampling time that
+  // falls on a frame from missing it to rounding.
+  if (t < next_ - 1e-9 || t > window_.to + 1e-9) return;
+  const std::vector<BirdState>& birds = sim.birds();
+  for (size_t k = 0; k < flocking_.size(); ++k)
+    if (const auto figures = measure_structure(sim.scenario(), birds, flocking_[k]))
+      flocks_[k].structure.add(*figures, t);
+  while (next_ <= t + 1e-9) next_ += window_.every;
+}
+
+}  // namespace aeroflock

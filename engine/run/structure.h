@@ -1,0 +1,45 @@
+// The flock-structure observer: measures each flock that flocks as the field measures starlings
+// (model/flock_structure.h, docs/FIELD.md) at every `every` seconds of simulated time within a
+// window of the run, and averages the figures over those snapshots.
+#pragma once
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "model/flock_structure.h"
+#include "run/run_loop.h"
+
+namespace aeroflock {
+
+struct StructureWindow {
+  double from = 0.0;                                       // s
+  double to = std::numeric_limits<double>::infinity();  // s
+  double every = 1.0;                                      // s between snapshots
+};
+
+// The figures of one snapshot of flock `flock` of `birds`, over its birds that flock now
+// (flocks_now) and are finite; nullopt when fewer than two do.
+std::optional<StructureFigures> measure_structure(const Scenario& scenario,
+                                                  const std::vector<BirdState>& birds,
+                                                  uint32_t flock);
+
+class StructureObserver final : public RunObserver {
+ public:
+  explicit StructureObserver(StructureWindow window) : window_(window) {}
+  void start(Simulation& sim) override;
+  // A batch's last frame will do: the snapshot is taken at the first frame seen at or after each
+  // sampling time.
+  bool reads_every_frame() const override { return false; }
+  void frame(Simulation& sim, uint64_t frames) override;
+  const std::vector<FlockStructureSummary>& flocks() const { return flocks_; }
+
+ private:
+  StructureWindow window_;
+  double next_ = 0.0;
+  std::vector<uint32_t> flocking_;  // the scenario's flocks that flock
+  std::vector<FlockStructureSummary> flocks_;
+};
+
+}  // namespace aeroflock
