@@ -148,18 +148,22 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
       s.cruise_speed);
   // None seen: no goal.
   EXPECT_EQ(social_goal(s, birds[0], dvec3{0.0}, route, false, {}, birds).neighbours, 0u);
-  // One 10 m straight ahead, beyond separation_radius: the cohesion pulls it on through its
+  // One 5 m straight ahead, beyond separation_radius: the cohesion pulls it on through its
   // airspeed as well (issue 39), cruise_speed w_cohesion / (w_route + w_alignment + w_cohesion).
   const dvec3 x{1.0, 0.0, 0.0};
   EXPECT_NEAR(cohesion_pull(s, x, x),
               s.cruise_speed * s.w_cohesion / (s.w_route + s.w_alignment + s.w_cohesion), 1e-9);
   EXPECT_EQ(cohesion_pull(s, dvec3{0.0, 0.0, 1.0}, x), 0.0);  // beside: steering does it
-  birds[1] = flocking_bird(dvec3{1000.0, 0.0, 0.0}, forward);
+  birds[1] = flocking_bird(dvec3{500.0, 0.0, 0.0}, forward);
+  ASSERT_GT(s.separation_radius, 250.0);
+  ASSERT_LT(s.separation_radius, 500.0);
+  const double pulled = s.cruise_speed +
+                        s.speed_gain * 500.0 * (1.0 - s.separation_radius / 500.0) +
+                        cohesion_pull(s, x, x);
+  ASSERT_LT(pulled, s.max_speed);
   EXPECT_NEAR(
       social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds).airspeed,
-      s.cruise_speed + s.speed_gain * 1000.0 * (1.0 - s.separation_radius / 1000.0) +
-          cohesion_pull(s, x, x),
-      1e-9);
+      pulled, 1e-9);
   // Its route over (route_over), a bird flies on with its flock: a route to the right turns it
   // right, one beside on the left turns it left once the route no longer counts.
   birds[1] = flocking_bird(dvec3{0.0, 0.0, -500.0}, forward);
@@ -170,6 +174,33 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
   EXPECT_LT(social_goal(s, birds[0], dvec3{0.0}, right, true, std::vector<uint32_t>{1}, birds)
                 .direction.z,
             0.0);
+}
+
+// The separation zone reaches separation_front times farther along the flight than across it
+// (issue 41): a neighbour diagonally ahead or behind, beyond separation_radius but inside the zone,
+// pushes the goal away; one beside at the same distance does not; straight ahead or behind, the
+// zone's push is along the flight, and steering (which turns the bird across it) ignores it.
+TEST(Perception, TheSeparationZoneReachesFartherAlongTheFlight) {
+  Species s = starling();
+  ASSERT_GT(s.separation_front, 1.5);
+  const dvec3 forward{1000.0, 0.0, 0.0};
+  const double r = 1.05 * s.separation_radius;  // beyond the zone across, inside it along
+  EXPECT_NEAR(zone_distance(s, dvec3{0.0, 0.0, r}, dvec3{1, 0, 0}), r, 1e-9);
+  EXPECT_NEAR(zone_distance(s, dvec3{r, 0.0, 0.0}, dvec3{1, 0, 0}), r / s.separation_front, 1e-9);
+  const dvec3 route{10000.0, 0.0, 0.0};
+  const double c = r / std::sqrt(2.0);
+  for (const double along : {c, -c}) {
+    std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward),
+                                    flocking_bird(dvec3{along, 0.0, c}, forward)};
+    s.w_cohesion = 0.0;  // the neighbour is beyond separation_radius: no pull towards it
+    const Perception p =
+        social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds);
+    EXPECT_LT(p.direction.z, -0.01) << "pushed away to the left, neighbour at x " << along;
+    birds[1].position = dvec3{0.0, 0.0, r};  // beside, as far: outside the zone
+    EXPECT_NEAR(social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds)
+                    .direction.z,
+                0.0, 1e-12);
+  }
 }
 
 // The route's share of d aims at the route goal's height height_capture ahead (issue 39): far

@@ -69,6 +69,13 @@ void consider(Nearest& nearest, const Species& s, const std::vector<BirdState>& 
 
 }  // namespace
 
+double zone_distance(const Species& s, const dvec3& offset, const dvec3& ahead) {
+  const double along = glm::dot(offset, ahead);
+  const double across2 = std::max(glm::dot(offset, offset) - along * along, 0.0);
+  const double front = along / s.separation_front;
+  return std::sqrt(across2 + front * front);
+}
+
 bool flocks_now(const BirdState& b) {
   return b.flocking != 0 && b.mode == FlightMode::flying && b.landing_stage == LandingStage::none;
 }
@@ -118,10 +125,10 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   for (const uint32_t j : seen) {
     const dvec3 offset = birds[j].position - b.position;
     const double distance = glm::length(offset);
-    if (distance < s.separation_radius)
-      separation -= unit_or_zero(offset) * std::pow(1.0 - distance / s.separation_radius, 2.0);
-    else
-      cohesion_sum += offset;
+    const double zone = zone_distance(s, offset, ahead);
+    if (zone < s.separation_radius)
+      separation -= unit_or_zero(offset) * std::pow(1.0 - zone / s.separation_radius, 2.0);
+    if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity - wind);
     faster_sum += glm::dot(birds[j].velocity - b.velocity, ahead);
     // Along its flight, how far the neighbour is from separation_radius away (ahead > 0): one

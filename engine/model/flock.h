@@ -63,12 +63,20 @@ glm::dvec3 route_heading(const Species& s, const glm::dvec3& to_goal, const glm:
 // "Flocking": without it a flock stretches along its flight over hours).
 double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dvec3& ahead);
 
+// How far a neighbour at `offset` (cm) is as the separation zone measures it: its part along the
+// flight `ahead` (unit) shrunk by separation_front, so that the zone is a spheroid reaching that
+// many times farther ahead and behind than across. A bird sidesteps a neighbour diagonally ahead or
+// behind from farther off than one beside it, and its nearest neighbours end at its sides, as a
+// starling's are (Ballerini et al. 2008, PNAS; docs/FIELD.md).
+double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec3& ahead);
+
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index), for a bird in `wind` (its own: its neighbours are metres away): the desired heading d of
-// docs/MODEL.md through that air from separation (fall-off (1 - distance / separation_radius)^2),
-// alignment (with their air velocities), cohesion and the route (towards `route_goal`:
-// route_heading at the airspeed below), and the airspeed: cruise_speed plus speed_gain times how
-// far the seen birds are along its flight from where they would be at separation_radius (offset (1
+// docs/MODEL.md through that air from separation (fall-off (1 - zone_distance /
+// separation_radius)^2), alignment (with their air velocities), cohesion and the route (towards
+// `route_goal`: route_heading at the airspeed below), and the airspeed: cruise_speed plus
+// speed_gain times how far the seen birds are along its flight from where they would be at
+// separation_radius (offset (1
 // - separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
 // nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
 // how much faster they fly along its flight, on average (a damper: neighbours match speeds before

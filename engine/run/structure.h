@@ -14,9 +14,9 @@
 namespace aeroflock {
 
 struct StructureWindow {
-  double from = 0.0;                                       // s
+  double from = 0.0;                                    // s
   double to = std::numeric_limits<double>::infinity();  // s
-  double every = 1.0;                                      // s between snapshots
+  double every = 1.0;                                   // s between snapshots
 };
 
 // The figures of one snapshot of flock `flock` of `birds`, over its birds that flock now

@@ -153,6 +153,14 @@ vec3 route_heading(GpuSpecies s, vec3 to_goal, vec3 wind, float airspeed) {
   return level + vec3(0.0, route.y, 0.0);
 }
 
+// flock.cpp: zone_distance.
+float zone_distance(GpuSpecies s, vec3 offset, vec3 ahead) {
+  float along = dot(offset, ahead);
+  float across2 = max(dot(offset, offset) - along * along, 0.0);
+  float front = along / s.separation_front;
+  return sqrt(across2 + front * front);
+}
+
 // flock.cpp: cohesion_pull.
 float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
   float weights = s.w_route + s.w_alignment + s.w_cohesion;
@@ -172,10 +180,10 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     GpuBird o = birds[near_index[e]];
     vec3 offset = o.position + tile_shift(o.tile_x, o.tile_z, b.tile_x, b.tile_z) - b.position;
     float distance = length(offset);
-    if (distance < s.separation_radius)
-      separation -= unit_or_zero(offset) * pow(1.0 - distance / s.separation_radius, 2.0);
-    else
-      cohesion_sum += offset;
+    float zone = zone_distance(s, offset, ahead);
+    if (zone < s.separation_radius)
+      separation -= unit_or_zero(offset) * pow(1.0 - zone / s.separation_radius, 2.0);
+    if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(o.velocity - wind);
     faster_sum += dot(o.velocity - b.velocity, ahead);
     if (distance > 0.0) {
