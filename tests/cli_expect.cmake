@@ -48,7 +48,7 @@ if(SUMMARY)
   file(READ "${SUMMARY}" json)
   foreach(key units backend device scenario scenario_hash birds steps dt steps_per_frame sim_seconds wall_seconds
               bird_steps_per_second nan_birds centroid mean_speed targets_reached perched flying
-              wind_beyond_airspeed)
+              wind_beyond_airspeed structure)
     string(JSON value ERROR_VARIABLE missing GET "${json}" ${key})
     if(missing)
       message(FATAL_ERROR "${SUMMARY}: no key ${key}")

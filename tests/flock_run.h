@@ -15,6 +15,7 @@
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/flock_geometry.h"
+#include "model/flock_structure.h"
 #include "model/simulation.h"
 
 namespace aeroflock::testing {
@@ -34,6 +35,11 @@ struct FlockRun {
   // Over the whole flight: the centroid's closest approach to each target of the flock's route.
   std::vector<double> closest_to_target, target_radius;
   size_t non_finite = 0;  // birds not finite at the end
+  // The flock's structure as the field measures it (docs/FIELD.md), every second from `from` on,
+  // and its thinnest axis's angle from vertical over those seconds in straight flight.
+  StructureMean structure;
+  double straight_thinnest_from_vertical = 0.0;  // rad, mean
+  size_t straight_snapshots = 0;
 };
 
 // A bird of flock `flock` that flocks, flying at `velocity` (cm/s), its head along it.
@@ -88,12 +94,26 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
         ++run.straight_frames;
       }
     }
+    const bool straight = headings.size() > per_second && [&] {
+      double turned = std::fabs(headings.back() - headings[headings.size() - 1 - per_second]);
+      return std::min(turned, 2.0 * M_PI - turned) < 5.0 * M_PI / 180.0;
+    }();
+    if (frames % per_second == 0)
+      if (const auto figures = measure_structure(sc, birds, flock)) {
+        run.structure.add(*figures, sim.time());
+        if (straight) {
+          run.straight_thinnest_from_vertical += figures->thinnest_from_vertical;
+          ++run.straight_snapshots;
+        }
+      }
     run.mean_median_nearest += m.median_nearest;
     run.mean_polarisation += m.polarisation;
     run.mean_largest_cluster += m.largest_cluster;
     run.mean_too_close += m.too_close;
     ++frames;
   }
+  if (run.straight_snapshots > 0)
+    run.straight_thinnest_from_vertical /= double(run.straight_snapshots);
   if (frames > 0) {
     run.mean_median_nearest /= double(frames);
     run.mean_polarisation /= double(frames);
@@ -128,6 +148,34 @@ inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario,
       run.lowest_straight_polarisation, run.straight_frames, run.smallest_largest_cluster);
   for (double d : run.closest_to_target) std::printf(" %.0f", d);
   std::printf(" cm\n");
+}
+
+// The field's measures of starling flocks (docs/FIELD.md) on a run of flock `flock`, distances in
+// the species' wingspans, so that they hold for a bird of any size: r1 within the field's 0.68-1.51
+// m of a 0.40 m starling; thin (I1 / I3 under 1/3, the field's 0.18), its thinnest axis within 20
+// degrees of vertical in straight flight; gamma(1) well above 1/3 (0.45; the field's 0.8-0.85),
+// fallen to within 0.1 of it, or below, by the 7th neighbour.
+inline void expect_structure_criteria(const FlockRun& run, const Scenario& scenario,
+                                      uint32_t flock) {
+  constexpr double kStarlingSpan = 40.0;  // cm (2008a)
+  const StructureFigures& m = run.structure.mean;
+  ASSERT_GT(run.structure.samples, 10u);
+  ASSERT_GT(run.straight_snapshots, 0u);
+  (void)scenario, (void)flock;
+  EXPECT_GE(m.median_nearest_wingspans, 68.0 / kStarlingSpan);
+  EXPECT_LE(m.median_nearest_wingspans, 151.0 / kStarlingSpan);
+  EXPECT_LT(m.thickness_over_length, 1.0 / 3.0);
+  EXPECT_LT(run.straight_thinnest_from_vertical, 20.0 * M_PI / 180.0);
+  EXPECT_GT(m.anisotropy[0], 0.45);
+  EXPECT_LT(m.anisotropy[6], 1.0 / 3.0 + 0.1);
+  std::printf(
+      "structure over %zu snapshots: r1 %.2f wingspans, I1/I3 %.2f, I2/I3 %.2f, thinnest axis %.1f "
+      "deg from vertical (%.1f in straight flight), border r1 / interior r1 %.2f, gamma(n)",
+      run.structure.samples, m.median_nearest_wingspans, m.thickness_over_length,
+      m.width_over_length, m.thinnest_from_vertical * 180.0 / M_PI,
+      run.straight_thinnest_from_vertical * 180.0 / M_PI, m.border_over_interior);
+  for (double g : m.anisotropy) std::printf(" %.2f", g);
+  std::printf("\n");
 }
 
 }  // namespace aeroflock::testing

@@ -182,9 +182,9 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
 // zone's push is along the flight, and steering (which turns the bird across it) ignores it.
 TEST(Perception, TheSeparationZoneReachesFartherAlongTheFlight) {
   Species s = starling();
-  ASSERT_GT(s.separation_front, 1.5);
+  ASSERT_GT(s.separation_front, 1.2);
   const dvec3 forward{1000.0, 0.0, 0.0};
-  const double r = 1.05 * s.separation_radius;  // beyond the zone across, inside it along
+  const double r = 1.02 * s.separation_radius;  // beyond the zone across, inside it along
   EXPECT_NEAR(zone_distance(s, dvec3{0.0, 0.0, r}, dvec3{1, 0, 0}), r, 1e-9);
   EXPECT_NEAR(zone_distance(s, dvec3{r, 0.0, 0.0}, dvec3{1, 0, 0}), r / s.separation_front, 1e-9);
   const dvec3 route{10000.0, 0.0, 0.0};
@@ -344,10 +344,24 @@ TEST(Spawn, AFlockGrownPastTheGroundWidensInstead) {
     ASSERT_GT(b.position.y, t.world.ground_height);
 }
 
+// docs/MODEL.md's flock criteria and, of the same flight, the field's (docs/FIELD.md).
 TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const Scenario scenario = load_scenario("default");
   CpuSimulation sim(scenario);
-  testing::expect_flock_criteria(testing::fly_flock(sim, 0, 20.0, 80.0), scenario, 0);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  testing::expect_flock_criteria(run, scenario, 0);
+  testing::expect_structure_criteria(run, scenario, 0);
+}
+
+// Not met (issue 41): real starlings are packed more tightly at their flock's border than in its
+// centre (Ballerini et al. 2008a: border r1 / interior r1 0.65-0.82); ours are not (1.1-1.2, a
+// random cloud's 1.05-1.2), whichever of the rules in docs/MODEL.md "Held against the field" we
+// tried. Run with --gtest_also_run_disabled_tests.
+TEST(FlockCriteria, DISABLED_TheDefaultStarlingsAreDenserAtTheBorderThanInTheCentre) {
+  const Scenario scenario = load_scenario("default");
+  CpuSimulation sim(scenario);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  EXPECT_LT(run.structure.mean.border_over_interior, 1.0);
 }
 
 // Criterion 5: the same flock with flocking off fails spacing or cohesion.

@@ -12,7 +12,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "io/scenario_file.h"
 #include "model/flock_structure.h"
+#include "model/simulation.h"
 
 namespace aeroflock {
 namespace {
@@ -178,20 +180,16 @@ TEST(FlockStructure, AFlockStretchedAlongItsMotionLacksNeighboursAheadAndBehind)
   EXPECT_GT(f.internal[0], p.size() / 3);
 }
 
-TEST(FlockStructure, AgreesWithBruteForce) {
-  // A random flock, thin and moving obliquely: every figure recomputed from every pair.
-  std::vector<dvec3> p = random_cloud(1500, {2000, 300, 1000}, 7), v;
-  std::mt19937 rng(8);
-  std::normal_distribution<double> noise(0.0, 100.0);
-  for (size_t i = 0; i < p.size(); ++i) v.push_back(dvec3{800, 50, 600} + dvec3{noise(rng)});
-  const double radius = 300.0;
+// Every figure of flock_structure recomputed from every pair of birds.
+void expect_brute_force_agrees(const std::vector<dvec3>& p, const std::vector<dvec3>& v,
+                               double radius) {
   const FlockStructure f = flock_structure(p, v, radius);
   dvec3 motion{0.0};
   for (const dvec3& x : v) motion += x;
   motion = glm::normalize(motion);
   const std::vector<bool> border = alpha_exposed(p, radius);
   std::vector<std::vector<uint32_t>> near;
-  std::vector<double> r1, r1_border, r1_inside;
+  std::vector<double> r1, r1_border, r1_inside, from_border;
   double along = 0.0;
   for (size_t i = 0; i < p.size(); ++i) {
     near.push_back(brute_nearest(p, i, kStructureRanks));
@@ -199,6 +197,10 @@ TEST(FlockStructure, AgreesWithBruteForce) {
     r1.push_back(glm::length(d));
     (border[i] ? r1_border : r1_inside).push_back(r1.back());
     along += std::pow(glm::dot(glm::normalize(d), motion), 2) / double(p.size());
+    double nearest_border = 1e300;
+    for (size_t j = 0; j < p.size(); ++j)
+      if (border[j]) nearest_border = std::min(nearest_border, glm::distance(p[i], p[j]));
+    from_border.push_back(nearest_border);
   }
   auto median_of = [](std::vector<double> x) {
     std::sort(x.begin(), x.end());
@@ -214,11 +216,8 @@ TEST(FlockStructure, AgreesWithBruteForce) {
     glm::dmat3 m(0.0);
     size_t counted = 0;
     for (size_t i = 0; i < p.size(); ++i) {
-      double from_border = 1e300;
-      for (size_t j = 0; j < p.size(); ++j)
-        if (border[j]) from_border = std::min(from_border, glm::distance(p[i], p[j]));
       const dvec3 d = p[near[i][rank]] - p[i];
-      if (glm::length(d) >= from_border) continue;
+      if (glm::length(d) >= from_border[i]) continue;
       m += glm::outerProduct(glm::normalize(d), glm::normalize(d));
       ++counted;
     }
@@ -233,6 +232,27 @@ TEST(FlockStructure, AgreesWithBruteForce) {
   glm::dmat3 cov(0.0);
   for (const dvec3& x : p) cov += glm::outerProduct(x - centre, x - centre) / double(p.size());
   EXPECT_NEAR(std::fabs(glm::dot(f.axis[0], smallest_eigen(cov).vector)), 1.0, 1e-9);
+}
+
+TEST(FlockStructure, AgreesWithBruteForce) {
+  // A random flock, thin and moving obliquely.
+  std::vector<dvec3> p = random_cloud(1500, {2000, 300, 1000}, 7), v;
+  std::mt19937 rng(8);
+  std::normal_distribution<double> noise(0.0, 100.0);
+  for (size_t i = 0; i < p.size(); ++i) v.push_back(dvec3{800, 50, 600} + dvec3{noise(rng)});
+  expect_brute_force_agrees(p, v, 300.0);
+}
+
+TEST(FlockStructure, OfAFlyingFlockAgreesWithBruteForce) {
+  // The default scenario's 1,000 starlings after 10 s of flocking, on the CPU reference.
+  CpuSimulation sim(load_scenario("default"));
+  while (sim.time() < 10.0) sim.step_frame();
+  std::vector<dvec3> p, v;
+  for (const BirdState& b : sim.birds())
+    if (b.flock == 0) p.push_back(b.position), v.push_back(b.velocity);
+  ASSERT_EQ(p.size(), 1000u);
+  const double r1 = flock_structure(p, v, 1.0).median_nearest;
+  expect_brute_force_agrees(p, v, kBorderBallNearest * r1);
 }
 
 }  // namespace

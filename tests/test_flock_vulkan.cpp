@@ -217,7 +217,9 @@ TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = load_scenario("default");
   gpu::GpuSimulation sim(device, scenario);
-  testing::expect_flock_criteria(testing::fly_flock(sim, 0, 20.0, 80.0), scenario, 0);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  testing::expect_flock_criteria(run, scenario, 0);
+  testing::expect_structure_criteria(run, scenario, 0);  // the field's (docs/FIELD.md)
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -9,6 +9,7 @@
 
 #include "io/scenario_file.h"
 #include "io/summary.h"
+#include "model/constants.h"
 #include "model/flock_geometry.h"
 
 namespace aeroflock {
@@ -150,7 +151,8 @@ TEST(Summary, JsonHasEveryKey) {
                           "perched",         "flying",
                           "flocking",        "quarantined",
                           "signal",          "error",
-                          "vtk_queue",       "wind_beyond_airspeed"})
+                          "vtk_queue",       "wind_beyond_airspeed",
+                          "structure"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["signal"].is_null());
   EXPECT_TRUE(j["error"].is_null());
@@ -171,6 +173,33 @@ TEST(Summary, JsonHasEveryKey) {
   EXPECT_DOUBLE_EQ(j["bird_steps_per_second"].get<double>(), 1000.0);  // 2 birds x 1000 / 2 s
   EXPECT_EQ(j["centroid"], nlohmann::json::array({0.0, 200.0, 0.0}));
   EXPECT_DOUBLE_EQ(j["mean_speed"].get<double>(), 500.0);
+}
+
+// --structure-from (issue 41): each flock's figures, the mean of its snapshots, with their units.
+TEST(Summary, TheFlocksStructureIsTheMeanOfItsSnapshots) {
+  RunSummary r = sample_summary();
+  EXPECT_TRUE(summary_json(r)["structure"].empty());
+  FlockStructureSummary f{"murmuration", "starling", 100.0, 10.0, 20.0, 1.0, {}};
+  StructureFigures a, b;
+  a.median_nearest = 200.0, b.median_nearest = 300.0;
+  a.thinnest_from_vertical = radians(10.0), b.thinnest_from_vertical = radians(20.0);
+  a.anisotropy[0] = 0.6, b.anisotropy[0] = 0.4;
+  a.motion_on_axes = {0.0, 1.0, 0.0}, b.motion_on_axes = {0.0, 0.0, 1.0};
+  f.structure.add(a, 10.02);
+  f.structure.add(b, 11.01);
+  r.structure = {f};
+  const nlohmann::ordered_json s = summary_json(r)["structure"][0];
+  EXPECT_EQ(s["flock"], "murmuration");
+  EXPECT_EQ(s["samples"], 2);
+  EXPECT_DOUBLE_EQ(s["first"].get<double>(), 10.02);
+  EXPECT_DOUBLE_EQ(s["last"].get<double>(), 11.01);
+  EXPECT_DOUBLE_EQ(s["every"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(s["median_nearest"].get<double>(), 250.0);
+  EXPECT_NEAR(s["thinnest_from_vertical"].get<double>(), 15.0, 1e-12);  // degrees
+  EXPECT_DOUBLE_EQ(s["anisotropy"][0].get<double>(), 0.5);
+  EXPECT_EQ(s["anisotropy"].size(), kStructureRanks);
+  EXPECT_DOUBLE_EQ(s["motion_on_axes"]["width"].get<double>(), 0.5);
+  EXPECT_TRUE(summary_json(r)["units"].contains("structure.anisotropy"));
 }
 
 // A wind across a leg at least as fast as its flock flies through the air (issue 39) is reported,

@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/flock.h"
+#include "model/flock_geometry.h"
 #include "model/statistics.h"
 
 namespace aeroflock {
@@ -284,10 +286,6 @@ FlockStructure flock_structure_by_spacing(std::span<const dvec3> positions,
   return structure_of(positions, velocities, [=](double r1) { return border_r1 * r1; });
 }
 
-}  // namespace aeroflock
-
-namespace aeroflock {
-
 StructureFigures structure_figures(const FlockStructure& f, double wingspan) {
   StructureFigures s;
   s.birds = double(f.birds);
@@ -306,6 +304,18 @@ StructureFigures structure_figures(const FlockStructure& f, double wingspan) {
   s.anisotropy = f.anisotropy;
   s.nearest_along_motion = f.nearest_along_motion;
   return s;
+}
+
+std::optional<StructureFigures> measure_structure(const Scenario& scenario,
+                                                  const std::vector<BirdState>& birds,
+                                                  uint32_t flock) {
+  std::vector<dvec3> position, velocity;
+  for (const BirdState& b : birds)
+    if (b.flock == flock && flocks_now(b) && is_finite(b))
+      position.push_back(b.position), velocity.push_back(b.velocity);
+  if (position.size() < 2) return std::nullopt;
+  const FlockStructure f = flock_structure_by_spacing(position, velocity, kBorderBallNearest);
+  return structure_figures(f, scenario.species[scenario.flocks[flock].species].box_c);
 }
 
 void StructureMean::add(const StructureFigures& f, double time) {

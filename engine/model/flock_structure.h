@@ -8,12 +8,16 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
+
+#include "model/bird.h"
+#include "model/scenario.h"
 
 namespace aeroflock {
 
@@ -81,10 +85,6 @@ FlockStructure flock_structure(std::span<const glm::dvec3> positions,
 FlockStructure flock_structure_by_spacing(std::span<const glm::dvec3> positions,
                                           std::span<const glm::dvec3> velocities, double border_r1);
 
-}  // namespace aeroflock
-
-namespace aeroflock {
-
 // The figures the field reports, of one snapshot or averaged over several (each snapshot's figure,
 // then their mean: as 2008a and 2008b average over flocks). Lengths in cm and in the species'
 // wingspans (its box_c).
@@ -115,10 +115,19 @@ struct StructureMean {
   StructureFigures sum_;
 };
 
+// The figures of one snapshot of flock `flock` of `scenario`, over its birds that flock now
+// (flocks_now) and are finite, the border drawn with a ball of kBorderBallNearest r1; nullopt
+// when fewer than two do.
+std::optional<StructureFigures> measure_structure(const Scenario& scenario,
+                                                  const std::vector<BirdState>& birds,
+                                                  uint32_t flock);
+
 // One flock's figures, averaged over a run's snapshots (run/structure.h).
 struct FlockStructureSummary {
   std::string flock, species;
   double wingspan = 0.0;  // cm: the species' box_c
+  // s: the window asked for, a snapshot at the first frame at or after each from + k every
+  double from = 0.0, to = 0.0, every = 0.0;
   StructureMean structure;
 };
 

@@ -3,22 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "model/flock.h"
-#include "model/flock_geometry.h"
-
 namespace aeroflock {
-
-std::optional<StructureFigures> measure_structure(const Scenario& scenario,
-                                                  const std::vector<BirdState>& birds,
-                                                  uint32_t flock) {
-  std::vector<glm::dvec3> position, velocity;
-  for (const BirdState& b : birds)
-    if (b.flock == flock && flocks_now(b) && is_finite(b))
-      position.push_back(b.position), velocity.push_back(b.velocity);
-  if (position.size() < 2) return std::nullopt;
-  const FlockStructure f = flock_structure_by_spacing(position, velocity, kBorderBallNearest);
-  return structure_figures(f, scenario.species[scenario.flocks[flock].species].box_c);
-}
 
 void StructureObserver::start(Simulation& sim) {
   const Scenario& sc = sim.scenario();
@@ -27,7 +12,8 @@ void StructureObserver::start(Simulation& sim) {
     if (sc.flocks[f].flocking) {
       flocking_.push_back(f);
       const Species& s = sc.species[sc.flocks[f].species];
-      flocks_.push_back({sc.flocks[f].name, s.name, s.box_c, {}});
+      flocks_.push_back(
+          {sc.flocks[f].name, s.name, s.box_c, window_.from, window_.to, window_.every, {}});
     }
 }
 

@@ -19,12 +19,6 @@ struct StructureWindow {
   double every = 1.0;                                   // s between snapshots
 };
 
-// The figures of one snapshot of flock `flock` of `birds`, over its birds that flock now
-// (flocks_now) and are finite; nullopt when fewer than two do.
-std::optional<StructureFigures> measure_structure(const Scenario& scenario,
-                                                  const std::vector<BirdState>& birds,
-                                                  uint32_t flock);
-
 class StructureObserver final : public RunObserver {
  public:
   explicit StructureObserver(StructureWindow window) : window_(window) {}
