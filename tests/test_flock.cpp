@@ -182,7 +182,7 @@ TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {
 // zone's push is along the flight, and steering (which turns the bird across it) ignores it.
 TEST(Perception, TheSeparationZoneReachesFartherAlongTheFlight) {
   Species s = starling();
-  ASSERT_GT(s.separation_front, 1.2);
+  s.separation_front = 1.5;
   const dvec3 forward{1000.0, 0.0, 0.0};
   const double r = 1.02 * s.separation_radius;  // beyond the zone across, inside it along
   EXPECT_NEAR(zone_distance(s, dvec3{0.0, 0.0, r}, dvec3{1, 0, 0}), r, 1e-9);
@@ -192,7 +192,7 @@ TEST(Perception, TheSeparationZoneReachesFartherAlongTheFlight) {
   for (const double along : {c, -c}) {
     std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward),
                                     flocking_bird(dvec3{along, 0.0, c}, forward)};
-    s.w_cohesion = 0.0;  // the neighbour is beyond separation_radius: no pull towards it
+    s.w_cohesion = 0.0;  // beyond separation_radius its cohesion would pull towards it: off
     const Perception p =
         social_goal(s, birds[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, birds);
     EXPECT_LT(p.direction.z, -0.01) << "pushed away to the left, neighbour at x " << along;
@@ -350,7 +350,7 @@ TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute
   CpuSimulation sim(scenario);
   const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
   testing::expect_flock_criteria(run, scenario, 0);
-  testing::expect_structure_criteria(run, scenario, 0);
+  testing::expect_structure_criteria(run);
 }
 
 // Not met (issue 41): real starlings are packed more tightly at their flock's border than in its
@@ -362,6 +362,18 @@ TEST(FlockCriteria, DISABLED_TheDefaultStarlingsAreDenserAtTheBorderThanInTheCen
   CpuSimulation sim(scenario);
   const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
   EXPECT_LT(run.structure.mean.border_over_interior, 1.0);
+}
+
+// Not met (issue 41): a starling's first neighbours lie at its sides, gamma(1) 0.8-0.85, falling to
+// 1/3 by the 6th-7th (Ballerini et al. 2008b). Ours lie ahead and behind (gamma(1) 0.09); a
+// separation zone 1.5 times longer along the flight (`separation_front`) gives 0.50 and fails the
+// flock's spacing (docs/MODEL.md "Held against the field").
+TEST(FlockCriteria, DISABLED_TheDefaultStarlingsFirstNeighboursLieAtTheirSides) {
+  const Scenario scenario = load_scenario("default");
+  CpuSimulation sim(scenario);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
+  EXPECT_GT(run.structure.mean.anisotropy[0], 0.6);
+  EXPECT_NEAR(run.structure.mean.anisotropy[6], 1.0 / 3.0, 0.1);
 }
 
 // Criterion 5: the same flock with flocking off fails spacing or cohesion.

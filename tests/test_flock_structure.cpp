@@ -244,15 +244,41 @@ TEST(FlockStructure, AgreesWithBruteForce) {
 }
 
 TEST(FlockStructure, OfAFlyingFlockAgreesWithBruteForce) {
-  // The default scenario's 1,000 starlings after 10 s of flocking, on the CPU reference.
-  CpuSimulation sim(load_scenario("default"));
+  // 300 starlings of the murmuration after 10 s of flocking, on the CPU reference.
+  const Scenario scenario = load_scenario("murmuration");
+  CpuSimulation sim(scenario, spawn_birds(scenario, 300));
   while (sim.time() < 10.0) sim.step_frame();
   std::vector<dvec3> p, v;
-  for (const BirdState& b : sim.birds())
-    if (b.flock == 0) p.push_back(b.position), v.push_back(b.velocity);
-  ASSERT_EQ(p.size(), 1000u);
+  for (const BirdState& b : sim.birds()) p.push_back(b.position), v.push_back(b.velocity);
+  ASSERT_EQ(p.size(), 300u);
   const double r1 = flock_structure(p, v, 1.0).median_nearest;
   expect_brute_force_agrees(p, v, kBorderBallNearest * r1);
+}
+
+TEST(FlockStructure, WhatCannotBeMeasuredIsNaNAndLeftOutOfTheMean) {
+  // Birds at rest: no motion to measure against.
+  const std::vector<dvec3> p = random_cloud(200, {500, 100, 500}, 9), v(200, dvec3{0.0});
+  const FlockStructure rest = flock_structure(p, v, 300.0);
+  EXPECT_TRUE(std::isnan(rest.nearest_along_motion));
+  EXPECT_TRUE(std::isnan(rest.anisotropy[0]));
+  EXPECT_TRUE(std::isnan(rest.motion_on_axes[1]));
+  EXPECT_GT(rest.median_nearest, 0.0);
+  // Five birds: gamma for the 1st-4th neighbours only; every bird on the border, none inside.
+  const std::vector<dvec3> few(p.begin(), p.begin() + 5), moving(5, dvec3{1000, 0, 0});
+  const FlockStructure five = flock_structure(few, moving, 300.0);
+  EXPECT_TRUE(std::isnan(five.anisotropy[4]));
+  EXPECT_EQ(five.border, 5u);
+  EXPECT_TRUE(std::isnan(structure_figures(five, 100.0).border_over_interior));
+  EXPECT_THROW(flock_structure(few, v, 300.0), std::invalid_argument);
+  // The mean of a snapshot that measured a figure and one that did not is the first's.
+  StructureMean mean;
+  StructureFigures a = structure_figures(
+      flock_structure(p, std::vector<dvec3>(200, dvec3{0, 0, 900}), 300.0), 100.0);
+  mean.add(a, 1.0);
+  mean.add(structure_figures(rest, 100.0), 2.0);
+  EXPECT_EQ(mean.samples, 2u);
+  EXPECT_DOUBLE_EQ(mean.mean.nearest_along_motion, a.nearest_along_motion);
+  EXPECT_DOUBLE_EQ(mean.mean.median_nearest, a.median_nearest);
 }
 
 }  // namespace

@@ -219,7 +219,7 @@ TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   gpu::GpuSimulation sim(device, scenario);
   const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
   testing::expect_flock_criteria(run, scenario, 0);
-  testing::expect_structure_criteria(run, scenario, 0);  // the field's (docs/FIELD.md)
+  testing::expect_structure_criteria(run);  // the field's (docs/FIELD.md)
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -228,6 +228,9 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got -3"},
       {"f_min > f_max", kValid + species + "f_min = 12.0\n",
        "bad.toml:21:9: error: species[0].f_min: species 'x': f_min must be <= f_max, got 12"},
+      {"separation zone shorter ahead", kValid + species + "separation_front = 0.5\n",
+       "bad.toml:21:20: error: species[0].separation_front: species 'x': separation_front must be "
+       ">= 1, got 0.5"},
       {"negative mass", kValid + species + "mass = -5.0\n",
        "bad.toml:21:8: error: species[0].mass: species 'x': mass must be > 0, got -5"},
       {"unknown route", replace(kValid, "route = \"r\"", "route = \"q\""),

@@ -111,9 +111,16 @@ void print_structure(const FlockStructureSummary& f) {
   const StructureFigures& m = s.mean;
   std::printf("structure %-10s ", f.flock.c_str());
   if (s.samples == 0) {
-    std::printf("no snapshot (fewer than two of its birds flocked in the window)\n");
+    std::printf("no snapshot (fewer than two of its birds flocked at the window's times)\n");
     return;
   }
+  // A figure no snapshot could measure (NaN; FlockStructure) is printed as "-".
+  auto fig = [](double x) {
+    char text[32];
+    if (std::isnan(x)) return std::string("-");
+    std::snprintf(text, sizeof text, "%.2f", x);
+    return std::string(text);
+  };
   std::printf("%zu snapshot%s from %.1f to %.1f s, %.0f birds each\n", s.samples,
               s.samples == 1 ? "" : "s", s.first, s.last, m.birds);
   std::printf("  nearest neighbour  %.2f m, %.2f wingspans of its %s (%.2f m)\n",
@@ -121,17 +128,17 @@ void print_structure(const FlockStructureSummary& f) {
               f.wingspan / 100);
   std::printf(
       "  shape              %.1f x %.1f x %.1f m; thickness / length %.2f, width / length %.2f; "
-      "thinnest axis %.0f deg from vertical; motion |cos| on thickness, width, length %.2f %.2f "
-      "%.2f\n",
+      "thinnest axis %.0f deg from vertical; motion |cos| on thickness, width, length %s %s %s\n",
       m.thickness / 100, m.width / 100, m.length / 100, m.thickness_over_length,
-      m.width_over_length, degrees(m.thinnest_from_vertical), m.motion_on_axes[0],
-      m.motion_on_axes[1], m.motion_on_axes[2]);
+      m.width_over_length, degrees(m.thinnest_from_vertical), fig(m.motion_on_axes[0]).c_str(),
+      fig(m.motion_on_axes[1]).c_str(), fig(m.motion_on_axes[2]).c_str());
   std::printf(
-      "  border             %.0f %% of the birds; their nearest neighbour / the interior's %.2f\n",
-      100 * m.border_fraction, m.border_over_interior);
+      "  border             %.0f %% of the birds; their nearest neighbour / the interior's %s\n",
+      100 * m.border_fraction, fig(m.border_over_interior).c_str());
   std::printf("  anisotropy gamma(n), n = 1..%zu:", kStructureRanks);
-  for (double g : m.anisotropy) std::printf(" %.2f", g);
-  std::printf(" (1/3 isotropic); nearest along the motion %.2f\n", m.nearest_along_motion);
+  for (double g : m.anisotropy) std::printf(" %s", fig(g).c_str());
+  std::printf(" (1/3 isotropic); nearest along the motion %s\n",
+              fig(m.nearest_along_motion).c_str());
 }
 
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
@@ -278,8 +285,14 @@ int run(const RunOptions& opt) {
   if (opt.structure_from) {
     StructureWindow window{*opt.structure_from, opt.structure_to.value_or(total_seconds),
                            opt.structure_every};
-    if (window.to < window.from)
+    if (opt.structure_to && window.to < window.from)
       throw std::runtime_error("--structure-to must not be before --structure-from");
+    if (window.from > total_seconds + 1e-9) {
+      char why[160];
+      std::snprintf(why, sizeof why, "--structure-from %g s is past the run's end at %g s",
+                    window.from, total_seconds);
+      throw std::runtime_error(why);
+    }
     structure = std::make_unique<StructureObserver>(window);
     observers.push_back(structure.get());
   }

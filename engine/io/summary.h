@@ -90,11 +90,11 @@ struct RunSummary {
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
 // flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
-// too_close, polarisation, largest_cluster; with --structure-from, `structure`: each flocking
-// flock's figures averaged over its snapshots (units in the file's `units`); `quarantined`: bird,
-// time, and its last finite position, velocity and attitude (w, x, y, z); `signal` and `error`
-// (null when none) and, with
-// --vtk, `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null);
+// too_close, polarisation, largest_cluster; `structure`: with --structure-from, each flocking
+// flock's figures averaged over its snapshots (units in the file's `units`; null where no
+// snapshot measured one), else empty; `quarantined`: bird, time, and its last finite position,
+// velocity and attitude (w, x, y, z); `signal` and `error` (null when none) and, with --vtk,
+// `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null);
 // `wind_beyond_airspeed`: flock, target, across_wind, height, airspeed for each leg its flock
 // cannot hold (empty when none).
 nlohmann::ordered_json summary_json(const RunSummary& summary);

@@ -72,16 +72,17 @@ double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec
 
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index), for a bird in `wind` (its own: its neighbours are metres away): the desired heading d of
-// docs/MODEL.md through that air from separation (fall-off (1 - zone_distance /
-// separation_radius)^2), alignment (with their air velocities), cohesion and the route (towards
-// `route_goal`: route_heading at the airspeed below), and the airspeed: cruise_speed plus
+// docs/MODEL.md through that air from separation (the seen birds inside the separation zone,
+// zone_distance < separation_radius, fall-off (1 - zone_distance / separation_radius)^2),
+// alignment (with their air velocities), cohesion (those farther than separation_radius: one
+// ahead or behind may be inside the zone and beyond that radius, and count in both) and the route
+// (towards `route_goal`: route_heading at the airspeed below), and the airspeed: cruise_speed plus
 // speed_gain times how far the seen birds are along its flight from where they would be at
-// separation_radius (offset (1
-// - separation_radius / distance): a bird close ahead slows it, one far ahead speeds it up), those
-// nearer than separation_radius each in full, those beyond by their mean, plus speed_match times
-// how much faster they fly along its flight, on average (a damper: neighbours match speeds before
-// they pass one another), plus the cohesion's pull (cohesion_pull); within [min_speed,
-// max_speed].
+// separation_radius (offset (1 - separation_radius / distance): a bird close ahead slows it, one
+// far ahead speeds it up), those nearer than separation_radius each in full, those beyond by their
+// mean, plus speed_match times how much faster they fly along its flight, on average (a damper:
+// neighbours match speeds before they pass one another), plus the cohesion's pull
+// (cohesion_pull); within [min_speed, max_speed].
 // `route_done`: its route is over and has no leg to fly on along (route.h: onward_goal): it flies
 // on with its flock, without the route's share of d.
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& wind,

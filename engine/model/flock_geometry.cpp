@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/cell_grid.h"
+
 namespace aeroflock {
 namespace {
 
@@ -15,38 +17,13 @@ bool is_finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-// The birds in cubic cells of `cell` cm, for the metrics (the perception has its own grid).
-class CellMap {
- public:
-  CellMap(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members, double cell)
-      : cell_(cell) {
-    for (uint32_t i : members) cells_[key(cell_of(birds[i].position))].push_back(i);
-  }
-  // Calls f(j) for every member in the cells within `rings` cells of `p`'s (Chebyshev).
-  template <class F>
-  void around(const glm::dvec3& p, int rings, F f) const {
-    const glm::ivec3 home = cell_of(p);
-    for (int dx = -rings; dx <= rings; ++dx)
-      for (int dy = -rings; dy <= rings; ++dy)
-        for (int dz = -rings; dz <= rings; ++dz) {
-          const auto it = cells_.find(key(home + glm::ivec3(dx, dy, dz)));
-          if (it != cells_.end())
-            for (uint32_t j : it->second) f(j);
-        }
-  }
-  double cell() const { return cell_; }
-
- private:
-  glm::ivec3 cell_of(const glm::dvec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
-  static uint64_t key(const glm::ivec3& c) {
-    const auto part = [](int v) {
-      return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu);
-    };
-    return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
-  }
-  double cell_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-};
+// The birds in cells of `cell` cm, for the metrics (the perception has its own grid).
+CellGrid bird_grid(const std::vector<BirdState>& birds, const std::vector<uint32_t>& members,
+                   double cell) {
+  CellGrid grid(cell);
+  for (uint32_t i : members) grid.insert(birds[i].position, i);
+  return grid;
+}
 
 std::vector<uint32_t> finite_members(const std::vector<BirdState>& birds,
                                      const std::vector<uint32_t>& members) {
@@ -126,7 +103,7 @@ namespace {
 
 // Each of the `finite` birds' distance to its nearest other, found through `map` (of those birds).
 std::vector<double> nearest_in(const std::vector<BirdState>& birds,
-                               const std::vector<uint32_t>& finite, const CellMap& map) {
+                               const std::vector<uint32_t>& finite, const CellGrid& map) {
   std::vector<double> out(finite.size(), std::numeric_limits<double>::infinity());
   if (finite.size() < 2) return out;
 #pragma omp parallel for schedule(dynamic, 64)
@@ -153,7 +130,7 @@ std::vector<double> nearest_in(const std::vector<BirdState>& birds,
 std::vector<double> nearest_distances(const std::vector<BirdState>& birds,
                                       const std::vector<uint32_t>& members) {
   const std::vector<uint32_t> finite = finite_members(birds, members);
-  return nearest_in(birds, finite, CellMap(birds, finite, kClusterLink));
+  return nearest_in(birds, finite, bird_grid(birds, finite, kClusterLink));
 }
 
 FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vector<Species>& species,
@@ -171,7 +148,7 @@ FlockMetrics flock_metrics(const std::vector<BirdState>& birds, const std::vecto
 
   // One map of the birds in cells of the cluster link serves the nearest distances and the
   // clusters.
-  const CellMap map(birds, finite, kClusterLink);
+  const CellGrid map = bird_grid(birds, finite, kClusterLink);
   std::vector<double> nearest = nearest_in(birds, finite, map);
   size_t close = 0;
   for (size_t n = 0; n < finite.size(); ++n)

@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
-#include <unordered_map>
+#include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
+#include "model/cell_grid.h"
 #include "model/flock.h"
 #include "model/flock_geometry.h"
 #include "model/statistics.h"
@@ -17,49 +18,19 @@ namespace {
 
 using glm::dvec3;
 
-// The points in cubic cells of `cell` cm: the neighbours of a point ring by ring.
-class PointGrid {
- public:
-  PointGrid(std::span<const dvec3> points, double cell) : points_(points), cell_(cell) {
-    for (uint32_t i = 0; i < points.size(); ++i) cells_[key(cell_of(points[i]))].push_back(i);
-  }
-  // Calls f(j) for every point in the cells within `rings` cells of p's (Chebyshev): every
-  // point nearer p than rings x cell is among them.
-  template <class F>
-  void around(const dvec3& p, int rings, F f) const {
-    const glm::ivec3 home = cell_of(p);
-    for (int dx = -rings; dx <= rings; ++dx)
-      for (int dy = -rings; dy <= rings; ++dy)
-        for (int dz = -rings; dz <= rings; ++dz) {
-          const auto it = cells_.find(key(home + glm::ivec3(dx, dy, dz)));
-          if (it != cells_.end())
-            for (uint32_t j : it->second) f(j);
-        }
-  }
-  double cell() const { return cell_; }
-
- private:
-  glm::ivec3 cell_of(const dvec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
-  static uint64_t key(const glm::ivec3& c) {
-    const auto part = [](int v) {
-      return static_cast<uint64_t>(static_cast<uint32_t>(v) & 0x1fffffu);
-    };
-    return part(c.x) | part(c.y) << 21 | part(c.z) << 42;
-  }
-  std::span<const dvec3> points_;
-  double cell_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-};
-
-// A cell about as wide as the space each point has: the bounding box's volume per point (each
-// edge at least a thousandth of the longest, so that a flat flock has a volume).
-double typical_cell(std::span<const dvec3> points) {
+// The points in cells about as wide as the space each point has: the bounding box's volume per
+// point (each edge at least a millionth of the longest, so that a flat flock has a volume and
+// the cells' indices stay small), counted from the box's corner; at least `least` cm.
+CellGrid point_grid(std::span<const dvec3> points, double least = 0.0) {
   dvec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
   for (const dvec3& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
   const dvec3 edge = hi - lo;
   const double longest = std::max({edge.x, edge.y, edge.z, 1e-3});
-  const dvec3 e = glm::max(edge, dvec3{1e-3 * longest});
-  return std::cbrt(e.x * e.y * e.z / double(points.size()));
+  const dvec3 e = glm::max(edge, dvec3{1e-6 * longest});
+  const double cell = std::cbrt(e.x * e.y * e.z / double(points.size()));
+  CellGrid grid(std::max({cell, least, 1e-6 * longest}), lo);
+  for (uint32_t i = 0; i < points.size(); ++i) grid.insert(points[i], i);
+  return grid;
 }
 
 // Whether direction u keeps a ball of radius R centred at p + R u clear of every neighbour:
@@ -98,7 +69,7 @@ bool any_clear(const std::vector<dvec3>& n, const std::vector<double>& h) {
   return false;
 }
 
-bool exposed(std::span<const dvec3> points, const PointGrid& grid, uint32_t i, double radius) {
+bool exposed(std::span<const dvec3> points, const CellGrid& grid, uint32_t i, double radius) {
   std::vector<std::pair<double, dvec3>> near;
   const int rings = int(std::ceil(2.0 * radius / grid.cell()));
   grid.around(points[i], rings, [&](uint32_t j) {
@@ -158,7 +129,7 @@ SymmetricEigen symmetric_eigen(const glm::dmat3& m) {
 std::vector<uint32_t> k_nearest(std::span<const dvec3> points, size_t k) {
   const size_t count = points.size();
   if (k == 0 || count <= k) return {};
-  const PointGrid grid(points, typical_cell(points));
+  const CellGrid grid = point_grid(points);
   std::vector<uint32_t> out(count * k);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t s = 0; s < int64_t(count); ++s) {
@@ -189,7 +160,7 @@ std::vector<uint32_t> k_nearest(std::span<const dvec3> points, size_t k) {
 std::vector<bool> alpha_exposed(std::span<const dvec3> points, double radius) {
   std::vector<char> out(points.size(), 0);
   if (points.empty()) return {};
-  const PointGrid grid(points, std::max(typical_cell(points), radius));
+  const CellGrid grid = point_grid(points, radius);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t s = 0; s < int64_t(points.size()); ++s)
     out[size_t(s)] = exposed(points, grid, uint32_t(s), radius);
@@ -204,7 +175,13 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
                             Ball ball) {
   FlockStructure f;
   const size_t n = positions.size();
+  if (velocities.size() != n)
+    throw std::invalid_argument("flock_structure: " + std::to_string(n) + " positions but " +
+                                std::to_string(velocities.size()) + " velocities");
   f.birds = n;
+  // What cannot be measured is NaN (no motion, too few birds or no internal ones for a rank).
+  constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  f.anisotropy.fill(kNone);
   if (n < 2) return f;
 
   // Principal axes: the eigenvectors of the positions' covariance.
@@ -215,10 +192,11 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
   for (const dvec3& p : positions) covariance += glm::outerProduct(p - centre, p - centre);
   const SymmetricEigen shape = symmetric_eigen(covariance / double(n));
   f.axis = shape.vector;
-  if (glm::length(velocity) > 0.0) f.motion = glm::normalize(velocity);
+  const bool moving = glm::length(velocity) > 0.0;
+  f.motion = moving ? glm::normalize(velocity) : dvec3{0.0};
   for (int k = 0; k < 3; ++k) {
     f.size[k] = 2.0 * std::sqrt(5.0 * std::max(shape.value[k], 0.0));
-    f.motion_on_axes[k] = std::fabs(glm::dot(f.motion, f.axis[size_t(k)]));
+    f.motion_on_axes[k] = moving ? std::fabs(glm::dot(f.motion, f.axis[size_t(k)])) : kNone;
   }
   f.thinnest_from_vertical = std::acos(std::min(1.0, std::fabs(f.axis[0].y)));
 
@@ -233,7 +211,7 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
     if (r1[i] > 0.0) along += std::pow(glm::dot(d / r1[i], f.motion), 2);
   }
   f.median_nearest = median(r1);
-  f.nearest_along_motion = along / double(n);
+  f.nearest_along_motion = moving ? along / double(n) : kNone;
   const double border_radius = f.border_radius = ball(f.median_nearest);
 
   // The border, its birds' spacing against the rest, and each bird's distance from it.
@@ -245,8 +223,8 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
     if (border[i]) border_points.push_back(positions[i]);
   }
   f.border = at_border.size();
-  f.border_nearest = median(at_border);
-  f.interior_nearest = median(inside);
+  f.border_nearest = at_border.empty() ? kNone : median(at_border);
+  f.interior_nearest = inside.empty() ? kNone : median(inside);
   std::vector<double> from_border(n, 0.0);
 #pragma omp parallel for schedule(static)
   for (int64_t s = 0; s < int64_t(n); ++s) {
@@ -267,7 +245,7 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
       ++counted;
     }
     f.internal[rank] = counted;
-    if (counted == 0) continue;
+    if (counted == 0 || !moving) continue;
     const dvec3 w = symmetric_eigen(m / double(counted)).vector[0];
     f.anisotropy[rank] = std::pow(glm::dot(w, f.motion), 2);
   }
@@ -300,7 +278,8 @@ StructureFigures structure_figures(const FlockStructure& f, double wingspan) {
   s.thinnest_from_vertical = f.thinnest_from_vertical;
   s.motion_on_axes = f.motion_on_axes;
   s.border_fraction = double(f.border) / double(f.birds);
-  if (f.interior_nearest > 0.0) s.border_over_interior = f.border_nearest / f.interior_nearest;
+  s.border_over_interior = f.interior_nearest > 0.0 ? f.border_nearest / f.interior_nearest
+                                                    : std::numeric_limits<double>::quiet_NaN();
   s.anisotropy = f.anisotropy;
   s.nearest_along_motion = f.nearest_along_motion;
   return s;
@@ -322,23 +301,30 @@ void StructureMean::add(const StructureFigures& f, double time) {
   if (samples == 0) first = time;
   last = time;
   ++samples;
-  // Every figure is a double or a vector of them: summed and divided member by member.
-  auto each = [](StructureFigures& to, const StructureFigures& from, auto op) {
-    op(to.birds, from.birds), op(to.median_nearest, from.median_nearest);
-    op(to.median_nearest_wingspans, from.median_nearest_wingspans);
-    op(to.thickness, from.thickness), op(to.width, from.width), op(to.length, from.length);
-    op(to.thickness_over_length, from.thickness_over_length);
-    op(to.width_over_length, from.width_over_length);
-    op(to.thinnest_from_vertical, from.thinnest_from_vertical);
-    for (int k = 0; k < 3; ++k) op(to.motion_on_axes[k], from.motion_on_axes[k]);
-    op(to.border_fraction, from.border_fraction);
-    op(to.border_over_interior, from.border_over_interior);
-    for (size_t k = 0; k < kStructureRanks; ++k) op(to.anisotropy[k], from.anisotropy[k]);
-    op(to.nearest_along_motion, from.nearest_along_motion);
+  // Every figure is a double or an array of them: summed member by member over the snapshots that
+  // measured it (a NaN is a figure not measured), then divided.
+  auto each = [](StructureFigures& a, StructureFigures& b, const StructureFigures& c, auto op) {
+    op(a.birds, b.birds, c.birds);
+    op(a.median_nearest, b.median_nearest, c.median_nearest);
+    op(a.median_nearest_wingspans, b.median_nearest_wingspans, c.median_nearest_wingspans);
+    op(a.thickness, b.thickness, c.thickness), op(a.width, b.width, c.width);
+    op(a.length, b.length, c.length);
+    op(a.thickness_over_length, b.thickness_over_length, c.thickness_over_length);
+    op(a.width_over_length, b.width_over_length, c.width_over_length);
+    op(a.thinnest_from_vertical, b.thinnest_from_vertical, c.thinnest_from_vertical);
+    for (int k = 0; k < 3; ++k) op(a.motion_on_axes[k], b.motion_on_axes[k], c.motion_on_axes[k]);
+    op(a.border_fraction, b.border_fraction, c.border_fraction);
+    op(a.border_over_interior, b.border_over_interior, c.border_over_interior);
+    for (size_t k = 0; k < kStructureRanks; ++k)
+      op(a.anisotropy[k], b.anisotropy[k], c.anisotropy[k]);
+    op(a.nearest_along_motion, b.nearest_along_motion, c.nearest_along_motion);
   };
-  each(sum_, f, [](double& to, double from) { to += from; });
-  const double n = double(samples);
-  each(mean, sum_, [n](double& to, double from) { to = from / n; });
+  each(sum_, measured_, f, [](double& sum, double& count, double x) {
+    if (!std::isnan(x)) sum += x, count += 1.0;
+  });
+  each(mean, measured_, sum_, [](double& mean, double& count, double sum) {
+    mean = count > 0.0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
+  });
 }
 
 }  // namespace aeroflock

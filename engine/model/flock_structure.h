@@ -57,27 +57,30 @@ struct FlockStructure {
   glm::dvec3 size{0.0};
   double thinnest_from_vertical = 0.0;  // rad: the angle between the I1 axis and the vertical
   glm::dvec3 motion{0.0};  // unit: the direction of the flock's mean velocity (0: it has none)
-  glm::dvec3 motion_on_axes{0.0};  // |cos| of the angle between the motion and each axis
+  glm::dvec3 motion_on_axes{
+      0.0};  // |cos| of the angle between the motion and each axis (NaN: none)
   // The border: alpha-exposed birds (alpha_exposed) for a ball of `border_radius`.
   double border_radius = 0.0;  // cm
   size_t border = 0;
-  double border_nearest = 0.0;    // cm: median r1 of the border birds
-  double interior_nearest = 0.0;  // cm: median r1 of the others
+  double border_nearest = 0.0;    // cm: median r1 of the border birds (NaN: none)
+  double interior_nearest = 0.0;  // cm: median r1 of the others (NaN: none)
   // The anisotropy factor gamma(n) = (W . V)^2 (2008b): W the eigenvector of the smallest
   // eigenvalue of M = mean over the internal birds of u u^T, u the unit vector to a bird's n-th
   // neighbour (its direction of least crowding), V `motion`. 1/3 when the neighbours lie alike in
   // every direction; above where they lack along the motion. Internal: the birds nearer their n-th
   // neighbour than the border (the nearest border bird), so that the border's empty side biases
-  // nothing; internal[n - 1] birds counted (0: gamma 0, no measure).
+  // nothing; internal[n - 1] birds counted (0: gamma NaN, no measure).
   std::array<double, kStructureRanks> anisotropy{};
   std::array<size_t, kStructureRanks> internal{};
   // The mean over all birds of the squared cosine between the direction to the nearest neighbour
-  // and the motion: 1/3 when isotropic, below where neighbours lack ahead and behind.
+  // and the motion: 1/3 when isotropic, below where neighbours lack ahead and behind (NaN: no
+  // motion).
   double nearest_along_motion = 0.0;
 };
 
-// One snapshot of a flock (positions in cm, velocities in cm/s, both of the same birds), its border
-// drawn with a ball of `border_radius` cm.
+// One snapshot of a flock (positions in cm, velocities in cm/s, both of the same birds: else
+// std::invalid_argument), its border drawn with a ball of `border_radius` cm. NaN where a figure
+// cannot be measured (FlockStructure's comments).
 FlockStructure flock_structure(std::span<const glm::dvec3> positions,
                                std::span<const glm::dvec3> velocities, double border_radius);
 // The same with a ball of `border_r1` times the snapshot's median r1 (kBorderBallNearest: as the
@@ -87,7 +90,8 @@ FlockStructure flock_structure_by_spacing(std::span<const glm::dvec3> positions,
 
 // The figures the field reports, of one snapshot or averaged over several (each snapshot's figure,
 // then their mean: as 2008a and 2008b average over flocks). Lengths in cm and in the species'
-// wingspans (its box_c).
+// wingspans (its box_c). NaN: not measured (the motion's figures of a flock at rest, gamma(n) with
+// no internal bird, the border's density with no bird inside it).
 struct StructureFigures {
   double birds = 0.0;
   double median_nearest = 0.0;                        // cm
@@ -104,7 +108,8 @@ struct StructureFigures {
 };
 StructureFigures structure_figures(const FlockStructure& f, double wingspan);
 
-// The mean of several snapshots' figures (zeros for none).
+// The mean of several snapshots' figures, each over the snapshots that measured it (NaN where
+// none did).
 struct StructureMean {
   size_t samples = 0;
   double first = 0.0, last = 0.0;  // s: when the first and the last were taken
@@ -113,6 +118,7 @@ struct StructureMean {
 
  private:
   StructureFigures sum_;
+  StructureFigures measured_;  // member by member: the snapshots that measured it
 };
 
 // The figures of one snapshot of flock `flock` of `scenario`, over its birds that flock now

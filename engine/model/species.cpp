@@ -145,6 +145,9 @@ void validate(const Species& s) {
   if (!(s.min_speed <= s.cruise_speed && s.cruise_speed <= s.max_speed))
     fail("min_speed <= cruise_speed <= max_speed must hold");
   if (s.pitch_min >= s.pitch_max) fail("pitch_min must be < pitch_max");
+  // Shorter along the flight than across, the zone would leave a neighbour straight ahead neither
+  // separation nor cohesion (flock.h: zone_distance).
+  if (s.separation_front < 1.0) fail("separation_front must be >= 1");
   if (s.neighbours != std::floor(s.neighbours) || s.neighbours > kMaxNeighbours)
     fail("neighbours must be a whole number <= " + std::to_string(kMaxNeighbours));
   if (!(s.blind_angle < 2.0 * kPi)) fail("blind_angle must be < 360 degrees");

@@ -26,7 +26,9 @@ void StructureObserver::frame(Simulation& sim, uint64_t) {
   for (size_t k = 0; k < flocking_.size(); ++k)
     if (const auto figures = measure_structure(sim.scenario(), birds, flocking_[k]))
       flocks_[k].structure.add(*figures, t);
-  while (next_ <= t + 1e-9) next_ += window_.every;
+  // The next sampling time after t, counted from the window's start (no drift, no loop).
+  next_ =
+      window_.from + (std::floor((t - window_.from) / window_.every + 1e-9) + 1.0) * window_.every;
 }
 
 }  // namespace aeroflock

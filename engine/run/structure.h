@@ -23,9 +23,9 @@ class StructureObserver final : public RunObserver {
  public:
   explicit StructureObserver(StructureWindow window) : window_(window) {}
   void start(Simulation& sim) override;
-  // A batch's last frame will do: the snapshot is taken at the first frame seen at or after each
-  // sampling time.
-  bool reads_every_frame() const override { return false; }
+  // Each snapshot is taken at the first frame at or after its time, from + k every: the frames are
+  // stepped one at a time (not in batches), so that it is that frame whatever the flock's size.
+  bool reads_every_frame() const override { return true; }
   void frame(Simulation& sim, uint64_t frames) override;
   const std::vector<FlockStructureSummary>& flocks() const { return flocks_; }
 
