@@ -126,6 +126,38 @@ SymmetricEigen symmetric_eigen(const glm::dmat3& m) {
   return e;
 }
 
+namespace {
+
+// The k points of `points` (in `grid`) nearest to p, nearest first (ties by index), leaving out
+// point `self` (none: an index past the end); fewer when there are not k others. Ring by ring,
+// until the k-th found is nearer than any point not yet looked at; a straggler far from the rest
+// looks at all of them.
+std::vector<std::pair<double, uint32_t>> nearest_to(std::span<const dvec3> points,
+                                                    const CellGrid& grid, const dvec3& p, size_t k,
+                                                    uint32_t self) {
+  std::vector<std::pair<double, uint32_t>> found;
+  const auto take = [&](uint32_t j) {
+    if (j != self) found.push_back({glm::distance(p, points[j]), j});
+  };
+  bool done = false;
+  for (int r = 1; r <= 8 && !done; ++r) {
+    found.clear();
+    grid.around(p, r, take);
+    if (found.size() < k) continue;
+    std::nth_element(found.begin(), found.begin() + ptrdiff_t(k - 1), found.end());
+    done = found[k - 1].first <= r * grid.cell();
+  }
+  if (!done) {
+    found.clear();
+    for (uint32_t j = 0; j < points.size(); ++j) take(j);
+  }
+  std::sort(found.begin(), found.end());
+  if (found.size() > k) found.resize(k);
+  return found;
+}
+
+}  // namespace
+
 std::vector<uint32_t> k_nearest(std::span<const dvec3> points, size_t k) {
   const size_t count = points.size();
   if (k == 0 || count <= k) return {};
@@ -134,24 +166,7 @@ std::vector<uint32_t> k_nearest(std::span<const dvec3> points, size_t k) {
 #pragma omp parallel for schedule(dynamic, 64)
   for (int64_t s = 0; s < int64_t(count); ++s) {
     const auto i = uint32_t(s);
-    std::vector<std::pair<double, uint32_t>> found;
-    const auto take = [&](uint32_t j) {
-      if (j != i) found.push_back({glm::distance(points[i], points[j]), j});
-    };
-    // Ring by ring, until the k-th nearest found is nearer than any point not yet looked at.
-    bool done = false;
-    for (int r = 1; r <= 8 && !done; ++r) {
-      found.clear();
-      grid.around(points[i], r, take);
-      if (found.size() < k) continue;
-      std::nth_element(found.begin(), found.begin() + ptrdiff_t(k - 1), found.end());
-      done = found[k - 1].first <= r * grid.cell();
-    }
-    if (!done) {  // a straggler far from the rest: all of them
-      found.clear();
-      for (uint32_t j = 0; j < count; ++j) take(j);
-    }
-    std::sort(found.begin(), found.end());
+    const auto found = nearest_to(points, grid, points[i], k, i);
     for (size_t m = 0; m < k; ++m) out[size_t(i) * k + m] = found[m].second;
   }
   return out;
@@ -225,12 +240,14 @@ FlockStructure structure_of(std::span<const dvec3> positions, std::span<const dv
   f.border = at_border.size();
   f.border_nearest = at_border.empty() ? kNone : median(at_border);
   f.interior_nearest = inside.empty() ? kNone : median(inside);
-  std::vector<double> from_border(n, 0.0);
-#pragma omp parallel for schedule(static)
-  for (int64_t s = 0; s < int64_t(n); ++s) {
-    double d = std::numeric_limits<double>::infinity();
-    for (const dvec3& b : border_points) d = std::min(d, glm::distance(positions[size_t(s)], b));
-    from_border[size_t(s)] = d;
+  // Each bird's distance to the nearest border bird, through a grid of them.
+  std::vector<double> from_border(n, std::numeric_limits<double>::infinity());
+  if (!border_points.empty()) {
+    const CellGrid border_grid = point_grid(border_points);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (int64_t s = 0; s < int64_t(n); ++s)
+      from_border[size_t(s)] =
+          nearest_to(border_points, border_grid, positions[size_t(s)], 1, UINT32_MAX)[0].first;
   }
 
   // gamma(n) over the internal birds.
