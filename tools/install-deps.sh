@@ -12,6 +12,8 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers glslang-tools spirv-tools vulkan-validationlayers vulkan-tools
   # Windows, VTK export and headless display.
   libglfw3-dev libvtk9-dev python3 python3-vtk9 xvfb xauth
+  # Many ranks (engine/dist): OpenMPI, its compiler wrappers and mpirun.
+  openmpi-bin libopenmpi-dev
   # Plots of `aeroflock bench --plot`; videos of `run --video` (ffmpeg, ffprobe).
   gnuplot-nox ffmpeg
   # The fuzz preset: clang, its libFuzzer and sanitizer runtimes (not pulled in without

@@ -298,6 +298,29 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
   return nearest.index;
 }
 
+namespace {
+// What bird `i` of `birds` perceives now, from `grid`; its seen_key by `ids` where given.
+Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>& birds, uint32_t i,
+                        const std::vector<Species>& species, const World& world,
+                        std::span<const uint32_t> ids = {}) {
+  const BirdState& b = birds[i];
+  const Species& s = species[b.species];
+  const dvec3 wind = wind_at(world, b.position.y);  // the air it flies in
+  const std::vector<uint32_t> seen = grid.seen_by(i, species, wind);
+  BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
+  dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
+  bool route_done = route_over(route_bird, world);
+  if (const std::optional<dvec3> on = onward_goal(route_bird, world))
+    goal = *on, route_done = false;
+  Perception p = social_goal(s, b, wind, goal, route_done, seen, birds);
+  if (!ids.empty()) {
+    p.seen_key = 0;
+    for (const uint32_t j : seen) p.seen_key += ids[j] * kSeenKeyFactor;
+  }
+  return p;
+}
+}  // namespace
+
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
               const World& world, uint64_t frame, double frame_seconds,
               std::vector<Perception>& perception) {
@@ -306,17 +329,25 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
   const int64_t n = static_cast<int64_t>(birds.size());
 #pragma omp parallel for schedule(dynamic, 256)
   for (int64_t i = 0; i < n; ++i) {
-    const BirdState& b = birds[static_cast<size_t>(i)];
-    const Species& s = species[b.species];
+    const Species& s = species[birds[static_cast<size_t>(i)].species];
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
-    const dvec3 wind = wind_at(world, b.position.y);  // the air it flies in
-    const std::vector<uint32_t> seen = grid.seen_by(static_cast<uint32_t>(i), species, wind);
-    BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
-    dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
-    bool route_done = route_over(route_bird, world);
-    if (const std::optional<dvec3> on = onward_goal(route_bird, world))
-      goal = *on, route_done = false;
-    perception[static_cast<size_t>(i)] = social_goal(s, b, wind, goal, route_done, seen, birds);
+    perception[static_cast<size_t>(i)] =
+        perceive_one(grid, birds, static_cast<uint32_t>(i), species, world);
+  }
+}
+
+void perceive(const std::vector<BirdState>& birds, std::span<const uint32_t> ids,
+              std::span<const uint32_t> perceivers, const std::vector<Species>& species,
+              const World& world, uint64_t frame, double frame_seconds, GridShape shape,
+              std::vector<Perception>& perception) {
+  perception.resize(perceivers.size());
+  const NeighbourGrid grid(birds, shape);
+  const int64_t n = static_cast<int64_t>(perceivers.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int64_t k = 0; k < n; ++k) {
+    const uint32_t i = perceivers[static_cast<size_t>(k)];
+    if (frame % reaction_frames(species[birds[i].species], frame_seconds) != 0) continue;
+    perception[static_cast<size_t>(k)] = perceive_one(grid, birds, i, species, world, ids);
   }
 }
 

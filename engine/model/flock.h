@@ -150,5 +150,13 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
               const World& world, uint64_t frame, double frame_seconds,
               std::vector<Perception>& perception);
+// The same for the birds `perceivers` of `birds` alone (perception[k] is perceivers[k]'s), on a
+// grid of `shape`, each bird's seen_key summed over `ids` (its global id) rather than its index:
+// one rank's birds among their ghosts (dist/). `birds` in the order of `ids`, ascending, so
+// that ties between equally near birds fall as on one rank.
+void perceive(const std::vector<BirdState>& birds, std::span<const uint32_t> ids,
+              std::span<const uint32_t> perceivers, const std::vector<Species>& species,
+              const World& world, uint64_t frame, double frame_seconds, GridShape shape,
+              std::vector<Perception>& perception);
 
 }  // namespace aeroflock

@@ -1,0 +1,268 @@
+#include "distributed.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <type_traits>
+
+#include <omp.h>
+
+#include "model/world.h"
+
+namespace aeroflock::dist {
+namespace {
+
+// A bird handed to its new owner: all its state and what it last perceived (a bird keeps that
+// between its ticks).
+struct Migrant {
+  uint32_t id;
+  BirdState bird;
+  Perception perception;
+};
+// A bird another rank perceives: its state alone.
+struct Ghost {
+  uint32_t id;
+  BirdState bird;
+};
+static_assert(std::is_trivially_copyable_v<Migrant> && std::is_trivially_copyable_v<Ghost>);
+
+// A cut moves at most this many halos per balance check: a bounded number of birds changes owner
+// at once.
+constexpr int64_t kCutMoveHalos = 2;
+
+template <class T>
+MPI_Datatype bytes_of() {
+  MPI_Datatype t;
+  MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &t);
+  MPI_Type_commit(&t);
+  return t;
+}
+
+// Sends outgoing[q] to rank q, for every q at once; what every rank sent here, by rank.
+template <class T>
+std::vector<T> exchange(MPI_Comm comm, const std::vector<std::vector<T>>& outgoing, Traffic& t) {
+  const int ranks = static_cast<int>(outgoing.size());
+  std::vector<int> send_counts(static_cast<size_t>(ranks)), recv_counts(static_cast<size_t>(ranks));
+  std::vector<int> send_at(static_cast<size_t>(ranks), 0), recv_at(static_cast<size_t>(ranks), 0);
+  std::vector<T> send;
+  for (int q = 0; q < ranks; ++q) {
+    send_at[size_t(q)] = static_cast<int>(send.size());
+    send_counts[size_t(q)] = static_cast<int>(outgoing[size_t(q)].size());
+    send.insert(send.end(), outgoing[size_t(q)].begin(), outgoing[size_t(q)].end());
+  }
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm);
+  int total = 0;
+  for (int q = 0; q < ranks; ++q) recv_at[size_t(q)] = total, total += recv_counts[size_t(q)];
+  std::vector<T> received(static_cast<size_t>(total));
+  MPI_Datatype type = bytes_of<T>();
+  MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), type, received.data(),
+                recv_counts.data(), recv_at.data(), type, comm);
+  MPI_Type_free(&type);
+  t.bytes_sent += send.size() * sizeof(T);
+  return received;
+}
+
+// The points whose spread picks the axis: the birds and where their routes lead.
+std::vector<glm::dvec3> spread_points(const std::vector<BirdState>& birds, const World& w) {
+  std::vector<glm::dvec3> points;
+  for (const BirdState& b : birds) points.push_back(b.position);
+  for (const Target& t : w.targets) points.push_back(t.centre);
+  for (const Branch& b : w.branches) points.push_back(b.point);
+  return points;
+}
+
+CellCounts count_cells(const Slabs& slabs, const std::vector<BirdState>& birds) {
+  std::vector<int64_t> cells;
+  cells.reserve(birds.size());
+  for (const BirdState& b : birds) cells.push_back(slabs.cell_of(b.position));
+  std::sort(cells.begin(), cells.end());
+  CellCounts counts;
+  for (int64_t c : cells) {
+    if (!counts.empty() && counts.back().first == c)
+      ++counts.back().second;
+    else
+      counts.emplace_back(c, 1);
+  }
+  return counts;
+}
+
+}  // namespace
+
+DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
+                                                   uint32_t birds_override)
+    : Simulation(std::move(scenario)), comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &ranks_);
+  // Every rank places every bird as one rank would (the same seed), cuts the world the same way
+  // and keeps its own: no communication, and the ids are the one-rank indices.
+  const std::vector<BirdState> all = spawn_birds(this->scenario(), birds_override);
+  flocking_ = any_flocking(this->scenario());
+  shape_ = grid_shape(this->scenario().species, all);
+  double reach = 0.0;
+  for (const Species& s : this->scenario().species) reach = std::max(reach, s.perception_radius);
+  slabs_.axis = longer_axis(spread_points(all, world()));
+  slabs_.cell = shape_.cell;
+  slabs_.halo = flocking_ ? static_cast<int64_t>(std::ceil(reach / shape_.cell)) : 0;
+  slabs_.cuts = balanced_cuts(count_cells(slabs_, all), ranks_, slabs_.halo);
+  for (uint32_t i = 0; i < all.size(); ++i)
+    if (slabs_.owner(slabs_.cell_of(all[i].position)) == rank_) {
+      birds_.push_back(all[i]);
+      ids_.push_back(i);
+    }
+  perception_.resize(birds_.size());
+}
+
+std::string DistributedCpuSimulation::device() const {
+  return "cpu reference (" + std::to_string(omp_get_max_threads()) + " threads) on rank " +
+         std::to_string(rank_) + " of " + std::to_string(ranks_);
+}
+
+void DistributedCpuSimulation::rebalance_if_due() {
+  const uint64_t second = static_cast<uint64_t>(std::floor(time()));
+  if (second <= checked_second_) return;
+  checked_second_ = second;
+  const double start = MPI_Wtime();
+  const uint64_t mine = birds_.size();
+  std::vector<uint64_t> per_rank(static_cast<size_t>(ranks_));
+  MPI_Allgather(&mine, 1, MPI_UINT64_T, per_rank.data(), 1, MPI_UINT64_T, comm_);
+  if (imbalanced(per_rank, kImbalance)) {
+    // Every rank gathers every rank's counts per cell and computes the same cuts.
+    const CellCounts local = count_cells(slabs_, birds_);
+    const int bytes = static_cast<int>(local.size() * sizeof(CellCounts::value_type));
+    std::vector<int> sizes(static_cast<size_t>(ranks_)), at(static_cast<size_t>(ranks_));
+    MPI_Allgather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, comm_);
+    int total = 0;
+    for (int q = 0; q < ranks_; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
+    CellCounts all(size_t(total) / sizeof(CellCounts::value_type));
+    MPI_Allgatherv(local.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE,
+                   comm_);
+    slabs_.cuts = rebalanced_cuts(slabs_.cuts, merged({std::move(all)}), slabs_.halo,
+                                  kCutMoveHalos * std::max<int64_t>(slabs_.halo, 1));
+    ++traffic_.rebalances;
+  }
+  traffic_.seconds += MPI_Wtime() - start;
+}
+
+void DistributedCpuSimulation::migrate() {
+  const double start = MPI_Wtime();
+  std::vector<std::vector<Migrant>> out(static_cast<size_t>(ranks_));
+  size_t kept = 0;
+  for (size_t k = 0; k < birds_.size(); ++k) {
+    const int owner = slabs_.owner(slabs_.cell_of(birds_[k].position));
+    if (owner == rank_) {
+      birds_[kept] = birds_[k], ids_[kept] = ids_[k], perception_[kept] = perception_[k];
+      ++kept;
+    } else {
+      out[size_t(owner)].push_back({ids_[k], birds_[k], perception_[k]});
+      ++traffic_.migrants_sent;
+    }
+  }
+  birds_.resize(kept), ids_.resize(kept), perception_.resize(kept);
+  std::vector<Migrant> in = exchange(comm_, out, traffic_);
+  if (!in.empty()) {
+    // Merged in by id, so that this rank's birds stay in the one-rank order.
+    for (const Migrant& m : in) {
+      birds_.push_back(m.bird), ids_.push_back(m.id), perception_.push_back(m.perception);
+    }
+    std::vector<uint32_t> order(birds_.size());
+    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return ids_[a] < ids_[b]; });
+    std::vector<BirdState> birds(order.size());
+    std::vector<uint32_t> ids(order.size());
+    std::vector<Perception> perception(order.size());
+    for (size_t k = 0; k < order.size(); ++k)
+      birds[k] = birds_[order[k]], ids[k] = ids_[order[k]], perception[k] = perception_[order[k]];
+    birds_.swap(birds), ids_.swap(ids), perception_.swap(perception);
+  }
+  traffic_.seconds += MPI_Wtime() - start;
+}
+
+void DistributedCpuSimulation::perceive_with_ghosts() {
+  const double start = MPI_Wtime();
+  // Only birds that flock now are seen by anyone: only they travel as ghosts.
+  std::vector<std::vector<Ghost>> out(static_cast<size_t>(ranks_));
+  std::vector<int> to;
+  for (size_t k = 0; k < birds_.size(); ++k) {
+    if (!flocks_now(birds_[k])) continue;
+    to.clear();
+    slabs_.ghost_ranks(slabs_.cell_of(birds_[k].position), to);
+    for (int q : to) out[size_t(q)].push_back({ids_[k], birds_[k]});
+    traffic_.ghosts_sent += to.size();
+  }
+  std::vector<Ghost> ghosts = exchange(comm_, out, traffic_);
+  ghosts_ = ghosts.size();
+  traffic_.seconds += MPI_Wtime() - start;
+  std::sort(ghosts.begin(), ghosts.end(),
+            [](const Ghost& a, const Ghost& b) { return a.id < b.id; });
+  // This rank's birds and the ghosts, merged by id.
+  std::vector<BirdState> seen;
+  std::vector<uint32_t> seen_ids, mine;
+  seen.reserve(birds_.size() + ghosts.size());
+  seen_ids.reserve(seen.capacity());
+  mine.reserve(birds_.size());
+  size_t g = 0;
+  for (size_t k = 0; k < birds_.size(); ++k) {
+    for (; g < ghosts.size() && ghosts[g].id < ids_[k]; ++g)
+      seen.push_back(ghosts[g].bird), seen_ids.push_back(ghosts[g].id);
+    mine.push_back(static_cast<uint32_t>(seen.size()));
+    seen.push_back(birds_[k]), seen_ids.push_back(ids_[k]);
+  }
+  for (; g < ghosts.size(); ++g) seen.push_back(ghosts[g].bird), seen_ids.push_back(ghosts[g].id);
+  GridShape local = shape_;
+  local.buckets = std::bit_ceil(
+      static_cast<uint32_t>(std::clamp<size_t>(4 * seen.size(), 1024, size_t{1} << 31)));
+  std::vector<Perception> fresh;
+  perceive(seen, seen_ids, mine, scenario().species, world(), frames() - 1,
+           scenario().frame_seconds(), local, fresh);
+  // perceive() leaves a bird not due now as it was: keep its own perception then.
+  for (size_t k = 0; k < birds_.size(); ++k) {
+    const Species& s = scenario().species[birds_[k].species];
+    if ((frames() - 1) % reaction_frames(s, scenario().frame_seconds()) == 0)
+      perception_[k] = fresh[k];
+  }
+}
+
+void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
+  if (record_forces) throw std::logic_error("forces are not recorded across ranks");
+  begin_frame();
+  rebalance_if_due();
+  migrate();
+  if (flocking_) perceive_with_ghosts();
+  const double dt = scenario().dt;
+  const uint64_t first = this->steps();
+  const World& w = world();
+  const std::vector<Species>& species = scenario().species;
+  const int64_t n = static_cast<int64_t>(birds_.size());
+#pragma omp parallel for schedule(static)
+  for (int64_t i = 0; i < n; ++i) {
+    BirdState& b = birds_[size_t(i)];
+    const Perception* seen = flocking_ ? &perception_[size_t(i)] : nullptr;
+    for (uint32_t k = 0; k < steps; ++k) step_bird(b, species[b.species], w, first + k, dt, nullptr, seen);
+  }
+  end_frame(steps);
+}
+
+Snapshot DistributedCpuSimulation::snapshot() {
+  return {frames(), this->steps(), time(), &birds_, nullptr, flocking_ ? &perception_ : nullptr};
+}
+
+std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {
+  std::vector<Ghost> mine;
+  for (size_t k = 0; k < birds_.size(); ++k) mine.push_back({ids_[k], birds_[k]});
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<size_t>(ranks_)), at(static_cast<size_t>(ranks_));
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
+  int total = 0;
+  for (int q = 0; q < ranks_; ++q) at[size_t(q)] = total, total += counts[size_t(q)];
+  std::vector<Ghost> all(rank_ == root ? size_t(total) : 0);
+  MPI_Datatype type = bytes_of<Ghost>();
+  MPI_Gatherv(mine.data(), count, type, all.data(), counts.data(), at.data(), type, root, comm_);
+  MPI_Type_free(&type);
+  std::sort(all.begin(), all.end(), [](const Ghost& a, const Ghost& b) { return a.id < b.id; });
+  std::vector<BirdState> birds;
+  for (const Ghost& g : all) birds.push_back(g.bird);
+  return birds;
+}
+
+}  // namespace aeroflock::dist

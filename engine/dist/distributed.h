@@ -1,0 +1,71 @@
+// One flock flown by many MPI ranks, each the owner of the birds in its slab of the world
+// (slabs.h), bird for bird the same as CpuSimulation on one (docs/DISTRIBUTED.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <mpi.h>
+
+#include "model/simulation.h"
+#include "slabs.h"
+
+namespace aeroflock::dist {
+
+// What a rank did to share its birds, summed since the start.
+struct Traffic {
+  uint64_t migrants_sent = 0;  // birds handed to another owner
+  uint64_t ghosts_sent = 0;    // copies sent for others to perceive
+  uint64_t bytes_sent = 0;
+  uint64_t rebalances = 0;
+  double seconds = 0.0;  // wall time in the exchanges (and the rebalancing's reductions)
+};
+
+// The CPU reference on the rank's own birds. Before each frame's perception the birds that left
+// the slab move to their new owner, then each rank receives as ghosts the birds within the halo
+// of its slab; ghosts are perceived, never stepped. Every simulated second the cuts are moved
+// towards balance if the busiest rank holds more than kImbalance times the mean. All ranks of
+// `comm` construct it and call step() together (collective).
+class DistributedCpuSimulation final : public Simulation {
+ public:
+  static constexpr double kImbalance = 1.05;
+
+  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, uint32_t birds_override = 0);
+
+  std::string backend() const override { return "cpu"; }
+  std::string device() const override;
+  size_t bird_count() const override { return birds_.size(); }
+  void step(uint32_t steps, bool record_forces = false) override;
+  Snapshot snapshot() override;
+
+  // The global id of each of this rank's birds (snapshot().birds[k]'s), ascending.
+  const std::vector<uint32_t>& ids() const { return ids_; }
+  // Every bird, ordered by global id, on rank `root` (empty elsewhere). Collective.
+  std::vector<BirdState> gather(int root = 0) const;
+  const Slabs& slabs() const { return slabs_; }
+  size_t ghost_count() const { return ghosts_; }
+  const Traffic& traffic() const { return traffic_; }
+  int rank() const { return rank_; }
+  int ranks() const { return ranks_; }
+
+ private:
+  void rebalance_if_due();
+  void migrate();
+  // Ghosts in, then this rank's birds perceive among them.
+  void perceive_with_ghosts();
+
+  MPI_Comm comm_;
+  int rank_ = 0, ranks_ = 1;
+  GridShape shape_;
+  Slabs slabs_;
+  std::vector<BirdState> birds_;     // this rank's, ordered by id
+  std::vector<uint32_t> ids_;        // their global ids
+  std::vector<Perception> perception_;
+  bool flocking_ = false;
+  uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at
+  size_t ghosts_ = 0;
+  Traffic traffic_;
+};
+
+}  // namespace aeroflock::dist

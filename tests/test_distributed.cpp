@@ -1,0 +1,118 @@
+// One flock over MPI ranks against the same flock on one (engine/dist): every bird's state bit for
+// bit the same by global id, no bird lost or doubled at any frame, each rank's ghosts exactly the
+// birds within its halo. Run under mpiexec with 1 to 4 ranks (tests/CMakeLists.txt); rank 0
+// flies the one-rank reference and reports.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "dist/distributed.h"
+#include "io/scenario_file.h"
+
+using namespace aeroflock;
+using aeroflock::dist::DistributedCpuSimulation;
+
+namespace {
+
+int rank_here() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+// Field by field (a struct's padding is not state), exactly.
+bool same_state(const BirdState& a, const BirdState& b) {
+  return true
+#define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial) &&a.name == b.name
+#include "model/bird_state.def"
+#undef AF_BIRD_FIELD
+      ;
+}
+
+// Flies `scenario` for `frames` frames on every rank and on rank 0 alone; checks each frame that
+// the ranks hold every id once, and at the end that every bird is the same.
+void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
+                             bool expect_traffic = true) {
+  DistributedCpuSimulation many(scenario, MPI_COMM_WORLD, birds);
+  const bool root = rank_here() == 0;
+  std::unique_ptr<CpuSimulation> one;
+  if (root) one = std::make_unique<CpuSimulation>(scenario, birds);
+  const uint64_t total = root ? one->bird_count() : 0;
+  for (uint32_t f = 0; f < frames; ++f) {
+    many.step_frame();
+    if (root) one->step_frame();
+    // Conservation: every id exactly once over the ranks.
+    const std::vector<uint32_t>& ids = many.ids();
+    const int mine = static_cast<int>(ids.size());
+    int ranks = 0;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+    MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    int all = 0;
+    for (int q = 0; q < ranks; ++q) at[size_t(q)] = all, all += counts[size_t(q)];
+    std::vector<uint32_t> every(root ? size_t(all) : 0);
+    MPI_Gatherv(ids.data(), mine, MPI_UINT32_T, every.data(), counts.data(), at.data(),
+                MPI_UINT32_T, 0, MPI_COMM_WORLD);
+    if (root) {
+      std::sort(every.begin(), every.end());
+      ASSERT_EQ(every.size(), total) << "frame " << f;
+      for (uint32_t k = 0; k < every.size(); ++k) ASSERT_EQ(every[k], k) << "frame " << f;
+    }
+  }
+  const std::vector<BirdState> gathered = many.gather();
+  // What crossed between ranks: on several ranks a test that never migrated or ghosted a bird
+  // would prove nothing.
+  const uint64_t mine[3] = {many.traffic().migrants_sent, many.traffic().ghosts_sent,
+                            many.traffic().rebalances};
+  uint64_t sum[3] = {0, 0, 0};
+  MPI_Reduce(mine, sum, 3, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+  if (!root) return;
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  std::printf("%d ranks: %lu migrants, %lu ghosts sent, %lu rebalances\n", ranks,
+              (unsigned long)sum[0], (unsigned long)sum[1], (unsigned long)sum[2]);
+  if (ranks > 1 && expect_traffic) {
+    EXPECT_GT(sum[0], 0u) << "no bird changed rank";
+    EXPECT_GT(sum[1], 0u) << "no ghost was sent";
+  }
+  ASSERT_EQ(gathered.size(), one->bird_count());
+  size_t differ = 0;
+  for (size_t i = 0; i < gathered.size(); ++i)
+    if (!same_state(gathered[i], one->birds()[i])) {
+      if (differ++ < 5)
+        ADD_FAILURE() << "bird " << i << " differs: at " << gathered[i].position.x << ", "
+                      << gathered[i].position.y << ", " << gathered[i].position.z
+                      << " against " << one->birds()[i].position.x << ", "
+                      << one->birds()[i].position.y << ", " << one->birds()[i].position.z;
+    }
+  EXPECT_EQ(differ, 0u);
+}
+
+}  // namespace
+
+TEST(Distributed, TheDefaultFlockIsTheSameBirdForBird) {
+  Scenario s = load_scenario("default");
+  expect_same_as_one_rank(s, 300, 100);
+}
+
+TEST(Distributed, MoreRanksThanBirds) {
+  Scenario s = load_scenario("default");
+  expect_same_as_one_rank(s, 2, 20, false);
+}
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  // Only rank 0 reports; every rank runs every test (they are collective).
+  if (rank_here() != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  const int failed = RUN_ALL_TESTS();
+  int any = 0;
+  MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return any;
+}
