@@ -6,6 +6,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "dist/distributed.h"
@@ -29,6 +30,27 @@ bool same_state(const BirdState& a, const BirdState& b) {
 #include "model/bird_state.def"
 #undef AF_BIRD_FIELD
       ;
+}
+
+// `values` (one per id of this rank) of every rank, ordered by id, on rank 0.
+std::vector<uint32_t> gather_by_id(const std::vector<uint32_t>& ids,
+                                   const std::vector<uint32_t>& values) {
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  std::vector<uint32_t> pairs;
+  for (size_t k = 0; k < values.size(); ++k) pairs.push_back(ids[k]), pairs.push_back(values[k]);
+  const int mine = static_cast<int>(pairs.size());
+  std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  int all = 0;
+  for (int q = 0; q < ranks; ++q) at[size_t(q)] = all, all += counts[size_t(q)];
+  std::vector<uint32_t> every(rank_here() == 0 ? size_t(all) : 0);
+  MPI_Gatherv(pairs.data(), mine, MPI_UINT32_T, every.data(), counts.data(), at.data(),
+              MPI_UINT32_T, 0, MPI_COMM_WORLD);
+  std::vector<uint32_t> out(every.size() / 2);
+  for (size_t k = 0; k + 1 < every.size(); k += 2)
+    if (every[k] < out.size()) out[every[k]] = every[k + 1];
+  return out;
 }
 
 // Flies `scenario` for `frames` frames on every rank and on rank 0 alone; checks each frame that
@@ -62,6 +84,11 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
     }
   }
   const std::vector<BirdState> gathered = many.gather();
+  // The neighbour sets of the last tick, by their keys (sums of global ids).
+  std::vector<uint32_t> keys;
+  if (const std::vector<Perception>* p = many.snapshot().perception)
+    for (const Perception& q : *p) keys.push_back(q.seen_key);
+  const std::vector<uint32_t> all_keys = gather_by_id(many.ids(), keys);
   // What crossed between ranks: on several ranks a test that never migrated or ghosted a bird
   // would prove nothing.
   const uint64_t mine[3] = {many.traffic().migrants_sent, many.traffic().ghosts_sent,
@@ -83,11 +110,17 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
     if (!same_state(gathered[i], one->birds()[i])) {
       if (differ++ < 5)
         ADD_FAILURE() << "bird " << i << " differs: at " << gathered[i].position.x << ", "
-                      << gathered[i].position.y << ", " << gathered[i].position.z
-                      << " against " << one->birds()[i].position.x << ", "
-                      << one->birds()[i].position.y << ", " << one->birds()[i].position.z;
+                      << gathered[i].position.y << ", " << gathered[i].position.z << " against "
+                      << one->birds()[i].position.x << ", " << one->birds()[i].position.y << ", "
+                      << one->birds()[i].position.z;
     }
   EXPECT_EQ(differ, 0u);
+  if (const std::vector<Perception>* p = one->snapshot().perception) {
+    ASSERT_EQ(all_keys.size(), p->size());
+    size_t unlike = 0;
+    for (size_t i = 0; i < p->size(); ++i) unlike += all_keys[i] != (*p)[i].seen_key;
+    EXPECT_EQ(unlike, 0u) << "birds whose neighbours differ";
+  }
 }
 
 }  // namespace
@@ -95,6 +128,27 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
 TEST(Distributed, TheDefaultFlockIsTheSameBirdForBird) {
   Scenario s = load_scenario("default");
   expect_same_as_one_rank(s, 300, 100);
+}
+
+// The whole default scenario, 1,020 birds for 20 s (the full tier).
+TEST(Distributed, TheDefaultScenarioTwentySeconds) {
+  Scenario s = load_scenario("default");
+  expect_same_as_one_rank(s, 0, static_cast<uint32_t>(std::lround(s.duration / s.frame_seconds())));
+}
+
+// The migrating flock flies its route through several slabs with its turns; the cuts follow it.
+TEST(Distributed, TheMigratingFlockThroughItsSlabs) {
+  Scenario s = load_scenario("migration-flock");
+  expect_same_as_one_rank(s, 400, 600);
+}
+
+// Two flocks 3 km apart along the cut axis: ranks between them hold no bird.
+TEST(Distributed, TwoFlocksFarApart) {
+  Scenario s = load_scenario("default");
+  Flock far = s.flocks.front();
+  far.spawn_centre.x += 300000.0;
+  s.flocks.push_back(far);
+  expect_same_as_one_rank(s, 400, 100, false);  // on 2 ranks each flock alone on its own
 }
 
 TEST(Distributed, MoreRanksThanBirds) {

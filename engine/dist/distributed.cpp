@@ -167,7 +167,8 @@ void DistributedCpuSimulation::migrate() {
     }
     std::vector<uint32_t> order(birds_.size());
     for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return ids_[a] < ids_[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return ids_[a] < ids_[b]; });
     std::vector<BirdState> birds(order.size());
     std::vector<uint32_t> ids(order.size());
     std::vector<Perception> perception(order.size());
@@ -238,7 +239,8 @@ void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
   for (int64_t i = 0; i < n; ++i) {
     BirdState& b = birds_[size_t(i)];
     const Perception* seen = flocking_ ? &perception_[size_t(i)] : nullptr;
-    for (uint32_t k = 0; k < steps; ++k) step_bird(b, species[b.species], w, first + k, dt, nullptr, seen);
+    for (uint32_t k = 0; k < steps; ++k)
+      step_bird(b, species[b.species], w, first + k, dt, nullptr, seen);
   }
   end_frame(steps);
 }

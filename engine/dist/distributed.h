@@ -59,8 +59,8 @@ class DistributedCpuSimulation final : public Simulation {
   int rank_ = 0, ranks_ = 1;
   GridShape shape_;
   Slabs slabs_;
-  std::vector<BirdState> birds_;     // this rank's, ordered by id
-  std::vector<uint32_t> ids_;        // their global ids
+  std::vector<BirdState> birds_;  // this rank's, ordered by id
+  std::vector<uint32_t> ids_;     // their global ids
   std::vector<Perception> perception_;
   bool flocking_ = false;
   uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at

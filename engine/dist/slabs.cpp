@@ -63,7 +63,8 @@ std::vector<int64_t> rebalanced_cuts(const std::vector<int64_t>& now, const Cell
                                      int64_t halo, int64_t most) {
   std::vector<int64_t> cuts = balanced_cuts(counts, static_cast<int>(now.size()) + 1, halo);
   if (counts.empty()) return now;
-  for (size_t i = 0; i < cuts.size(); ++i) cuts[i] = std::clamp(cuts[i], now[i] - most, now[i] + most);
+  for (size_t i = 0; i < cuts.size(); ++i)
+    cuts[i] = std::clamp(cuts[i], now[i] - most, now[i] + most);
   keep_apart(cuts, counts.front().first, counts.back().first + 1, halo);
   return cuts;
 }
