@@ -32,6 +32,22 @@ bool same_state(const BirdState& a, const BirdState& b) {
       ;
 }
 
+// Every rank's birds on every rank (in no particular order).
+std::vector<BirdState> all_birds(DistributedCpuSimulation& many) {
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const std::vector<BirdState>& mine = *many.snapshot().birds;
+  const int bytes = static_cast<int>(mine.size() * sizeof(BirdState));
+  std::vector<int> sizes(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+  MPI_Allgather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (int q = 0; q < ranks; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
+  std::vector<BirdState> all(static_cast<size_t>(total) / sizeof(BirdState));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE,
+                 MPI_COMM_WORLD);
+  return all;
+}
+
 // `values` (one per id of this rank) of every rank, ordered by id, on rank 0.
 std::vector<uint32_t> gather_by_id(const std::vector<uint32_t>& ids,
                                    const std::vector<uint32_t>& values) {
@@ -63,7 +79,20 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
   if (root) one = std::make_unique<CpuSimulation>(scenario, birds);
   const uint64_t total = root ? one->bird_count() : 0;
   for (uint32_t f = 0; f < frames; ++f) {
+    // Every bird as the frame starts, on every rank: the ghosts this rank should receive.
+    const std::vector<BirdState> before = all_birds(many);
     many.step_frame();
+    if (any_flocking(scenario)) {
+      size_t expected = 0;
+      std::vector<int> to;
+      for (const BirdState& b : before) {
+        if (!flocks_now(b)) continue;
+        to.clear();
+        many.slabs().ghost_ranks(many.slabs().cell_of(b.position), to);
+        expected += std::count(to.begin(), to.end(), rank_here());
+      }
+      ASSERT_EQ(many.ghost_count(), expected) << "rank " << rank_here() << " frame " << f;
+    }
     if (root) one->step_frame();
     // Conservation: every id exactly once over the ranks.
     const std::vector<uint32_t>& ids = many.ids();
