@@ -115,6 +115,54 @@ TEST(RunLoop, AnErrorStopsItAndErrorsComeInOrder) {
   EXPECT_EQ(summary.calls.back(), "finish frames=2");
 }
 
+// A simulation flown by several processes (dist/) stops where any of them must: here, another
+// "rank" asks to stop after frame `others_stop_at`, and this one's own reasons are recorded.
+class OneOfSeveral final : public Simulation {
+ public:
+  explicit OneOfSeveral(uint64_t others_stop_at)
+      : Simulation(load_scenario("fig17-ground-effect")), cpu_(scenario()), at_(others_stop_at) {}
+  std::string backend() const override { return "cpu"; }
+  std::string device() const override { return "test"; }
+  size_t bird_count() const override { return cpu_.bird_count(); }
+  void step(uint32_t steps, bool forces) override {
+    begin_frame();
+    cpu_.step(steps, forces);
+    end_frame(steps);
+  }
+  Snapshot snapshot() override { return cpu_.snapshot(); }
+  bool stops_together(bool here) override {
+    asked.push_back(here);
+    return here || frames() >= at_;
+  }
+  std::vector<bool> asked;
+
+ private:
+  CpuSimulation cpu_;
+  uint64_t at_;
+};
+
+TEST(RunLoop, EveryPartStopsOnTheFrameAnyMust) {
+  {
+    OneOfSeveral sim(3);
+    Recorder o;
+    const RunResult r = run_frames(sim, {&o}, {.frames = 100});
+    EXPECT_EQ(r.end, RunResult::End::observer);
+    EXPECT_EQ(r.stopped_by, "another rank");
+    EXPECT_EQ(r.frames, 3u);
+    EXPECT_EQ(sim.asked, (std::vector<bool>{false, false, false, false}));
+  }
+  {
+    // Its own error: it asks the others to stop at the frame's end, and stops.
+    OneOfSeveral sim(100);
+    Recorder o;
+    o.throw_at = 2;
+    const RunResult r = run_frames(sim, {&o}, {.frames = 100});
+    EXPECT_EQ(r.end, RunResult::End::error);
+    EXPECT_EQ(r.frames, 2u);
+    EXPECT_EQ(sim.asked, (std::vector<bool>{false, false, true}));
+  }
+}
+
 TEST(RunLoop, FramesGoSeveralToASubmissionOnlyWhenNoObserverReadsEach) {
   {
     auto sim = small_sim();

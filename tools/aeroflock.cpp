@@ -25,6 +25,8 @@
 #include "backend.h"
 #include "bench.h"
 #include "converge.h"
+#include "dist/distributed.h"
+#include "dist/mpi_session.h"
 #include "envelope.h"
 #include "gpu/gpu_simulation.h"
 #include "io/paths.h"
@@ -213,6 +215,33 @@ void report_quarantined(const std::vector<BirdState>& birds,
                  all - kShown, kQuarantinedListed);
 }
 
+// AEROFLOCK_TEST_FAIL_RANK's observer: its run fails after frame `at`.
+class FailingRank final : public RunObserver {
+ public:
+  explicit FailingRank(uint64_t at) : at_(at) {}
+  void frame(Simulation&, uint64_t frames) override {
+    if (frames >= at_) throw std::runtime_error("AEROFLOCK_TEST_FAIL_RANK: this rank fails here");
+  }
+
+ private:
+  uint64_t at_;
+};
+
+// The MPI session main() opened (dist/mpi_session.h): one process unless a launcher started many.
+const dist::MpiSession* g_mpi = nullptr;
+
+// Over many ranks what is not built yet (issue 42) is refused on every rank alike, said by rank 0
+// alone: "" when the options are ones a distributed run has.
+std::string refused_across_ranks(const RunOptions& opt) {
+  if (opt.backend != "cpu")
+    return "--backend " + opt.backend +
+           " does not run over many ranks yet: add --backend cpu (docs/DISTRIBUTED.md)";
+  if (opt.images.any()) return "--png, --frames-dir and --video do not run over many ranks yet";
+  if (!opt.vtk.dir.empty()) return "--vtk does not run over many ranks yet";
+  if (opt.structure_from) return "--structure-from does not run over many ranks yet";
+  return {};
+}
+
 int run(const RunOptions& opt) {
   g_signal = 0;
   struct sigaction action {};
@@ -224,7 +253,15 @@ int run(const RunOptions& opt) {
   sigaction(SIGTERM, &action, nullptr);
   // A video's ffmpeg that has died: a write error to report, not a silent death by SIGPIPE.
   std::signal(SIGPIPE, SIG_IGN);
-  if (!opt.summary.empty()) check_output_path(opt.summary, "--summary", {".json"});
+  const bool many = g_mpi && g_mpi->ranks() > 1;
+  const bool root = !g_mpi || g_mpi->root();
+  if (many) {
+    if (const std::string why = refused_across_ranks(opt); !why.empty()) {
+      if (root) std::cerr << "aeroflock: error: " << why << "\n";
+      return 2;
+    }
+  }
+  if (!opt.summary.empty() && root) check_output_path(opt.summary, "--summary", {".json"});
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
   Scenario scenario = load_scenario(opt.scenario);
@@ -233,6 +270,12 @@ int run(const RunOptions& opt) {
   // Tests of the NaN quarantine: that flock's birds turn non-finite near the ground.
   if (const char* doomed = std::getenv("AEROFLOCK_TEST_NAN_FLOCK"))
     make_flock_non_finite(scenario, doomed);
+  // Tests of an error on one rank: "RANK:FRAME", that rank's run fails after that frame.
+  std::optional<FailingRank> failing;
+  if (const char* f = std::getenv("AEROFLOCK_TEST_FAIL_RANK"); f && g_mpi)
+    if (const int rank = std::atoi(f); rank == g_mpi->rank())
+      failing.emplace(
+          std::strtoull(std::strchr(f, ':') ? std::strchr(f, ':') + 1 : "1", nullptr, 10));
   const double seconds = opt.seconds.value_or(scenario.duration);
   const double frame_seconds = scenario.dt * scenario.steps_per_frame;
   // Whole frames, at least one: any positive duration flies. The small allowance keeps an exact
@@ -247,13 +290,22 @@ int run(const RunOptions& opt) {
   // said now, and in the summary.
   summary.wind = wind_warnings(scenario);
   for (const WindWarning& w : summary.wind)
-    std::fprintf(stderr, "aeroflock: warning: %s\n", w.sentence().c_str());
+    if (root) std::fprintf(stderr, "aeroflock: warning: %s\n", w.sentence().c_str());
   summary.scenario = scenario.name;
   summary.scenario_hash = scenario.hash;
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
-  std::unique_ptr<Simulation> sim = make_simulation(
-      {opt.backend, opt.size.birds, opt.device, opt.images.any()}, std::move(scenario));
+  std::unique_ptr<Simulation> sim;
+  dist::DistributedCpuSimulation* ranks = nullptr;
+  if (many) {
+    auto d = std::make_unique<dist::DistributedCpuSimulation>(std::move(scenario), MPI_COMM_WORLD,
+                                                              opt.size.birds);
+    ranks = d.get();
+    sim = std::move(d);
+  } else {
+    sim = make_simulation({opt.backend, opt.size.birds, opt.device, opt.images.any()},
+                          std::move(scenario));
+  }
   std::unique_ptr<Pictures> images;
   if (opt.images.any()) images = std::make_unique<Pictures>(opt.images, *sim);
   summary.backend = sim->backend();
@@ -277,8 +329,10 @@ int run(const RunOptions& opt) {
   // pictures, the VTK files (the first error is the summary's).
   RunProgress progress(total_seconds);
   StrictCheck strict;
-  std::vector<RunObserver*> observers = {&progress};
+  std::vector<RunObserver*> observers;
+  if (root) observers.push_back(&progress);
   if (opt.strict) observers.push_back(&strict);
+  if (failing) observers.push_back(&*failing);
   if (images) observers.push_back(images.get());
   if (vtk) observers.push_back(vtk.get());
   std::unique_ptr<StructureObserver> structure;
@@ -303,6 +357,9 @@ int run(const RunOptions& opt) {
   // several at a time (Simulation::step_frames), about kBirdFramesPerSubmission bird-frames each.
   limits.batch = std::clamp<uint64_t>(kBirdFramesPerSubmission / std::max<size_t>(birds, 1), 1,
                                       gpu::kFramesPerSubmission);
+  // Over many ranks every rank steps one frame a turn, whatever its own observers read: the
+  // ranks' frames and their exchanges must pair up (and the CPU gains nothing from batches).
+  if (many) limits.batch = 1;
   const RunResult run = run_frames(*sim, observers, limits);
   const bool interrupted = run.end == RunResult::End::signal;
   std::vector<std::string> errors = run.errors;
@@ -311,10 +368,29 @@ int run(const RunOptions& opt) {
   summary.steps = sim->steps();
   summary.sim_seconds = sim->time();
   summary.interrupted = interrupted;
-  summary.stats = flock_statistics(sim->birds());
-  summary.flocking = flocking_summary(sim->scenario(), sim->birds());
+  // Over many ranks the summary is rank 0's, of every rank's birds; the others say only their
+  // errors, and every rank exits alike.
+  std::vector<BirdState> gathered;
+  if (ranks) {
+    gathered = ranks->gather();
+    for (const dist::RankShare& r : ranks->gather_shares())
+      summary.ranks.push_back({r.rank, r.birds, r.ghosts, r.traffic.migrants_sent,
+                               r.traffic.ghosts_sent, r.traffic.bytes_sent, r.traffic.rebalances,
+                               r.traffic.seconds});
+    int mine = run.errors.empty() ? 0 : 1, any = 0;
+    MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (!root) {
+      for (const std::string& e : run.errors)
+        std::cerr << "aeroflock: error (" << g_mpi->describe() << "): " << e << "\n";
+      return any ? 2 : interrupted ? 128 + run.signal : 0;
+    }
+    if (any && errors.empty()) errors.push_back("another rank stopped with an error (above)");
+  }
+  const std::vector<BirdState>& birds_now = ranks ? gathered : sim->birds();
+  summary.stats = flock_statistics(birds_now);
+  summary.flocking = flocking_summary(sim->scenario(), birds_now);
   if (structure) summary.structure = structure->flocks();
-  summary.quarantined = quarantined_birds(sim->birds(), sim->scenario().dt, kQuarantinedListed);
+  summary.quarantined = quarantined_birds(birds_now, sim->scenario().dt, kQuarantinedListed);
   if (vtk) {
     const VtkExporter::QueueUse queue = vtk->queue_high_water();
     summary.vtk_queue_frames = queue.frames;
@@ -333,9 +409,9 @@ int run(const RunOptions& opt) {
       summary_written.clear();
     }
   }
-  print_summary(summary, flock_counts(sim->scenario(), sim->birds()), seconds, summary_written,
+  print_summary(summary, flock_counts(sim->scenario(), birds_now), seconds, summary_written,
                 vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
-  report_quarantined(sim->birds(), summary.quarantined);
+  report_quarantined(birds_now, summary.quarantined);
   if (!errors.empty()) {
     std::fflush(stdout);
     for (const std::string& e : errors) std::cerr << "aeroflock: error: " << e << "\n";
@@ -492,6 +568,9 @@ Command add_devices_command(CLI::App& app) {
 
 int main(int argc, char** argv) {
   using namespace aeroflock;
+  // Under mpirun every rank runs this; without, MPI is never initialised.
+  const dist::MpiSession mpi(&argc, &argv);
+  g_mpi = &mpi;
   CLI::App app{"aeroflock: real-time bird flight simulation based on aerodynamics"};
   app.require_subcommand(1);
   std::string show;
@@ -511,21 +590,31 @@ int main(int argc, char** argv) {
       std::cerr << message << "\n";
       return 2;
     }
+  // Over many ranks a mistake in the command line or the scenario is every rank's alike: rank 0
+  // says it, once. Any other error may be one rank's alone: it says it, and ends every rank.
+  auto said_once = [&](int code, auto&& say) {
+    if (mpi.root()) say();
+    return code;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    return mpi.root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   }
   try {
     for (const Command& c : commands)
       if (c.app->parsed()) return c.run();
     return 2;
   } catch (const CLI::ParseError& e) {  // a check made once the whole line is read
-    return app.exit(e) == 0 ? 0 : 2;
+    return mpi.root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   } catch (const ScenarioError& e) {
-    std::cerr << e.what() << "\n";  // already "FILE:LINE:COLUMN: error: ..."
-    return 2;
+    // Already "FILE:LINE:COLUMN: error: ...".
+    return said_once(2, [&] { std::cerr << e.what() << "\n"; });
   } catch (const std::exception& e) {
+    if (mpi.ranks() > 1) {
+      std::cerr << "aeroflock: error (" << mpi.describe() << "): " << e.what() << "\n";
+      mpi.abort(2);
+    }
     std::cerr << "aeroflock: error: " << e.what() << "\n";
     return 2;
   }

@@ -114,8 +114,8 @@ DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm c
 }
 
 std::string DistributedCpuSimulation::device() const {
-  return "cpu reference (" + std::to_string(omp_get_max_threads()) + " threads) on rank " +
-         std::to_string(rank_) + " of " + std::to_string(ranks_);
+  return "cpu reference (" + std::to_string(omp_get_max_threads()) + " threads a rank) on " +
+         std::to_string(ranks_) + " MPI ranks";
 }
 
 void DistributedCpuSimulation::rebalance_if_due() {
@@ -247,6 +247,20 @@ void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
 
 Snapshot DistributedCpuSimulation::snapshot() {
   return {frames(), this->steps(), time(), &birds_, nullptr, flocking_ ? &perception_ : nullptr};
+}
+
+std::vector<RankShare> DistributedCpuSimulation::gather_shares(int root) const {
+  static_assert(std::is_trivially_copyable_v<RankShare>);
+  const RankShare mine{rank_, birds_.size(), ghosts_, traffic_};
+  std::vector<RankShare> all(rank_ == root ? static_cast<size_t>(ranks_) : 0);
+  MPI_Gather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, root, comm_);
+  return all;
+}
+
+bool DistributedCpuSimulation::stops_together(bool here) {
+  int mine = here ? 1 : 0, any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_LOR, comm_);
+  return any != 0;
 }
 
 std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {

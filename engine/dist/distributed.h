@@ -22,6 +22,13 @@ struct Traffic {
   double seconds = 0.0;  // wall time in the exchanges (and the rebalancing's reductions)
 };
 
+// One rank's share, for the summary.
+struct RankShare {
+  int rank = 0;
+  uint64_t birds = 0, ghosts = 0;
+  Traffic traffic;
+};
+
 // The CPU reference on the rank's own birds. Before each frame's perception the birds that left
 // the slab move to their new owner, then each rank receives as ghosts the birds within the halo
 // of its slab; ghosts are perceived, never stepped. Every simulated second the cuts are moved
@@ -38,11 +45,15 @@ class DistributedCpuSimulation final : public Simulation {
   size_t bird_count() const override { return birds_.size(); }
   void step(uint32_t steps, bool record_forces = false) override;
   Snapshot snapshot() override;
+  // Whether any rank stops (collective).
+  bool stops_together(bool here) override;
 
   // The global id of each of this rank's birds (snapshot().birds[k]'s), ascending.
   const std::vector<uint32_t>& ids() const { return ids_; }
   // Every bird, ordered by global id, on rank `root` (empty elsewhere). Collective.
   std::vector<BirdState> gather(int root = 0) const;
+  // Every rank's share on rank `root` (empty elsewhere). Collective.
+  std::vector<RankShare> gather_shares(int root = 0) const;
   const Slabs& slabs() const { return slabs_; }
   size_t ghost_count() const { return ghosts_; }
   const Traffic& traffic() const { return traffic_; }

@@ -180,7 +180,19 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"wind_beyond_airspeed.across_wind", "cm/s"},
       {"wind_beyond_airspeed.height", "cm (world y)"},
       {"wind_beyond_airspeed.airspeed", "cm/s"},
+      {"ranks.bytes_sent", "bytes of migrants and ghosts"},
+      {"ranks.communication_seconds", "s of wall time in the exchanges"},
   };
+  nlohmann::ordered_json ranks = nlohmann::ordered_json();
+  for (const RankSummary& k : r.ranks)
+    ranks.push_back({{"rank", k.rank},
+                     {"birds", k.birds},
+                     {"ghosts", k.ghosts},
+                     {"migrants_sent", k.migrants_sent},
+                     {"ghosts_sent", k.ghosts_sent},
+                     {"bytes_sent", k.bytes_sent},
+                     {"rebalances", k.rebalances},
+                     {"communication_seconds", k.communication_seconds}});
   return {
       {"units", units},
       {"backend", r.backend},
@@ -207,6 +219,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"signal", r.signal.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.signal)},
       {"error", r.error.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(r.error)},
       {"wind_beyond_airspeed", wind},
+      {"ranks", ranks},
       {"vtk_queue", r.vtk_queue_bound == 0
                         ? nlohmann::ordered_json()
                         : nlohmann::ordered_json{{"high_water_frames", r.vtk_queue_frames},

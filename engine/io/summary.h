@@ -64,6 +64,14 @@ std::vector<QuarantinedBird> quarantined_birds(const std::vector<BirdState>& bir
 // How many the summary lists (nan_birds counts them all).
 constexpr size_t kQuarantinedListed = 100;
 
+// One rank's share of a run over many (dist/): its birds and ghosts at the end, what it sent.
+struct RankSummary {
+  int rank = 0;
+  uint64_t birds = 0, ghosts = 0;
+  uint64_t migrants_sent = 0, ghosts_sent = 0, bytes_sent = 0, rebalances = 0;
+  double communication_seconds = 0.0;  // wall time in its exchanges
+};
+
 struct RunSummary {
   std::string backend;  // "cpu"
   std::string device;   // e.g. "cpu reference (8 threads, AMD EPYC ...)"
@@ -80,6 +88,7 @@ struct RunSummary {
   std::vector<FlockStructureSummary> structure;  // with --structure-from (run/structure.h)
   std::vector<QuarantinedBird> quarantined;      // the first kQuarantinedListed
   std::vector<WindWarning> wind;                 // legs its flocks cannot hold (wind_warnings)
+  std::vector<RankSummary> ranks;                // over many ranks, each one's (else empty)
   std::string signal;  // the signal that stopped the run ("SIGINT", "SIGTERM"), or ""
   std::string error;   // the write error that stopped the run ("cannot write PATH: why"), or ""
   // With --vtk: the most frames (and bytes of bird data) that waited for the writer at once, and
@@ -96,7 +105,8 @@ struct RunSummary {
 // velocity and attitude (w, x, y, z); `signal` and `error` (null when none) and, with --vtk,
 // `vtk_queue` {high_water_frames, high_water_bytes, bound_frames} (else null);
 // `wind_beyond_airspeed`: flock, target, across_wind, height, airspeed for each leg its flock
-// cannot hold (empty when none).
+// cannot hold (empty when none); `ranks`: over many ranks, each one's rank, birds, ghosts,
+// migrants_sent, ghosts_sent, bytes_sent, rebalances, communication_seconds (null on one).
 nlohmann::ordered_json summary_json(const RunSummary& summary);
 
 // Writes summary_json atomically (PATH.tmp, then rename). Throws std::runtime_error naming the

@@ -33,7 +33,22 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
 
   try {
     for (RunObserver* o : observers) o->start(sim);
-    while (result.frames < limits.frames && !stop_now()) {
+  } catch (const std::runtime_error& e) {
+    result.end = RunResult::End::error;
+    result.errors.push_back(e.what());
+  }
+  // Every part of the run stops on the same frame (Simulation::stops_together): an error here
+  // stops the frames too, never one part alone.
+  while (result.frames < limits.frames) {
+    const bool here = result.end == RunResult::End::error || stop_now();
+    if (sim.stops_together(here)) {
+      if (!here) {
+        result.end = RunResult::End::observer;
+        result.stopped_by = "another rank";
+      }
+      break;
+    }
+    try {
       std::optional<uint32_t> paced;
       for (RunObserver* o : observers)
         if (!paced) paced = o->pace(sim);
@@ -51,10 +66,10 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
       }
       result.frames += n;
       for (RunObserver* o : observers) o->frame(sim, result.frames);
+    } catch (const std::runtime_error& e) {
+      result.end = RunResult::End::error;
+      result.errors.push_back(e.what());
     }
-  } catch (const std::runtime_error& e) {
-    result.end = RunResult::End::error;
-    result.errors.push_back(e.what());
   }
   // A signal that came during the last frame stops nothing more, but the run was interrupted.
   if (result.end == RunResult::End::flown && limits.signal && *limits.signal) {
