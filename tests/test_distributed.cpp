@@ -165,6 +165,69 @@ TEST(Distributed, TheDefaultScenarioTwentySeconds) {
   expect_same_as_one_rank(s, 0, static_cast<uint32_t>(std::lround(s.duration / s.frame_seconds())));
 }
 
+// `values` (T trivially copyable, one per id of this rank) of every rank, ordered by id, on rank 0.
+template <class T>
+std::vector<T> gather_values_by_id(const std::vector<uint32_t>& ids, const std::vector<T>& values) {
+  struct Row {
+    uint32_t id;
+    T value;
+  };
+  std::vector<Row> rows;
+  for (size_t k = 0; k < ids.size(); ++k) rows.push_back({ids[k], values[k]});
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const int bytes = static_cast<int>(rows.size() * sizeof(Row));
+  std::vector<int> sizes(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+  MPI_Gather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  int total = 0;
+  for (int q = 0; q < ranks; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
+  std::vector<Row> all(rank_here() == 0 ? static_cast<size_t>(total) / sizeof(Row) : 0);
+  MPI_Gatherv(rows.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE, 0,
+              MPI_COMM_WORLD);
+  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+  std::vector<T> out;
+  for (const Row& r : all) out.push_back(r.value);
+  return out;
+}
+
+bool same_forces(const StepForces& a, const StepForces& b) {
+  return a.total == b.total && a.tail == b.tail && a.wing[0] == b.wing[0] &&
+         a.wing[1] == b.wing[1] && a.wing[2] == b.wing[2] && a.wing[3] == b.wing[3] &&
+         a.torque == b.torque;
+}
+
+// What an export reads: the start (perceived among the ghosts) and a frame stepped with its
+// forces, the same as one rank's.
+TEST(Distributed, TheStartAndTheRecordedForcesAreOneRanks) {
+  const Scenario s = load_scenario("default");
+  DistributedCpuSimulation many(s, MPI_COMM_WORLD, 300);
+  std::unique_ptr<CpuSimulation> one;
+  if (rank_here() == 0) one = std::make_unique<CpuSimulation>(s, 300);
+  auto compare = [&](const Snapshot& m, const char* when) {
+    ASSERT_NE(m.forces, nullptr) << when;
+    ASSERT_NE(m.ids, nullptr) << when;
+    const std::vector<StepForces> forces = gather_values_by_id(*m.ids, *m.forces);
+    std::vector<uint32_t> keys;
+    for (const Perception& p : *m.perception) keys.push_back(p.seen_key);
+    const std::vector<uint32_t> all_keys = gather_values_by_id(*m.ids, keys);
+    if (!one) return;
+    const Snapshot o = std::string(when) == "start" ? one->start_snapshot() : one->snapshot();
+    ASSERT_EQ(forces.size(), o.forces->size()) << when;
+    for (size_t i = 0; i < forces.size(); ++i) {
+      EXPECT_TRUE(same_forces(forces[i], (*o.forces)[i])) << when << ": bird " << i;
+      EXPECT_EQ(all_keys[i], (*o.perception)[i].seen_key) << when << ": bird " << i;
+    }
+  };
+  compare(many.start_snapshot(), "start");
+  for (int f = 0; f < 29; ++f) {
+    many.step_frame();
+    if (one) one->step_frame();
+  }
+  many.step_frame(true);
+  if (one) one->step_frame(true);
+  compare(many.snapshot(), "frame 30");
+}
+
 // The migrating flock flies its route through several slabs with its turns; the cuts follow it.
 TEST(Distributed, TheMigratingFlockThroughItsSlabs) {
   Scenario s = load_scenario("migration-flock");

@@ -179,7 +179,8 @@ void DistributedCpuSimulation::migrate() {
   traffic_.seconds += MPI_Wtime() - start;
 }
 
-void DistributedCpuSimulation::perceive_with_ghosts() {
+void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
+                                                    std::vector<Perception>& perception) {
   const double start = MPI_Wtime();
   // Only birds that flock now are seen by anyone: only they travel as ghosts.
   std::vector<std::vector<Ghost>> out(static_cast<size_t>(ranks_));
@@ -214,22 +215,21 @@ void DistributedCpuSimulation::perceive_with_ghosts() {
   local.buckets = std::bit_ceil(
       static_cast<uint32_t>(std::clamp<size_t>(4 * seen.size(), 1024, size_t{1} << 31)));
   std::vector<Perception> fresh;
-  perceive(seen, seen_ids, mine, scenario().species, world(), frames() - 1,
-           scenario().frame_seconds(), local, fresh);
+  perceive(seen, seen_ids, mine, scenario().species, world(), frame, scenario().frame_seconds(),
+           local, fresh);
   // perceive() leaves a bird not due now as it was: keep its own perception then.
+  perception.resize(birds_.size());
   for (size_t k = 0; k < birds_.size(); ++k) {
     const Species& s = scenario().species[birds_[k].species];
-    if ((frames() - 1) % reaction_frames(s, scenario().frame_seconds()) == 0)
-      perception_[k] = fresh[k];
+    if (frame % reaction_frames(s, scenario().frame_seconds()) == 0) perception[k] = fresh[k];
   }
 }
 
 void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
-  if (record_forces) throw std::logic_error("forces are not recorded across ranks");
   begin_frame();
   rebalance_if_due();
   migrate();
-  if (flocking_) perceive_with_ghosts();
+  if (flocking_) perceive_with_ghosts(frames() - 1, perception_);
   const double dt = scenario().dt;
   const uint64_t first = this->steps();
   const World& w = world();
@@ -243,10 +243,36 @@ void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
       step_bird(b, species[b.species], w, first + k, dt, nullptr, seen);
   }
   end_frame(steps);
+  forces_current_ = record_forces;
+  if (!record_forces) return;
+  // As CpuSimulation: the forces of the next step, with the targets where it will see them.
+  World next = world();
+  next.move_targets(frame_start(this->steps()));
+  next_step_forces(birds_, scenario(), next, this->steps(), flocking_ ? &perception_ : nullptr,
+                   forces_);
 }
 
 Snapshot DistributedCpuSimulation::snapshot() {
-  return {frames(), this->steps(), time(), &birds_, nullptr, flocking_ ? &perception_ : nullptr};
+  return {frames(),
+          this->steps(),
+          time(),
+          &birds_,
+          forces_current_ ? &forces_ : nullptr,
+          flocking_ ? &perception_ : nullptr,
+          &ids_};
+}
+
+Snapshot DistributedCpuSimulation::start_snapshot() {
+  if (frames() > 0) throw std::logic_error("start_snapshot after the first step");
+  // What frame 0 perceives, among the ghosts, as the first frame will (its own copy: the run's
+  // perception is untouched).
+  if (flocking_) perceive_with_ghosts(0, start_perception_);
+  next_step_forces(birds_, scenario(), world(), 0, flocking_ ? &start_perception_ : nullptr,
+                   start_forces_);
+  Snapshot s = snapshot();
+  s.forces = &start_forces_;
+  s.perception = flocking_ ? &start_perception_ : nullptr;
+  return s;
 }
 
 std::vector<RankShare> DistributedCpuSimulation::gather_shares(int root) const {

@@ -45,6 +45,8 @@ class DistributedCpuSimulation final : public Simulation {
   size_t bird_count() const override { return birds_.size(); }
   void step(uint32_t steps, bool record_forces = false) override;
   Snapshot snapshot() override;
+  // The start as Simulation's, the first perception among the ghosts (collective).
+  Snapshot start_snapshot() override;
   // Whether any rank stops (collective).
   bool stops_together(bool here) override;
 
@@ -63,8 +65,9 @@ class DistributedCpuSimulation final : public Simulation {
  private:
   void rebalance_if_due();
   void migrate();
-  // Ghosts in, then this rank's birds perceive among them.
-  void perceive_with_ghosts();
+  // Ghosts in, then this rank's birds due at `frame` perceive among them, into `perception`
+  // (one per bird of this rank; the others' entries stay as they were).
+  void perceive_with_ghosts(uint64_t frame, std::vector<Perception>& perception);
 
   MPI_Comm comm_;
   int rank_ = 0, ranks_ = 1;
@@ -73,6 +76,10 @@ class DistributedCpuSimulation final : public Simulation {
   std::vector<BirdState> birds_;  // this rank's, ordered by id
   std::vector<uint32_t> ids_;     // their global ids
   std::vector<Perception> perception_;
+  std::vector<StepForces> forces_;  // of the next step, when the last frame recorded them
+  bool forces_current_ = false;
+  std::vector<Perception> start_perception_;  // start_snapshot()'s
+  std::vector<StepForces> start_forces_;
   bool flocking_ = false;
   uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at
   size_t ghosts_ = 0;

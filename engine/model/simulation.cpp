@@ -33,9 +33,8 @@ std::vector<uint32_t> flock_sizes(const Scenario& s, uint32_t total) {
   return sizes;
 }
 
-// The forces of each bird's next step from `birds` at time `t`, with the targets where the birds
-// see them then and their perception (null: a scenario without flocking); the birds stay as
-// they are.
+}  // namespace
+
 void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, const World& world,
                       uint64_t step, const std::vector<Perception>* perception,
                       std::vector<StepForces>& forces) {
@@ -49,8 +48,6 @@ void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, co
               perception ? &(*perception)[k] : nullptr);
   }
 }
-
-}  // namespace
 
 std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
   check_takeoff_steps(s, s.dt);  // a rest too long to count is refused, not shortened

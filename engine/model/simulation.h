@@ -23,6 +23,12 @@ std::vector<BirdState> spawn_birds(const Scenario& scenario, uint32_t birds_over
 // The number of birds spawn_birds places, without placing them.
 uint64_t spawn_count(const Scenario& scenario, uint32_t birds_override = 0);
 
+// The forces of each of `birds`' next step at step number `step`, with the targets of `world` and
+// their `perception` (null: a scenario without flocking); the birds stay as they are.
+void next_step_forces(const std::vector<BirdState>& birds, const Scenario& scenario,
+                      const World& world, uint64_t step, const std::vector<Perception>* perception,
+                      std::vector<StepForces>& forces);
+
 // One frame's state as an exporter or a renderer reads it. The vectors belong to the simulation
 // and stay valid until its next step().
 struct Snapshot {
@@ -36,6 +42,9 @@ struct Snapshot {
   // Each bird's last perception (what it saw at the start of this state's frame: docs/MODEL.md
   // "Flocking"); null unless a flock of the scenario flocks.
   const std::vector<Perception>* perception = nullptr;
+  // Each bird's global id, ascending, where `birds` are one rank's share of a flock over many
+  // (dist/); null: bird k is bird k.
+  const std::vector<uint32_t>* ids = nullptr;
 };
 
 class Simulation {
@@ -85,7 +94,7 @@ class Simulation {
   // The state before the first step (frame 0, t = 0) with each bird's forces of its first step
   // and what it perceives first, evaluated by the CPU reference from the backend's own state:
   // an export's t = 0 frame. Only before the first step (std::logic_error after it).
-  Snapshot start_snapshot();
+  virtual Snapshot start_snapshot();
 
   const Scenario& scenario() const { return scenario_; }
   // The world, its targets where the birds see them now.
