@@ -130,11 +130,12 @@ class OneOfSeveral final : public Simulation {
     end_frame(steps);
   }
   Snapshot snapshot() override { return cpu_.snapshot(); }
-  bool stops_together(bool here) override {
+  int stops_together(int here) override {
     asked.push_back(here);
-    return here || frames() >= at_;
+    return frames() >= at_ ? std::max(here, why_) : here;
   }
-  std::vector<bool> asked;
+  std::vector<int> asked;
+  int why_ = 1;  // the other rank's reason, in the run loop's codes
 
  private:
   CpuSimulation cpu_;
@@ -149,7 +150,17 @@ TEST(RunLoop, EveryPartStopsOnTheFrameAnyMust) {
     EXPECT_EQ(r.end, RunResult::End::observer);
     EXPECT_EQ(r.stopped_by, "another rank");
     EXPECT_EQ(r.frames, 3u);
-    EXPECT_EQ(sim.asked, (std::vector<bool>{false, false, false, false}));
+    EXPECT_EQ(sim.asked, (std::vector<int>{0, 0, 0, 0}));
+  }
+  {
+    // Another rank caught SIGTERM: this one stops as interrupted by it.
+    OneOfSeveral sim(2);
+    sim.why_ = 256 + SIGTERM;
+    Recorder o;
+    const RunResult r = run_frames(sim, {&o}, {.frames = 100});
+    EXPECT_EQ(r.end, RunResult::End::signal);
+    EXPECT_EQ(r.signal, SIGTERM);
+    EXPECT_EQ(r.frames, 2u);
   }
   {
     // Its own error: it asks the others to stop at the frame's end, and stops.
@@ -159,7 +170,7 @@ TEST(RunLoop, EveryPartStopsOnTheFrameAnyMust) {
     const RunResult r = run_frames(sim, {&o}, {.frames = 100});
     EXPECT_EQ(r.end, RunResult::End::error);
     EXPECT_EQ(r.frames, 2u);
-    EXPECT_EQ(sim.asked, (std::vector<bool>{false, false, true}));
+    EXPECT_EQ(sim.asked, (std::vector<int>{0, 0, 2}));
   }
 }
 

@@ -283,10 +283,10 @@ std::vector<RankShare> DistributedCpuSimulation::gather_shares(int root) const {
   return all;
 }
 
-bool DistributedCpuSimulation::stops_together(bool here) {
-  int mine = here ? 1 : 0, any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_LOR, comm_);
-  return any != 0;
+int DistributedCpuSimulation::stops_together(int here) {
+  int strongest = 0;
+  MPI_Allreduce(&here, &strongest, 1, MPI_INT, MPI_MAX, comm_);
+  return strongest;
 }
 
 std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {

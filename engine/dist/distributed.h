@@ -47,8 +47,8 @@ class DistributedCpuSimulation final : public Simulation {
   Snapshot snapshot() override;
   // The start as Simulation's, the first perception among the ghosts (collective).
   Snapshot start_snapshot() override;
-  // Whether any rank stops (collective).
-  bool stops_together(bool here) override;
+  // The strongest reason any rank has to stop (collective).
+  int stops_together(int here) override;
 
   // The global id of each of this rank's birds (snapshot().birds[k]'s), ascending.
   const std::vector<uint32_t>& ids() const { return ids_; }

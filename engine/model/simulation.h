@@ -88,9 +88,10 @@ class Simulation {
   // the device cannot hold them), so that a run that will export fails before it starts.
   virtual void prepare_forces() {}
   const std::vector<BirdState>& birds() { return *snapshot().birds; }
-  // Whether the run stops now, where this part of it would (`here`): one flown by several
-  // processes (dist/) stops on the frame any of them must, asked of all together. Alone, `here`.
-  virtual bool stops_together(bool here) { return here; }
+  // Whether the run stops now and why: `here` is this part's reason (0: go on; the run loop's
+  // codes, the larger the stronger). One flown by several processes (dist/) stops on the frame
+  // any of them must, for the strongest reason any has, asked of all together. Alone, `here`.
+  virtual int stops_together(int here) { return here; }
   // The state before the first step (frame 0, t = 0) with each bird's forces of its first step
   // and what it perceives first, evaluated by the CPU reference from the backend's own state:
   // an export's t = 0 frame. Only before the first step (std::logic_error after it).

@@ -37,14 +37,23 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
     result.end = RunResult::End::error;
     result.errors.push_back(e.what());
   }
-  // Every part of the run stops on the same frame (Simulation::stops_together): an error here
-  // stops the frames too, never one part alone.
+  // Every part of the run stops on the same frame, for the strongest reason any part has
+  // (Simulation::stops_together): a signal, then an error, then an observer's.
+  constexpr int kByObserver = 1, kByError = 2, kBySignal = 256;  // kBySignal + its number
   while (result.frames < limits.frames) {
-    const bool here = result.end == RunResult::End::error || stop_now();
-    if (sim.stops_together(here)) {
-      if (!here) {
+    const bool error = result.end == RunResult::End::error;
+    const bool stop = error || stop_now();
+    const int here = !stop                                  ? 0
+                     : result.end == RunResult::End::signal ? kBySignal + result.signal
+                     : error                                ? kByError
+                                                            : kByObserver;
+    if (const int why = sim.stops_together(here); why != 0) {
+      if (why >= kBySignal && result.end != RunResult::End::signal) {
+        result.end = RunResult::End::signal;
+        result.signal = why - kBySignal;
+      } else if (!stop) {
         result.end = RunResult::End::observer;
-        result.stopped_by = "another rank";
+        result.stopped_by = why == kByError ? "another rank's error" : "another rank";
       }
       break;
     }
