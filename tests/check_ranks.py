@@ -11,8 +11,12 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   3. an unknown scenario: exit 2, said once.
   4. one rank failing mid-run (AEROFLOCK_TEST_FAIL_RANK=2:10): every rank ends, no hang, a
      non-zero exit, the failing rank's message once and rank 0's summary saying so.
-  5. SIGTERM to mpiexec mid-run: every rank stops on the same frame and rank 0 writes the
-     summary, `interrupted` true and `signal` SIGTERM.
+  5. SIGTERM to mpiexec mid-run (with --vtk): every rank stops on the same frame, rank 0 writes
+     the summary, `interrupted` true and `signal` SIGTERM, and the .pvd lists exactly the .pvtp
+     files there, each with all its pieces.
+  6. --vtk on 3 ranks: each frame a .pvtp of 3 pieces listed in the .pvd at one process's times,
+     every bird once with the same values in every array as one process writes, a `rank` array,
+     the same trajectories (read with python3-vtk9; skipped without it).
 Exits 0 when all hold, 1 with what did not.
 """
 import json
@@ -63,12 +67,12 @@ for n in (2, 3, 4):
 
 # 2, 3. Refusals and a scenario error, said once.
 for args, said in ((["run", "default"], "--backend vulkan does not run over many ranks yet"),
-                   (base + ["--vtk", os.path.join(WORK, "vtk")], "--vtk does not run over many"),
+                   (base + ["--png", os.path.join(WORK, "vtk", "x.png")], "--png, --frames-dir"),
                    (["run", "no-such-scenario", "--backend", "cpu"], 'unknown scenario "no-such')):
     r = run(3, args)
     check(r.returncode != 0, f"{args}: exit 0")
     check(r.stderr.count(said) == 1, f"{args}: '{said}' said {r.stderr.count(said)} times")
-check(not os.path.exists(os.path.join(WORK, "vtk")), "a refused --vtk made its directory")
+check(not os.path.exists(os.path.join(WORK, "vtk")), "a refused --png made its directory")
 
 # 4. One rank fails: all end, its message once, rank 0's summary says another rank stopped.
 failed = os.path.join(WORK, "failed.json")
@@ -87,8 +91,11 @@ except subprocess.TimeoutExpired:
 stopped = os.path.join(WORK, "stopped.json")
 if os.path.exists(stopped):
     os.remove(stopped)
+stopped_vtk = os.path.join(WORK, "stopped_vtk")
+subprocess.run(["rm", "-rf", stopped_vtk])
 p = subprocess.Popen([MPIEXEC, "-n", "3", AEROFLOCK, "run", "migration-flock", "--backend", "cpu",
-                      "--summary", stopped], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                      "--birds", "500", "--summary", stopped, "--vtk", stopped_vtk],
+                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 time.sleep(3)
 p.send_signal(signal.SIGTERM)
 try:
@@ -97,11 +104,88 @@ try:
     s = json.load(open(stopped))
     check(s["interrupted"] and s["signal"] == "SIGTERM", f"SIGTERM: summary {s['signal']}")
     check(s["sim_seconds"] < 500, "SIGTERM: the run was not stopped")
+    # The .pvd lists exactly the frames whose every piece is there, each once.
+    import xml.etree.ElementTree as ET
+    listed = [d.get("file") for d in ET.parse(os.path.join(stopped_vtk, "flock.pvd")).iter("DataSet")]
+    frames = sorted(f for f in os.listdir(os.path.join(stopped_vtk, "frames")) if f.endswith(".pvtp"))
+    check(listed == ["frames/" + f for f in frames] and len(frames) > 1,
+          f"SIGTERM: the .pvd lists {len(listed)} frames, {len(frames)} .pvtp there")
+    for f in frames:
+        for piece in ET.parse(os.path.join(stopped_vtk, "frames", f)).iter("Piece"):
+            check(os.path.exists(os.path.join(stopped_vtk, "frames", piece.get("Source"))),
+                  f"SIGTERM: {f} lists a piece that is not there")
+    check(os.path.exists(os.path.join(stopped_vtk, "trajectories.vtp")), "SIGTERM: no trajectories")
 except subprocess.TimeoutExpired:
     p.kill()
     failures.append("SIGTERM: the run hung")
 except (OSError, ValueError) as e:
     failures.append(f"SIGTERM: no summary: {e}")
+
+# 6. The VTK export over 3 ranks against one process's: every frame a .pvtp of one piece a rank,
+#    listed in the .pvd with the same times; every bird once a frame with the same values in every
+#    array (a `rank` array besides); the trajectories the same polylines.
+try:
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: F401 (numpy may be missing)
+    have_vtk = True
+except ImportError:
+    try:
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
+        have_vtk = True
+    except ImportError:
+        have_vtk = False
+if have_vtk:
+    import xml.etree.ElementTree as ET
+
+    def read(path, parallel=False):
+        reader = vtkXMLPPolyDataReader() if parallel else vtkXMLPolyDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        return reader.GetOutput()
+
+    def by_id(data):
+        pd = data.GetPointData()
+        ids = pd.GetArray("bird_id")
+        rows = {}
+        for i in range(data.GetNumberOfPoints()):
+            values = [data.GetPoint(i)]
+            for a in range(pd.GetNumberOfArrays()):
+                array = pd.GetArray(a)
+                if array.GetName() != "rank":
+                    values.append((array.GetName(), array.GetTuple(i)))
+            bird = int(ids.GetTuple1(i))
+            if bird in rows:
+                failures.append(f"vtk: bird {bird} twice in a frame")
+            rows[bird] = values
+        return rows
+
+    def collection(path):
+        return [(d.get("timestep"), d.get("file")) for d in ET.parse(path).iter("DataSet")]
+
+    vtk = {}
+    for n in (1, 3):
+        out = os.path.join(WORK, f"vtk{n}")
+        subprocess.run(["rm", "-rf", out])
+        r = run(n if n > 1 else 0, ["run", "default", "--backend", "cpu", "--seconds", "0.3",
+                                    "--threads", "1", "--vtk", out])
+        check(r.returncode == 0, f"vtk on {n}: exit {r.returncode}: {r.stderr}")
+        vtk[n] = out
+    one, many = collection(os.path.join(vtk[1], "flock.pvd")), collection(os.path.join(vtk[3], "flock.pvd"))
+    check([t for t, _ in one] == [t for t, _ in many], "vtk: the .pvd's times differ")
+    check(all(f.endswith(".pvtp") for _, f in many), "vtk: the .pvd does not list .pvtp files")
+    for (_, f1), (_, f3) in zip(one, many):
+        pieces = [p.get("Source") for p in ET.parse(os.path.join(vtk[3], f3)).iter("Piece")]
+        check(len(pieces) == 3, f"vtk: {f3} has {len(pieces)} pieces")
+        a, b = by_id(read(os.path.join(vtk[1], f1))), by_id(read(os.path.join(vtk[3], f3), True))
+        check(a == b, f"vtk: {f3} differs from {f1} ({len(a)} against {len(b)} birds)")
+        ranks = read(os.path.join(vtk[3], f3), True).GetPointData().GetArray("rank")
+        check(ranks is not None, f"vtk: {f3} has no rank array")
+    t1, t3 = read(os.path.join(vtk[1], "trajectories.vtp")), read(os.path.join(vtk[3], "trajectories.vtp"))
+    check(t1.GetNumberOfPoints() == t3.GetNumberOfPoints() and
+          all(t1.GetPoint(i) == t3.GetPoint(i) for i in range(t1.GetNumberOfPoints())),
+          "vtk: the trajectories differ")
+else:
+    print("vtk: not checked (no VTK Python modules)")
 
 for f in failures:
     print("FAIL:", f)

@@ -215,6 +215,40 @@ void report_quarantined(const std::vector<BirdState>& birds,
                  all - kShown, kQuarantinedListed);
 }
 
+// The VTK export's collectives over MPI_COMM_WORLD (output/vtk_export.h: VtkRanks).
+VtkRanks vtk_ranks(const dist::MpiSession& mpi) {
+  VtkRanks r;
+  r.rank = mpi.rank();
+  r.ranks = mpi.ranks();
+  r.fewest = [](uint64_t mine) {
+    uint64_t fewest = 0;
+    MPI_Allreduce(&mine, &fewest, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
+    return fewest;
+  };
+  r.gather = [ranks = mpi.ranks(), root = mpi.root()](const std::vector<TrajectoryPoint>& mine) {
+    const int bytes = static_cast<int>(mine.size() * sizeof(TrajectoryPoint));
+    std::vector<int> sizes(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+    MPI_Gather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    int total = 0;
+    for (int q = 0; q < ranks; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
+    std::vector<TrajectoryPoint> all(root ? static_cast<size_t>(total) / sizeof(TrajectoryPoint)
+                                          : 0);
+    MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE, 0,
+                MPI_COMM_WORLD);
+    return all;
+  };
+  return r;
+}
+
+// Rank 0's error `why` ("" for none) on every rank.
+std::string from_rank_zero(std::string why) {
+  int length = static_cast<int>(why.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  why.resize(static_cast<size_t>(length));
+  MPI_Bcast(why.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+  return why;
+}
+
 // AEROFLOCK_TEST_FAIL_RANK's observer: its run fails after frame `at`.
 class FailingRank final : public RunObserver {
  public:
@@ -237,7 +271,6 @@ std::string refused_across_ranks(const RunOptions& opt) {
     return "--backend " + opt.backend +
            " does not run over many ranks yet: add --backend cpu (docs/DISTRIBUTED.md)";
   if (opt.images.any()) return "--png, --frames-dir and --video do not run over many ranks yet";
-  if (!opt.vtk.dir.empty()) return "--vtk does not run over many ranks yet";
   if (opt.structure_from) return "--structure-from does not run over many ranks yet";
   return {};
 }
@@ -311,7 +344,7 @@ int run(const RunOptions& opt) {
   summary.backend = sim->backend();
   summary.device = describe_device(*sim);
 
-  const size_t birds = sim->bird_count();
+  const size_t birds = ranks ? ranks->total_birds() : sim->bird_count();
   // Before the run: a directory that cannot be written fails now.
   std::unique_ptr<VtkExporter> vtk;
   if (!opt.vtk.dir.empty()) {
@@ -319,10 +352,29 @@ int run(const RunOptions& opt) {
     VtkOptions vo = opt.vtk;
     // --vtk-from: the first whole frame at or after that time (a long run's export starts late).
     if (opt.vtk_from) vo.from = uint64_t(std::ceil(*opt.vtk_from / frame_seconds - 1e-9));
-    try {
-      vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
-    } catch (const std::invalid_argument& e) {
-      throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
+    if (many) vo.ranks = vtk_ranks(*g_mpi);
+    auto make = [&] {
+      try {
+        vtk = std::make_unique<VtkExporter>(vo, sim->scenario(), birds);
+      } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(std::string("--vtk-birds: ") + e.what());
+      }
+    };
+    if (!many) {
+      make();
+    } else {
+      // Rank 0 checks and clears the directory; the others' exporters only once it has.
+      std::string why;
+      if (root) try {
+          make();
+        } catch (const std::runtime_error& e) {
+          why = e.what();
+        }
+      if (why = from_rank_zero(why); !why.empty()) {
+        if (root) std::cerr << "aeroflock: error: " << why << "\n";
+        return 2;
+      }
+      if (!root) make();
     }
   }
   // The run's observers, finished in this order: the progress line's last, --strict's error, the

@@ -98,6 +98,7 @@ DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm c
   // and keeps its own: no communication, and the ids are the one-rank indices.
   const std::vector<BirdState> all = spawn_birds(this->scenario(), birds_override);
   flocking_ = any_flocking(this->scenario());
+  total_ = all.size();
   shape_ = grid_shape(this->scenario().species, all);
   double reach = 0.0;
   for (const Species& s : this->scenario().species) reach = std::max(reach, s.perception_radius);

@@ -50,6 +50,8 @@ class DistributedCpuSimulation final : public Simulation {
   // The strongest reason any rank has to stop (collective).
   int stops_together(int here) override;
 
+  // Birds over all ranks.
+  size_t total_birds() const { return total_; }
   // The global id of each of this rank's birds (snapshot().birds[k]'s), ascending.
   const std::vector<uint32_t>& ids() const { return ids_; }
   // Every bird, ordered by global id, on rank `root` (empty elsewhere). Collective.
@@ -81,6 +83,7 @@ class DistributedCpuSimulation final : public Simulation {
   std::vector<Perception> start_perception_;  // start_snapshot()'s
   std::vector<StepForces> start_forces_;
   bool flocking_ = false;
+  size_t total_ = 0;
   uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at
   size_t ghosts_ = 0;
   Traffic traffic_;

@@ -23,6 +23,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <chrono>
@@ -87,12 +88,34 @@ std::string frame_name(size_t index) {
   return name;
 }
 
-// Whether `name` is one that frame_name gives: flock_ and six or more digits, .vtp.
-bool is_frame_name(std::string_view name) {
-  if (!name.starts_with("flock_") || !name.ends_with(".vtp")) return false;
-  const std::string_view digits = name.substr(6, name.size() - 10);
-  return digits.size() >= 6 &&
+// Over many ranks: frame `index`'s piece of rank `rank`, and the frame's collection of pieces.
+std::string piece_name(size_t index, int rank) {
+  char name[48];
+  std::snprintf(name, sizeof name, "flock_%06zu_p%04d.vtp", index, rank);
+  return name;
+}
+std::string pieces_name(size_t index) {
+  char name[32];
+  std::snprintf(name, sizeof name, "flock_%06zu.pvtp", index);
+  return name;
+}
+
+bool all_digits(std::string_view digits, size_t least) {
+  return digits.size() >= least &&
          std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// Whether `name` is one that frame_name, piece_name or pieces_name gives: flock_ and six or more
+// digits, .vtp; with _p and four or more digits before it; or .pvtp.
+bool is_frame_name(std::string_view name) {
+  if (!name.starts_with("flock_")) return false;
+  name.remove_prefix(6);
+  if (name.ends_with(".pvtp")) return all_digits(name.substr(0, name.size() - 5), 6);
+  if (!name.ends_with(".vtp")) return false;
+  name.remove_suffix(4);
+  if (const size_t p = name.find("_p"); p != std::string_view::npos)
+    return all_digits(name.substr(0, p), 6) && all_digits(name.substr(p + 2), 4);
+  return all_digits(name, 6);
 }
 
 // vtkXMLPolyDataWriter onto a stream of ours: VTK 9.1 has no public setter for the stream it
@@ -354,9 +377,24 @@ std::vector<uint32_t> select_birds(std::string_view selection, size_t bird_count
   return ids;
 }
 
+// The name of a VTK data type in an XML file's header.
+const char* xml_type(int type) {
+  switch (type) {
+    case VTK_FLOAT:
+      return "Float32";
+    case VTK_INT:
+      return "Int32";
+    case VTK_UNSIGNED_INT:
+      return "UInt32";
+    default:
+      return "Float64";
+  }
+}
+
 struct VtkExporter::Writer {
   struct Frame {
     double time = 0.0;
+    std::vector<uint32_t> ids;           // pieces: their global ids (else Writer::ids)
     std::vector<BirdState> birds;        // the selected birds, in the order of `ids`
     std::vector<StepForces> forces;      // theirs, of the next step
     std::vector<Perception> perception;  // theirs, as last perceived
@@ -379,6 +417,9 @@ struct VtkExporter::Writer {
   double dt = 0.0;
   uint32_t steps_per_frame = 0;
   std::function<void()> before_frame_write;
+  // Over many ranks: this rank, of how many.
+  bool pieces = false;
+  int rank = 0, ranks = 1;
 
   // The writer thread's own: the jobs below run there, one at a time.
   std::vector<std::pair<double, std::string>> collection;  // time, file relative to dir
@@ -387,6 +428,11 @@ struct VtkExporter::Writer {
   std::vector<double> saved_speeds;
   bool trajectories_stale = false;
   Clock::time_point trajectories_written{};  // long ago: the first frame writes them at once
+  // Pieces: this rank's written whole (read by the run's thread), their times, its birds'
+  // saved positions for rank 0's trajectories.
+  std::atomic<uint64_t> pieces_written{0};
+  std::vector<double> piece_times;
+  std::vector<TrajectoryPoint> saved_points;
 
   // After each frame, and every kTrajectoryInterval without one: the trajectories, when stale.
   void trajectories_if_due() {
@@ -428,12 +474,14 @@ struct VtkExporter::Writer {
 
   void write_frame(const Frame& frame) {
     const vtkIdType n = static_cast<vtkIdType>(frame.birds.size());
+    const std::vector<uint32_t>& frame_ids = pieces ? frame.ids : ids;
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     points->SetNumberOfPoints(n);
     std::vector<vtkSmartPointer<vtkDataArray>> arrays;
     for (const PointArray& a : kPointArrays)
       arrays.push_back(data_array(a.name, vtk_type(a.kind, precision), a.components, n));
+    auto rank_array = make_array<vtkIntArray>("rank", 1, n);
     vtkNew<vtkIdTypeArray> offsets, connectivity;
     offsets->SetNumberOfTuples(n + 1);
     connectivity->SetNumberOfTuples(n);
@@ -441,13 +489,14 @@ struct VtkExporter::Writer {
     std::vector<double> speeds(static_cast<size_t>(n));
 
     double value[4];
-    if (id_species.empty())
+    if (id_species.empty() && !pieces)
       for (const BirdState& b : frame.birds) id_species.push_back(b.species);
     for (vtkIdType i = 0; i < n; ++i) {
       const size_t k = static_cast<size_t>(i);
       const BirdState& b = frame.birds[k];
-      const ExportedBird e{ids[k],          frame.time,         b, species[b.species],
-                           frame.forces[k], frame.perception[k]};
+      const ExportedBird e{frame_ids[k],       frame.time,      b,
+                           species[b.species], frame.forces[k], frame.perception[k]};
+      rank_array->SetValue(i, rank);
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
       for (size_t a = 0; a < std::size(kPointArrays); ++a) {
         kPointArrays[a].value(e, value);
@@ -468,9 +517,26 @@ struct VtkExporter::Writer {
     vtkPointData* pd = data->GetPointData();
     for (const auto& a : arrays) pd->AddArray(a);
     pd->SetActiveVectors("velocity");
-    add_field_data(data, frame_units);
+    std::vector<std::string> units = frame_units;
+    if (pieces) {
+      pd->AddArray(rank_array);
+      units.push_back("rank: - (the MPI rank that owned the bird)");
+    }
+    add_field_data(data, units);
     // ParaView reads a frame's time from TimeValue, also when the file is opened alone.
     data->GetFieldData()->AddArray(value_array<vtkDoubleArray>("TimeValue", frame.time));
+    if (pieces) {
+      data->GetFieldData()->AddArray(value_array<vtkIntArray>("ranks", ranks));
+      const uint64_t index = pieces_written.load();
+      if (before_frame_write) before_frame_write();
+      write_polydata(data, dir / "frames" / piece_name(index, rank), compression);
+      piece_times.push_back(frame.time);
+      for (size_t k = 0; k < positions.size(); ++k)
+        saved_points.push_back(
+            {frame_ids[k], frame.birds[k].species, index, positions[k], speeds[k]});
+      pieces_written.store(index + 1);
+      return;
+    }
 
     const std::string name = "frames/" + frame_name(collection.size());
     if (before_frame_write) before_frame_write();
@@ -490,6 +556,60 @@ struct VtkExporter::Writer {
     saved_positions.insert(saved_positions.end(), positions.begin(), positions.end());
     saved_speeds.insert(saved_speeds.end(), speeds.begin(), speeds.end());
     trajectories_stale = true;
+  }
+
+  // Pieces, rank 0: frames [listed, complete), every rank's piece of them written, each a .pvtp
+  // of the pieces, listed in the .pvd.
+  void list_pieces(uint64_t complete) {
+    for (uint64_t k = collection.size(); k < complete; ++k) {
+      std::string text =
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"PPolyData\" version=\"0.1\" byte_order=\"LittleEndian\" "
+          "header_type=\"UInt64\">\n"
+          "  <PPolyData GhostLevel=\"0\">\n"
+          "    <PPointData Vectors=\"velocity\">\n";
+      for (const PointArray& a : kPointArrays)
+        text += std::string("      <PDataArray type=\"") + xml_type(vtk_type(a.kind, precision)) +
+                "\" Name=\"" + a.name + "\" NumberOfComponents=\"" + std::to_string(a.components) +
+                "\"/>\n";
+      text +=
+          "      <PDataArray type=\"Int32\" Name=\"rank\" NumberOfComponents=\"1\"/>\n"
+          "    </PPointData>\n"
+          "    <PPoints>\n"
+          "      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n"
+          "    </PPoints>\n";
+      for (int r = 0; r < ranks; ++r) text += "    <Piece Source=\"" + piece_name(k, r) + "\"/>\n";
+      text += "  </PPolyData>\n</VTKFile>\n";
+      const std::string name = "frames/" + pieces_name(k);
+      write_text_atomically(dir / name, text);
+      collection.emplace_back(piece_times[k], name);
+      try {
+        write_collection();
+      } catch (...) {
+        collection.pop_back();
+        std::error_code ignored;
+        fs::remove(dir / name, ignored);
+        throw;
+      }
+    }
+  }
+
+  // Pieces, rank 0: the trajectories of every rank's points of the frames [0, complete).
+  void write_piece_trajectories(const std::vector<TrajectoryPoint>& all, uint64_t complete) {
+    saved_times.assign(piece_times.begin(), piece_times.begin() + std::ptrdiff_t(complete));
+    saved_positions.assign(ids.size() * complete, glm::dvec3{0.0});
+    saved_speeds.assign(ids.size() * complete, 0.0);
+    id_species.assign(ids.size(), 0);
+    std::vector<int64_t> slot(ids.empty() ? 0 : *std::max_element(ids.begin(), ids.end()) + 1, -1);
+    for (size_t b = 0; b < ids.size(); ++b) slot[ids[b]] = int64_t(b);
+    for (const TrajectoryPoint& p : all) {
+      if (p.frame >= complete || p.id >= slot.size() || slot[p.id] < 0) continue;
+      const size_t b = size_t(slot[p.id]);
+      saved_positions[p.frame * ids.size() + b] = p.position;
+      saved_speeds[p.frame * ids.size() + b] = p.speed;
+      id_species[b] = p.species;
+    }
+    write_trajectories();
   }
 
   // flock.pvd: every frame file written so far with its time.
@@ -561,7 +681,16 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
   if (options.every == 0) throw std::invalid_argument("VTK export: every must be >= 1");
   selected_ = select_birds(options.birds, bird_count);
   if (dir_.empty()) throw std::invalid_argument("VTK export: no directory given");
+  if (options.ranks && options.ranks->ranks > 1) {
+    ranks_ = options.ranks;
+    chosen_.assign(bird_count, false);
+    for (uint32_t id : selected_) chosen_[id] = true;
+  }
+  if (!ranks_ || ranks_->rank == 0) prepare_dir(options);
+  start_writer(options, scenario);
+}
 
+void VtkExporter::prepare_dir(const VtkOptions& options) {
   // Create and probe the directories before the run (which removes a killed run's temporaries).
   check_writable_dir(dir_, "VTK export directory");
   check_writable_dir(dir_ / "frames", "VTK export directory");
@@ -590,10 +719,17 @@ VtkExporter::VtkExporter(const VtkOptions& options, const Scenario& scenario, si
                                  f.string() + " of an earlier run: " + ec.message());
     }
   }
+}
 
+void VtkExporter::start_writer(const VtkOptions& options, const Scenario& scenario) {
   writer_ = std::make_unique<Writer>();
   Writer& w = *writer_;
   w.dir = dir_;
+  if (ranks_) {
+    w.pieces = true;
+    w.rank = ranks_->rank;
+    w.ranks = ranks_->ranks;
+  }
   w.compression = options.compression;
   w.precision = options.precision;
   w.ids = selected_;
@@ -625,7 +761,7 @@ void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
   if (finished_) throw std::logic_error("VtkExporter::offer after finish()");
   if (!(due_or_not ? !any_offered_ || snapshot.frame > last_frame_ : wants(snapshot.frame))) return;
   const std::vector<BirdState>& birds = *snapshot.birds;
-  if (birds.size() != bird_count_)
+  if (!ranks_ && birds.size() != bird_count_)
     throw std::invalid_argument("VtkExporter::offer: expected " + std::to_string(bird_count_) +
                                 " birds, got " + std::to_string(birds.size()));
   if (!snapshot.forces)
@@ -639,10 +775,19 @@ void VtkExporter::offer(const Snapshot& snapshot, bool due_or_not) {
   frame.birds.reserve(selected_.size());
   frame.forces.reserve(selected_.size());
   frame.perception.reserve(selected_.size());
-  for (uint32_t id : selected_) {
-    frame.birds.push_back(birds[id]);
-    frame.forces.push_back((*snapshot.forces)[id]);
-    frame.perception.push_back(snapshot.perception ? (*snapshot.perception)[id] : Perception{});
+  auto take = [&](size_t k) {
+    frame.birds.push_back(birds[k]);
+    frame.forces.push_back((*snapshot.forces)[k]);
+    frame.perception.push_back(snapshot.perception ? (*snapshot.perception)[k] : Perception{});
+  };
+  if (ranks_) {
+    // This rank's birds that are chosen, by their global ids.
+    for (size_t k = 0; k < birds.size(); ++k) {
+      const uint32_t id = snapshot.ids ? (*snapshot.ids)[k] : uint32_t(k);
+      if (id < chosen_.size() && chosen_[id]) frame.ids.push_back(id), take(k);
+    }
+  } else {
+    for (uint32_t id : selected_) take(id);
   }
   const size_t bytes = frame.bytes();
   Writer& w = *writer_;
@@ -672,11 +817,46 @@ std::vector<fs::path> earlier_export_files(const fs::path& dir) {
   return files;
 }
 
+void VtkExporter::announce_pieces() {
+  const uint64_t complete = ranks_->fewest(writer_->pieces_written.load());
+  if (ranks_->rank != 0 || complete <= announced_) return;
+  announced_ = complete;
+  Writer& w = *writer_;
+  async_->push(0, [&w, complete] { w.list_pieces(complete); });
+}
+
 void VtkExporter::finish() {
   if (finished_) return;
   finished_ = true;
   Writer& w = *writer_;
-  async_->finish([&w] { w.close(); });
+  if (!ranks_) {
+    async_->finish([&w] { w.close(); });
+    return;
+  }
+  // Over many ranks every rank goes through the collectives below, whatever its writer did.
+  std::exception_ptr first;
+  try {
+    async_->finish();
+  } catch (...) {
+    first = std::current_exception();
+  }
+  const uint64_t complete = ranks_->fewest(w.pieces_written.load());
+  std::vector<TrajectoryPoint> mine;
+  for (const TrajectoryPoint& p : w.saved_points)
+    if (p.frame < complete) mine.push_back(p);
+  const std::vector<TrajectoryPoint> all = ranks_->gather(mine);
+  if (ranks_->rank != 0) {
+    if (first) std::rethrow_exception(first);
+    return;
+  }
+  try {
+    w.list_pieces(complete);
+    w.write_collection();
+    w.write_piece_trajectories(all, complete);
+  } catch (...) {
+    if (!first) first = std::current_exception();
+  }
+  if (first) std::rethrow_exception(first);
 }
 
 }  // namespace aeroflock

@@ -30,9 +30,12 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "model/bird.h"
 #include "model/scenario.h"
@@ -41,6 +44,25 @@
 #include "run/run_loop.h"
 
 namespace aeroflock {
+
+// A bird's saved position in a run over many ranks, sent to rank 0 for the trajectories.
+struct TrajectoryPoint {
+  uint32_t id = 0;
+  uint32_t species = 0;
+  uint64_t frame = 0;  // the saved frame's index (0: the first saved)
+  glm::dvec3 position{0.0};
+  double speed = 0.0;
+};
+
+// One rank's part of an export over many (dist/). The calls are collective: every rank makes them,
+// from the run's thread.
+struct VtkRanks {
+  int rank = 0, ranks = 1;
+  // The fewest frames any rank has written whole, given this rank's.
+  std::function<uint64_t(uint64_t)> fewest;
+  // Every rank's points on rank 0 (empty elsewhere).
+  std::function<std::vector<TrajectoryPoint>(const std::vector<TrajectoryPoint>&)> gather;
+};
 
 struct VtkOptions {
   std::filesystem::path dir;
@@ -59,10 +81,17 @@ struct VtkOptions {
   size_t queue_bytes = size_t(256) << 20;
   // Test hook: called on the writer thread before each frame file is written (a slow disk).
   std::function<void()> before_frame_write;
+  // Over many ranks (ranks->ranks > 1): each rank writes its birds of a frame as a piece,
+  // frames/flock_NNNNNN_pRRRR.vtp, with a point array `rank` and field data `ranks`; rank 0
+  // writes frames/flock_NNNNNN.pvtp of the pieces and lists it in flock.pvd once every rank has
+  // written its piece, and the trajectories at the end, whole across the birds' changes of rank.
+  // Only rank 0 checks and clears the directory (the others' exporters come after it did).
+  std::optional<VtkRanks> ranks;
 };
 
 // The files of an earlier export in `dir`, as this exporter names them: flock.pvd,
-// trajectories.vtp and frames/flock_NNNNNN.vtp. Nothing else in `dir` is counted.
+// trajectories.vtp and frames/flock_NNNNNN.vtp (over many ranks also flock_NNNNNN.pvtp and
+// flock_NNNNNN_pRRRR.vtp). Nothing else in `dir` is counted.
 std::vector<std::filesystem::path> earlier_export_files(const std::filesystem::path& dir);
 
 // The names of the point arrays of a frame file, in the order they are written.
@@ -125,12 +154,17 @@ class VtkExporter final : public RunObserver {
   // RunObserver: offer_start, wants_forces = due or last, offer_ready, failed, offer_last + finish.
   void start(Simulation& sim) override { offer_start(sim); }
   bool wants_forces(uint64_t frame, bool last) const override { return due(frame) || last; }
-  void frame(Simulation& sim, uint64_t) override { offer_ready(sim); }
+  void frame(Simulation& sim, uint64_t) override {
+    offer_ready(sim);
+    if (pieces()) announce_pieces();
+  }
   std::string stop_reason() const override { return failed() ? "the VTK export failed" : ""; }
   void finish(Simulation& sim) override {
     offer_last(sim);
     finish();
   }
+  // Over many ranks: whether this exporter writes pieces.
+  bool pieces() const { return ranks_.has_value(); }
 
   // The writer has hit an error (finish() will throw it): the run may as well stop.
   bool failed() const;
@@ -150,6 +184,13 @@ class VtkExporter final : public RunObserver {
  private:
   struct Writer;
   void offer(const Snapshot& snapshot, bool due_or_not);
+  // Over many ranks, after each frame: rank 0 lists the frames every rank has written.
+  void announce_pieces();
+  void prepare_dir(const VtkOptions& options);
+  void start_writer(const VtkOptions& options, const Scenario& scenario);
+  std::optional<VtkRanks> ranks_;
+  std::vector<bool> chosen_;  // by global id: selected (pieces)
+  uint64_t announced_ = 0;    // frames rank 0 has listed (pieces)
   std::filesystem::path dir_;
   uint32_t every_ = 1;
   uint64_t from_ = 0;
