@@ -243,6 +243,34 @@ TEST(Distributed, TwoFlocksFarApart) {
   expect_same_as_one_rank(s, 400, 100, false);  // on 2 ranks each flock alone on its own
 }
 
+// Every bird exactly on a cell's face, so some exactly on a cut (cuts fall on faces): owned by the
+// slab after it, perceived by both sides' ghosts as on one rank.
+TEST(Distributed, BirdsExactlyOnTheCuts) {
+  const Scenario s = load_scenario("default");
+  std::vector<BirdState> birds = spawn_birds(s, 300);
+  const double cell = grid_shape(s.species, birds).cell;
+  for (BirdState& b : birds) {
+    b.position.x = std::round(b.position.x / cell) * cell;
+    b.position.z = std::round(b.position.z / cell) * cell;
+  }
+  DistributedCpuSimulation many(s, MPI_COMM_WORLD, birds);
+  for (size_t k = 0; k < many.ids().size(); ++k) {
+    const int64_t c = many.slabs().cell_of(many.snapshot().birds->at(k).position);
+    EXPECT_EQ(many.slabs().owner(c), many.rank());
+  }
+  std::unique_ptr<CpuSimulation> one;
+  if (rank_here() == 0) one = std::make_unique<CpuSimulation>(s, birds);
+  for (int f = 0; f < 30; ++f) {
+    many.step_frame();
+    if (one) one->step_frame();
+  }
+  const std::vector<BirdState> gathered = many.gather();
+  if (!one) return;
+  ASSERT_EQ(gathered.size(), birds.size());
+  for (size_t i = 0; i < gathered.size(); ++i)
+    EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
+}
+
 TEST(Distributed, MoreRanksThanBirds) {
   Scenario s = load_scenario("default");
   expect_same_as_one_rank(s, 2, 20, false);

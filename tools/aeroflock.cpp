@@ -24,6 +24,7 @@
 
 #include "backend.h"
 #include "bench.h"
+#include "bench_ranks.h"
 #include "converge.h"
 #include "dist/distributed.h"
 #include "dist/mpi_session.h"
@@ -654,6 +655,19 @@ int main(int argc, char** argv) {
     return mpi.root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   }
   try {
+    // Under mpirun: `run`, and `bench --weak-scaling`; the rest runs on one process.
+    if (bench.weak_scaling > 0) {
+      if (!mpi.active())
+        throw std::runtime_error("--weak-scaling runs under mpirun (mpirun -n P ...)");
+      return run_weak_scaling(bench, mpi);
+    }
+    if (mpi.ranks() > 1)
+      for (const Command& c : commands)
+        if (c.app->parsed() && c.app->get_name() != "run")
+          return said_once(2, [&] {
+            std::cerr << "aeroflock: error: " << c.app->get_name()
+                      << " runs on one process: under mpirun, run and bench --weak-scaling do\n";
+          });
     for (const Command& c : commands)
       if (c.app->parsed()) return c.run();
     return 2;

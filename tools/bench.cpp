@@ -905,6 +905,10 @@ Command add_bench_command(CLI::App& app, BenchOptions& o) {
       ->check(kCount);
   add_device_option(cmd, o.device);
   add_step_options(cmd, o.step, "the scenario's");
+  cmd->add_option("--weak-scaling", o.weak_scaling,
+                  "Under mpirun: P ranks fly P x N0 birds, the flock P times as long "
+                  "(docs/DISTRIBUTED.md); N0 here")
+      ->check(kCount);
   return {cmd, [&o] { return run_bench(o); }};
 }
 

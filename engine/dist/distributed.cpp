@@ -20,12 +20,33 @@ struct Migrant {
   BirdState bird;
   Perception perception;
 };
-// A bird another rank perceives: its state alone.
-struct Ghost {
+// A bird with its id (gather()).
+struct Numbered {
   uint32_t id;
   BirdState bird;
 };
-static_assert(std::is_trivially_copyable_v<Migrant> && std::is_trivially_copyable_v<Ghost>);
+// A bird another rank perceives: what perception reads of it (flock.cpp: whether it flocks now
+// and is of the flock, where it is and how it flies), 72 bytes instead of the whole state's.
+struct Ghost {
+  uint32_t id;
+  uint32_t flock, flocking, mode, landing_stage;
+  glm::dvec3 position, velocity;
+
+  static Ghost of(uint32_t id, const BirdState& b) {
+    return {id,         b.flock,   b.flocking, uint32_t(b.mode), uint32_t(b.landing_stage),
+            b.position, b.velocity};
+  }
+  // As a state to perceive: the fields perception reads; the rest as a new bird's.
+  BirdState bird() const {
+    BirdState b;
+    b.flock = flock, b.flocking = flocking;
+    b.mode = FlightMode(mode), b.landing_stage = LandingStage(landing_stage);
+    b.position = position, b.velocity = velocity;
+    return b;
+  }
+};
+static_assert(std::is_trivially_copyable_v<Migrant> && std::is_trivially_copyable_v<Ghost> &&
+              std::is_trivially_copyable_v<Numbered>);
 
 // A cut moves at most this many halos per balance check: a bounded number of birds changes owner
 // at once.
@@ -92,16 +113,25 @@ CellCounts count_cells(const Slabs& slabs, const std::vector<BirdState>& birds) 
 DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
                                                    uint32_t birds_override)
     : Simulation(std::move(scenario)), comm_(comm) {
-  MPI_Comm_rank(comm_, &rank_);
-  MPI_Comm_size(comm_, &ranks_);
   // Every rank places every bird as one rank would (the same seed), cuts the world the same way
   // and keeps its own: no communication, and the ids are the one-rank indices.
-  const std::vector<BirdState> all = spawn_birds(this->scenario(), birds_override);
-  flocking_ = any_flocking(this->scenario());
+  place(spawn_birds(this->scenario(), birds_override));
+}
+
+DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
+                                                   const std::vector<BirdState>& all)
+    : Simulation(std::move(scenario)), comm_(comm) {
+  place(all);
+}
+
+void DistributedCpuSimulation::place(const std::vector<BirdState>& all) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &ranks_);
+  flocking_ = any_flocking(scenario());
   total_ = all.size();
-  shape_ = grid_shape(this->scenario().species, all);
+  shape_ = grid_shape(scenario().species, all);
   double reach = 0.0;
-  for (const Species& s : this->scenario().species) reach = std::max(reach, s.perception_radius);
+  for (const Species& s : scenario().species) reach = std::max(reach, s.perception_radius);
   slabs_.axis = longer_axis(spread_points(all, world()));
   slabs_.cell = shape_.cell;
   slabs_.halo = flocking_ ? static_cast<int64_t>(std::ceil(reach / shape_.cell)) : 0;
@@ -190,7 +220,7 @@ void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
     if (!flocks_now(birds_[k])) continue;
     to.clear();
     slabs_.ghost_ranks(slabs_.cell_of(birds_[k].position), to);
-    for (int q : to) out[size_t(q)].push_back({ids_[k], birds_[k]});
+    for (int q : to) out[size_t(q)].push_back(Ghost::of(ids_[k], birds_[k]));
     traffic_.ghosts_sent += to.size();
   }
   std::vector<Ghost> ghosts = exchange(comm_, out, traffic_);
@@ -207,11 +237,11 @@ void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
   size_t g = 0;
   for (size_t k = 0; k < birds_.size(); ++k) {
     for (; g < ghosts.size() && ghosts[g].id < ids_[k]; ++g)
-      seen.push_back(ghosts[g].bird), seen_ids.push_back(ghosts[g].id);
+      seen.push_back(ghosts[g].bird()), seen_ids.push_back(ghosts[g].id);
     mine.push_back(static_cast<uint32_t>(seen.size()));
     seen.push_back(birds_[k]), seen_ids.push_back(ids_[k]);
   }
-  for (; g < ghosts.size(); ++g) seen.push_back(ghosts[g].bird), seen_ids.push_back(ghosts[g].id);
+  for (; g < ghosts.size(); ++g) seen.push_back(ghosts[g].bird()), seen_ids.push_back(ghosts[g].id);
   GridShape local = shape_;
   local.buckets = std::bit_ceil(
       static_cast<uint32_t>(std::clamp<size_t>(4 * seen.size(), 1024, size_t{1} << 31)));
@@ -291,20 +321,21 @@ int DistributedCpuSimulation::stops_together(int here) {
 }
 
 std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {
-  std::vector<Ghost> mine;
+  std::vector<Numbered> mine;
   for (size_t k = 0; k < birds_.size(); ++k) mine.push_back({ids_[k], birds_[k]});
   const int count = static_cast<int>(mine.size());
   std::vector<int> counts(static_cast<size_t>(ranks_)), at(static_cast<size_t>(ranks_));
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
   int total = 0;
   for (int q = 0; q < ranks_; ++q) at[size_t(q)] = total, total += counts[size_t(q)];
-  std::vector<Ghost> all(rank_ == root ? size_t(total) : 0);
-  MPI_Datatype type = bytes_of<Ghost>();
+  std::vector<Numbered> all(rank_ == root ? size_t(total) : 0);
+  MPI_Datatype type = bytes_of<Numbered>();
   MPI_Gatherv(mine.data(), count, type, all.data(), counts.data(), at.data(), type, root, comm_);
   MPI_Type_free(&type);
-  std::sort(all.begin(), all.end(), [](const Ghost& a, const Ghost& b) { return a.id < b.id; });
+  std::sort(all.begin(), all.end(),
+            [](const Numbered& a, const Numbered& b) { return a.id < b.id; });
   std::vector<BirdState> birds;
-  for (const Ghost& g : all) birds.push_back(g.bird);
+  for (const Numbered& g : all) birds.push_back(g.bird);
   return birds;
 }
 

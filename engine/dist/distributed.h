@@ -39,6 +39,8 @@ class DistributedCpuSimulation final : public Simulation {
   static constexpr double kImbalance = 1.05;
 
   DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, uint32_t birds_override = 0);
+  // Given birds (every rank the same), bird k of `all` with global id k.
+  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, const std::vector<BirdState>& all);
 
   std::string backend() const override { return "cpu"; }
   std::string device() const override;
@@ -65,6 +67,7 @@ class DistributedCpuSimulation final : public Simulation {
   int ranks() const { return ranks_; }
 
  private:
+  void place(const std::vector<BirdState>& all);
   void rebalance_if_due();
   void migrate();
   // Ghosts in, then this rank's birds due at `frame` perceive among them, into `perception`

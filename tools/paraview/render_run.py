@@ -7,7 +7,7 @@ the time, and saves one PNG or one PNG per time step. render_run_vtk.py draws th
 with plain VTK (Debian's python3-vtk9) where ParaView's Python is not installed.
 
 usage: pvbatch tools/paraview/render_run.py RUN_DIR (--png FILE | --frames-dir DIR)
-           [--time T] [--every K] [--color speed|species|flight_state] [--speed-range MIN,MAX]
+           [--time T] [--every K] [--color speed|species|flight_state|rank] [--speed-range MIN,MAX]
            [--birds points|cones] [--point-size PX] [--bird-size CM]
            [--trajectories past|full|none] [--max-trajectories N] [--camera auto|all|flock]
            [--azimuth DEG] [--elevation DEG] [--size WxH] [--title TEXT]
@@ -18,9 +18,11 @@ usage: pvbatch tools/paraview/render_run.py RUN_DIR (--png FILE | --frames-dir D
   --frames-dir DIR     render every saved time step (every K-th with --every K) to
                        DIR/frame_NNNNNN.png (turn them into a video with e.g.
                        ffmpeg -framerate 30 -i DIR/frame_%06d.png -pix_fmt yuv420p flock.mp4)
-  --color              speed (m/s, default), species or flight_state; species and flight-state
-                       names come from the frames' field data (species_names, flight_state_names)
-                       when present, else "species N" and the documented state names
+  --color              speed (m/s, default), species, flight_state or rank (the MPI rank that
+                       owned each bird, in an export of a run over many ranks); species and
+                       flight-state names come from the frames' field data (species_names,
+                       flight_state_names) when present, else "species N" and the documented
+                       state names
   --speed-range        colour-scale range in m/s (default: the run's range, from trajectories.vtp)
   --birds              points (spheres of --point-size pixels, default) or cones (3D glyphs
                        --bird-size cm long, pointing along the velocity)
@@ -63,7 +65,7 @@ try:
     from paraview import simple as pv
     from vtkmodules.vtkCommonCore import vtkIdList
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
 except ImportError as e:
     print(f"render_run.py: cannot import ParaView's Python ({e}). Run it with pvbatch or pvpython "
           "from a ParaView that has its Python modules (paraview.org binaries, or Debian's "
@@ -86,7 +88,8 @@ def read_polydata(path):
     """The file read here, with ParaView's VTK, for what the pipeline set-up needs to know."""
     if not os.path.isfile(path):
         fail(f"{path}: no such file")
-    reader = vtkXMLPolyDataReader()
+    # A run over many MPI ranks saves each frame as a .pvtp of one piece a rank.
+    reader = vtkXMLPPolyDataReader() if path.endswith(".pvtp") else vtkXMLPolyDataReader()
     reader.SetFileName(path)
     reader.Update()
     if reader.GetErrorCode() != 0:
@@ -237,7 +240,7 @@ class Scene:
             set_if(lut, "AnnotationsInitialized", 1)
             lut.Annotations = sum(([str(i), name] for i, name in enumerate(categories)), [])
             lut.IndexedColors = sum((list(PALETTE[i % len(PALETTE)]) for i in range(len(categories))), [])
-            title = "species" if args.color == "species" else "flight state"
+            title = {"species": "species", "rank": "MPI rank"}.get(args.color, "flight state")
         display.SetScalarBarVisibility(view, True)
         bar = pv.GetScalarBar(lut, view)
         bar.Title = title

@@ -7,7 +7,7 @@ coloured by speed in m/s, by species or by flight state, the trajectories behind
 that frames the flock, a legend and the time.
 
 usage: /usr/bin/python3 tools/paraview/render_run_vtk.py RUN_DIR (--png FILE | --frames-dir DIR)
-           [--time T] [--every K] [--color speed|species|flight_state] [--speed-range MIN,MAX]
+           [--time T] [--every K] [--color speed|species|flight_state|rank] [--speed-range MIN,MAX]
            [--birds points|cones] [--point-size PX] [--bird-size CM]
            [--trajectories past|full|none] [--max-trajectories N] [--camera auto|all|flock]
            [--azimuth DEG] [--elevation DEG] [--size WxH] [--title TEXT]
@@ -17,9 +17,11 @@ usage: /usr/bin/python3 tools/paraview/render_run_vtk.py RUN_DIR (--png FILE | -
   --frames-dir DIR     render every saved time step (every K-th with --every K) to
                        DIR/frame_NNNNNN.png (turn them into a video with e.g.
                        ffmpeg -framerate 30 -i DIR/frame_%06d.png -pix_fmt yuv420p flock.mp4)
-  --color              speed (m/s, default), species or flight_state; species and flight-state
-                       names come from the frames' field data (species_names, flight_state_names)
-                       when present, else "species N" and the documented state names
+  --color              speed (m/s, default), species, flight_state or rank (the MPI rank that
+                       owned each bird, in an export of a run over many ranks); species and
+                       flight-state names come from the frames' field data (species_names,
+                       flight_state_names) when present, else "species N" and the documented
+                       state names
   --speed-range        colour-scale range in m/s (default: the run's range, from trajectories.vtp)
   --birds              points (spheres of --point-size pixels, default) or cones (3D glyphs
                        --bird-size cm long, pointing along the velocity)
@@ -60,7 +62,7 @@ try:
     from vtkmodules.vtkFiltersCore import vtkArrayCalculator, vtkClipPolyData, vtkGlyph3D
     from vtkmodules.vtkFiltersSources import vtkConeSource
     from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPPolyDataReader
     from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
     from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkPolyDataMapper,
                                              vtkRenderer, vtkRenderWindow, vtkTextActor,
@@ -85,7 +87,8 @@ PALETTE = [(1.00, 0.60, 0.10), (0.35, 0.75, 1.00), (0.45, 0.85, 0.35), (0.95, 0.
 # ----------------------------------------------------------------------------- input
 
 def read_polydata(path):
-    reader = vtkXMLPolyDataReader()
+    # A run over many MPI ranks saves each frame as a .pvtp of one piece a rank.
+    reader = vtkXMLPPolyDataReader() if path.endswith(".pvtp") else vtkXMLPolyDataReader()
     reader.SetFileName(path)
     reader.Update()
     if reader.GetErrorCode() != 0 or reader.GetOutput().GetNumberOfPoints() == 0 and \
@@ -240,7 +243,7 @@ class Scene:
                 lut.SetAnnotation(i, name)
             self.bird_mapper.SelectColorArray(args.color)
             self.bird_mapper.SetScalarRange(0, max(1, len(categories) - 1))
-            bar.SetTitle("species" if args.color == "species" else "flight state")
+            bar.SetTitle({"species": "species", "rank": "MPI rank"}.get(args.color, "flight state"))
             bar.SetDrawAnnotations(True)
         self.bird_mapper.SetLookupTable(lut)
         self.bird_mapper.UseLookupTableScalarRangeOn()

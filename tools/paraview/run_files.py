@@ -195,7 +195,7 @@ def parse_args(argv, prog, doc):
     p.add_argument("--frames-dir")
     p.add_argument("--time", type=float)
     p.add_argument("--every", type=int, default=1)
-    p.add_argument("--color", choices=["speed", "species", "flight_state"], default="speed")
+    p.add_argument("--color", choices=["speed", "species", "flight_state", "rank"], default="speed")
     p.add_argument("--speed-range")
     p.add_argument("--birds", choices=["points", "cones"], default="points")
     p.add_argument("--point-size", type=float)
@@ -262,6 +262,8 @@ def plan_run(args, read_polydata):
         plan.categories = category_names(
             ends, "flight_state", "flight_state_names",
             lambda i: FLIGHT_STATES[i] if i < len(FLIGHT_STATES) else f"state {i}")
+    elif args.color == "rank":
+        plan.categories = category_names(ends, "rank", "rank_names", lambda i: f"rank {i}")
     else:
         plan.categories = []
     if args.speed_range:
