@@ -72,10 +72,11 @@ int run_weak_scaling(const BenchOptions& o, const dist::MpiSession& mpi) {
   if (!mpi.root()) return 0;
 
   const double steps = double(scenario.steps_per_frame) * double(f.count);
-  std::printf("weak scaling: %d rank%s, %u birds a rank (%u in all), %s lengthened %d times along "
-              "x, %u frames of %u steps of %g s\n",
-              ranks, ranks == 1 ? "" : "s", per_rank, f.count, scenario.name.c_str(), ranks,
-              frames, scenario.steps_per_frame, scenario.dt);
+  std::printf(
+      "weak scaling: %d rank%s, %u birds a rank (%u in all), %s lengthened %d times along "
+      "x, %u frames of %u steps of %g s\n",
+      ranks, ranks == 1 ? "" : "s", per_rank, f.count, scenario.name.c_str(), ranks, frames,
+      scenario.steps_per_frame, scenario.dt);
   std::printf("%6s %10s %10s %12s %14s %10s\n", "rank", "birds", "ghosts", "ghosts/bird",
               "bytes/frame", "comm s");
   nlohmann::ordered_json json_rows = nlohmann::ordered_json::array();
