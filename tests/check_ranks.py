@@ -7,7 +7,8 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   1. `default` for 3 s on the CPU, alone and on 2, 3 and 4 ranks: every figure of the summaries
      equal (the flock is the same bird for bird) but the device, the times and `ranks`; `ranks`
      has one entry per rank, their birds sum to the flock, ghosts were sent.
-  2. what is not built over ranks (--backend vulkan, --vtk) is refused: exit 2, said once.
+  2. what is not built over ranks (--backend vulkan), a command that runs on one process
+     (envelope) and a mistake in the options are refused: exit 2, said once.
   3. an unknown scenario: exit 2, said once.
   4. one rank failing mid-run (AEROFLOCK_TEST_FAIL_RANK=2:10): every rank ends, no hang, a
      non-zero exit, the failing rank's message once and rank 0's summary saying so.
@@ -17,6 +18,8 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   6. --vtk on 3 ranks: each frame a .pvtp of 3 pieces listed in the .pvd at one process's times,
      every bird once with the same values in every array as one process writes, a `rank` array,
      the same trajectories (read with python3-vtk9; skipped without it).
+  7. --png and --structure-from on 3 ranks: the same PNG byte for byte and the same structure
+     figures as one process's.
 Exits 0 when all hold, 1 with what did not.
 """
 import json
@@ -67,12 +70,13 @@ for n in (2, 3, 4):
 
 # 2, 3. Refusals and a scenario error, said once.
 for args, said in ((["run", "default"], "--backend vulkan does not run over many ranks yet"),
-                   (base + ["--png", os.path.join(WORK, "vtk", "x.png")], "--png, --frames-dir"),
+                   (["envelope", "--quick"], "envelope runs on one process"),
+                   (base + ["--structure-from", "5", "--structure-to", "2"],
+                    "--structure-to must not be before"),
                    (["run", "no-such-scenario", "--backend", "cpu"], 'unknown scenario "no-such')):
     r = run(3, args)
     check(r.returncode != 0, f"{args}: exit 0")
     check(r.stderr.count(said) == 1, f"{args}: '{said}' said {r.stderr.count(said)} times")
-check(not os.path.exists(os.path.join(WORK, "vtk")), "a refused --png made its directory")
 
 # 4. One rank fails: all end, its message once, rank 0's summary says another rank stopped.
 failed = os.path.join(WORK, "failed.json")
@@ -186,6 +190,22 @@ if have_vtk:
           "vtk: the trajectories differ")
 else:
     print("vtk: not checked (no VTK Python modules)")
+
+# 7. Pictures and the flock's structure over 3 ranks: drawn and measured on rank 0 from every
+#    rank's birds, the same PNG byte for byte and the same structure figures as one process's.
+pictures = {}
+for n in (1, 3):
+    png, summary = os.path.join(WORK, f"last{n}.png"), os.path.join(WORK, f"structure{n}.json")
+    for f in (png, summary):
+        if os.path.exists(f):
+            os.remove(f)
+    r = run(n if n > 1 else 0, ["run", "default", "--backend", "cpu", "--seconds", "2", "--threads",
+                                "1", "--png", png, "--structure-from", "1", "--summary", summary])
+    check(r.returncode == 0, f"pictures on {n}: exit {r.returncode}: {r.stderr}")
+    pictures[n] = (open(png, "rb").read() if os.path.exists(png) else b"",
+                   json.load(open(summary))["structure"] if os.path.exists(summary) else None)
+check(pictures[1][0] and pictures[1][0] == pictures[3][0], "pictures: the PNGs differ")
+check(pictures[1][1] and pictures[1][1] == pictures[3][1], "pictures: the structure differs")
 
 for f in failures:
     print("FAIL:", f)

@@ -28,6 +28,7 @@
 #include "converge.h"
 #include "dist/distributed.h"
 #include "dist/mpi_session.h"
+#include "dist/on_rank_zero.h"
 #include "envelope.h"
 #include "gpu/gpu_simulation.h"
 #include "io/paths.h"
@@ -262,6 +263,11 @@ class FailingRank final : public RunObserver {
   uint64_t at_;
 };
 
+// An error in the options that every rank meets alike (over many ranks rank 0 alone says it).
+struct OptionError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // The MPI session main() opened (dist/mpi_session.h): one process unless a launcher started many.
 const dist::MpiSession* g_mpi = nullptr;
 
@@ -271,8 +277,6 @@ std::string refused_across_ranks(const RunOptions& opt) {
   if (opt.backend != "cpu")
     return "--backend " + opt.backend +
            " does not run over many ranks yet: add --backend cpu (docs/DISTRIBUTED.md)";
-  if (opt.images.any()) return "--png, --frames-dir and --video do not run over many ranks yet";
-  if (opt.structure_from) return "--structure-from does not run over many ranks yet";
   return {};
 }
 
@@ -341,7 +345,32 @@ int run(const RunOptions& opt) {
                           std::move(scenario));
   }
   std::unique_ptr<Pictures> images;
-  if (opt.images.any()) images = std::make_unique<Pictures>(opt.images, *sim);
+  // Over many ranks the pictures and the structure see every bird, gathered on rank 0.
+  std::unique_ptr<dist::GatheredFlock> gathered_flock;
+  std::vector<std::unique_ptr<dist::OnRankZero>> on_rank_zero;
+  if (many && (opt.images.any() || opt.structure_from))
+    gathered_flock = std::make_unique<dist::GatheredFlock>(*ranks);
+  if (opt.images.any() && !many) images = std::make_unique<Pictures>(opt.images, *sim);
+  if (opt.images.any() && many) {
+    std::string why;
+    if (root) try {
+        images = std::make_unique<Pictures>(opt.images, *gathered_flock);
+      } catch (const gpu::Error& e) {
+        why = "rank 0 cannot draw the " + std::to_string(ranks->total_birds()) +
+              " birds of the run (" + e.what() +
+              "): export them with --vtk and draw them with ParaView (docs/ANALYSIS.md)";
+      } catch (const std::runtime_error& e) {
+        why = e.what();
+      }
+    if (why = from_rank_zero(why); !why.empty()) {
+      if (root) std::cerr << "aeroflock: error: " << why << "\n";
+      return 2;
+    }
+    // Only the frames directory and the video look at every frame; a PNG at the last alone.
+    on_rank_zero.push_back(std::make_unique<dist::OnRankZero>(
+        *gathered_flock, images.get(),
+        !opt.images.frames_dir.empty() || !opt.images.video.empty()));
+  }
   summary.backend = sim->backend();
   summary.device = describe_device(*sim);
 
@@ -386,22 +415,29 @@ int run(const RunOptions& opt) {
   if (root) observers.push_back(&progress);
   if (opt.strict) observers.push_back(&strict);
   if (failing) observers.push_back(&*failing);
-  if (images) observers.push_back(images.get());
+  if (images && !many) observers.push_back(images.get());
+  if (many && opt.images.any()) observers.push_back(on_rank_zero.back().get());
   if (vtk) observers.push_back(vtk.get());
   std::unique_ptr<StructureObserver> structure;
   if (opt.structure_from) {
     StructureWindow window{*opt.structure_from, opt.structure_to.value_or(total_seconds),
                            opt.structure_every};
     if (opt.structure_to && window.to < window.from)
-      throw std::runtime_error("--structure-to must not be before --structure-from");
+      throw OptionError("--structure-to must not be before --structure-from");
     if (window.from > total_seconds + 1e-9) {
       char why[160];
       std::snprintf(why, sizeof why, "--structure-from %g s is past the run's end at %g s",
                     window.from, total_seconds);
-      throw std::runtime_error(why);
+      throw OptionError(why);
     }
     structure = std::make_unique<StructureObserver>(window);
-    observers.push_back(structure.get());
+    if (!many) {
+      observers.push_back(structure.get());
+    } else {
+      on_rank_zero.push_back(std::make_unique<dist::OnRankZero>(
+          *gathered_flock, root ? structure.get() : nullptr, true));
+      observers.push_back(on_rank_zero.back().get());
+    }
   }
   RunLimits limits;
   limits.frames = frames;
@@ -676,6 +712,8 @@ int main(int argc, char** argv) {
   } catch (const ScenarioError& e) {
     // Already "FILE:LINE:COLUMN: error: ...".
     return said_once(2, [&] { std::cerr << e.what() << "\n"; });
+  } catch (const OptionError& e) {
+    return said_once(2, [&] { std::cerr << "aeroflock: error: " << e.what() << "\n"; });
   } catch (const std::exception& e) {
     if (mpi.ranks() > 1) {
       std::cerr << "aeroflock: error (" << mpi.describe() << "): " << e.what() << "\n";
