@@ -100,7 +100,13 @@ subprocess.run(["rm", "-rf", stopped_vtk])
 p = subprocess.Popen([MPIEXEC, "-n", "3", AEROFLOCK, "run", "migration-flock", "--backend", "cpu",
                       "--birds", "500", "--summary", stopped, "--vtk", stopped_vtk],
                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-time.sleep(3)
+# Signalled once the run is under way (its first frames listed), not while the ranks start: a
+# signal before a rank has its handler ends it at once, with nothing written.
+for _ in range(600):
+    if os.path.exists(os.path.join(stopped_vtk, "flock.pvd")) or p.poll() is not None:
+        break
+    time.sleep(0.1)
+time.sleep(0.5)
 p.send_signal(signal.SIGTERM)
 try:
     out, err = p.communicate(timeout=60)
