@@ -299,7 +299,20 @@ int run(const RunOptions& opt) {
       return 2;
     }
   }
-  if (!opt.summary.empty() && root) check_output_path(opt.summary, "--summary", {".json"});
+  if (!opt.summary.empty() && !many) check_output_path(opt.summary, "--summary", {".json"});
+  if (!opt.summary.empty() && many) {
+    // Rank 0 writes it: rank 0 checks it, and every rank stops alike when it cannot.
+    std::string why;
+    if (root) try {
+        check_output_path(opt.summary, "--summary", {".json"});
+      } catch (const std::runtime_error& e) {
+        why = e.what();
+      }
+    if (why = from_rank_zero(why); !why.empty()) {
+      if (root) std::cerr << "aeroflock: error: " << why << "\n";
+      return 2;
+    }
+  }
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
   Scenario scenario = load_scenario(opt.scenario);

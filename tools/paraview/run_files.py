@@ -263,7 +263,11 @@ def plan_run(args, read_polydata):
             ends, "flight_state", "flight_state_names",
             lambda i: FLIGHT_STATES[i] if i < len(FLIGHT_STATES) else f"state {i}")
     elif args.color == "rank":
+        # Every rank of the run, also those that held no bird (the field data's `ranks`).
+        field = ends[-1].GetFieldData().GetArray("ranks")
+        ranks = int(field.GetTuple1(0)) if field is not None else 0
         plan.categories = category_names(ends, "rank", "rank_names", lambda i: f"rank {i}")
+        plan.categories += [f"rank {i}" for i in range(len(plan.categories), ranks)]
     else:
         plan.categories = []
     if args.speed_range:
