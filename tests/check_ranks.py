@@ -10,8 +10,9 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   2. what is not built over ranks (--backend vulkan), a command that runs on one process
      (envelope) and a mistake in the options are refused: exit 2, said once.
   3. an unknown scenario: exit 2, said once.
-  4. one rank failing mid-run (AEROFLOCK_TEST_FAIL_RANK=2:10): every rank ends, no hang, a
-     non-zero exit, the failing rank's message once and rank 0's summary saying so.
+  4. one rank failing mid-run (AEROFLOCK_TEST_FAIL_RANK=2:10), with --vtk and --structure-from
+     (observers whose calls are collective): every rank ends, no hang, a non-zero exit, the
+     failing rank's message once and rank 0's summary saying so.
   5. SIGTERM to mpiexec mid-run (with --vtk): every rank stops on the same frame, rank 0 writes
      the summary, `interrupted` true and `signal` SIGTERM, and the .pvd lists exactly the .pvtp
      files there, each with all its pieces.
@@ -80,8 +81,12 @@ for args, said in ((["run", "default"], "--backend vulkan does not run over many
 
 # 4. One rank fails: all end, its message once, rank 0's summary says another rank stopped.
 failed = os.path.join(WORK, "failed.json")
+subprocess.run(["rm", "-rf", os.path.join(WORK, "failed_vtk")])
 try:
-    r = run(3, base + ["--summary", failed], env={"AEROFLOCK_TEST_FAIL_RANK": "2:10"}, timeout=60)
+    # With the observers whose calls are collective (the VTK pieces, the gathered structure).
+    r = run(3, base + ["--summary", failed, "--vtk", os.path.join(WORK, "failed_vtk"),
+                       "--structure-from", "0.1"],
+            env={"AEROFLOCK_TEST_FAIL_RANK": "2:10"}, timeout=60)
     check(r.returncode != 0, "a failing rank: exit 0")
     check(r.stderr.count("error (rank 2 of 3): AEROFLOCK_TEST_FAIL_RANK") == 1,
           f"a failing rank: its message not once: {r.stderr}")

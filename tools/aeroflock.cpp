@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <charconv>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -228,15 +229,26 @@ VtkRanks vtk_ranks(const dist::MpiSession& mpi) {
     return fewest;
   };
   r.gather = [ranks = mpi.ranks(), root = mpi.root()](const std::vector<TrajectoryPoint>& mine) {
-    const int bytes = static_cast<int>(mine.size() * sizeof(TrajectoryPoint));
-    std::vector<int> sizes(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
-    MPI_Gather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-    int total = 0;
-    for (int q = 0; q < ranks; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
-    std::vector<TrajectoryPoint> all(root ? static_cast<size_t>(total) / sizeof(TrajectoryPoint)
-                                          : 0);
-    MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE, 0,
+    // Counted in points, not bytes; more than one gather takes is every rank's error alike.
+    const int64_t count = static_cast<int64_t>(mine.size());
+    int64_t total = 0;
+    MPI_Allreduce(&count, &total, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+    if (total > INT_MAX)
+      throw std::runtime_error("--vtk: the trajectories' " + std::to_string(total) +
+                               " saved positions are more than one gather takes (2^31 - 1): "
+                               "export fewer birds (--vtk-birds) or frames (--vtk-every)");
+    MPI_Datatype point;
+    MPI_Type_contiguous(static_cast<int>(sizeof(TrajectoryPoint)), MPI_BYTE, &point);
+    MPI_Type_commit(&point);
+    const int n = static_cast<int>(count);
+    std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
+    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    int offset = 0;
+    for (int q = 0; q < ranks; ++q) at[size_t(q)] = offset, offset += counts[size_t(q)];
+    std::vector<TrajectoryPoint> all(root ? static_cast<size_t>(total) : 0);
+    MPI_Gatherv(mine.data(), n, point, all.data(), counts.data(), at.data(), point, 0,
                 MPI_COMM_WORLD);
+    MPI_Type_free(&point);
     return all;
   };
   return r;
@@ -380,9 +392,11 @@ int run(const RunOptions& opt) {
       return 2;
     }
     // Only the frames directory and the video look at every frame; a PNG at the last alone.
-    on_rank_zero.push_back(std::make_unique<dist::OnRankZero>(
-        *gathered_flock, images.get(),
-        !opt.images.frames_dir.empty() || !opt.images.video.empty()));
+    std::function<bool(double)> reads;
+    if (!opt.images.frames_dir.empty() || !opt.images.video.empty())
+      reads = [](double) { return true; };
+    on_rank_zero.push_back(
+        std::make_unique<dist::OnRankZero>(*gathered_flock, images.get(), reads));
   }
   summary.backend = sim->backend();
   summary.device = describe_device(*sim);
@@ -447,8 +461,11 @@ int run(const RunOptions& opt) {
     if (!many) {
       observers.push_back(structure.get());
     } else {
+      // Every rank has the observer, to decide alike which frames it measures (the others see
+      // no birds: their figures are not used).
+      StructureObserver* s = structure.get();
       on_rank_zero.push_back(std::make_unique<dist::OnRankZero>(
-          *gathered_flock, root ? structure.get() : nullptr, true));
+          *gathered_flock, s, [s](double t) { return s->due(t); }));
       observers.push_back(on_rank_zero.back().get());
     }
   }

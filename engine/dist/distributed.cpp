@@ -30,11 +30,12 @@ struct Numbered {
 struct Ghost {
   uint32_t id;
   uint32_t flock, flocking, mode, landing_stage;
+  uint32_t unused;  // explicit, so that no byte sent is left unset
   glm::dvec3 position, velocity;
 
   static Ghost of(uint32_t id, const BirdState& b) {
-    return {id,         b.flock,   b.flocking, uint32_t(b.mode), uint32_t(b.landing_stage),
-            b.position, b.velocity};
+    return {id, b.flock,    b.flocking, uint32_t(b.mode), uint32_t(b.landing_stage),
+            0u, b.position, b.velocity};
   }
   // As a state to perceive: the fields perception reads; the rest as a new bird's.
   BirdState bird() const {
@@ -134,7 +135,9 @@ void DistributedCpuSimulation::place(const std::vector<BirdState>& all) {
   for (const Species& s : scenario().species) reach = std::max(reach, s.perception_radius);
   slabs_.axis = longer_axis(spread_points(all, world()));
   slabs_.cell = shape_.cell;
-  slabs_.halo = flocking_ ? static_cast<int64_t>(std::ceil(reach / shape_.cell)) : 0;
+  // A whole cell more than the radius when it is a whole number of cells: a distance that rounds
+  // down to the radius is seen.
+  slabs_.halo = flocking_ ? static_cast<int64_t>(std::floor(reach / shape_.cell)) + 1 : 0;
   slabs_.cuts = balanced_cuts(count_cells(slabs_, all), ranks_, slabs_.halo);
   for (uint32_t i = 0; i < all.size(); ++i)
     if (slabs_.owner(slabs_.cell_of(all[i].position)) == rank_) {

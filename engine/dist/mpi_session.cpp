@@ -1,5 +1,6 @@
 #include "mpi_session.h"
 
+#include <cstdio>
 #include <cstdlib>
 
 #include <mpi.h>
@@ -14,8 +15,16 @@ bool launched_by_mpi() {
 
 MpiSession::MpiSession(int* argc, char*** argv) {
   if (!launched_by_mpi()) return;
-  MPI_Init(argc, argv);
+  // MPI is called from the run's thread alone (OpenMP and the writers' threads never call it).
+  int provided = MPI_THREAD_SINGLE;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   active_ = true;
+  if (provided < MPI_THREAD_FUNNELED) {
+    std::fprintf(stderr,
+                 "aeroflock: error: this MPI does not let a threaded program call it from "
+                 "its main thread (MPI_THREAD_FUNNELED)\n");
+    abort(2);
+  }
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks_);
 }

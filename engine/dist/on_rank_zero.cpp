@@ -36,8 +36,8 @@ void OnRankZero::start(Simulation&) {
   if (inner_) inner_->start(flock_);
 }
 
-void OnRankZero::frame(Simulation&, uint64_t frames) {
-  if (!each_frame_) return;
+void OnRankZero::frame(Simulation& sim, uint64_t frames) {
+  if (!reads_ || !reads_(sim.time())) return;
   flock_.refresh();
   if (inner_) inner_->frame(flock_, frames);
 }

@@ -3,6 +3,7 @@
 // (docs/DISTRIBUTED.md).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "dist/distributed.h"
@@ -31,14 +32,15 @@ class GatheredFlock final : public Simulation {
   std::vector<BirdState> birds_;
 };
 
-// Runs `inner` (rank 0's; null on the others) on the gathered flock: every rank gathers before each
-// frame it hands on (each frame, or with `each_frame` false only the start and the end) and at the
-// end, rank 0's inner observer sees it. Its stop reason is rank 0's; the run loop makes it every
-// rank's (Simulation::stops_together).
+// Runs `inner` on the gathered flock: every rank gathers at the start, at the end and before each
+// frame `reads` says (by the frame's simulated time; null: none between), and `inner` (rank 0's
+// observer, or one every rank has: it then sees no birds elsewhere) is handed it. `reads` must
+// answer alike on every rank. Its stop reason is rank 0's; the run loop makes it every rank's
+// (Simulation::stops_together).
 class OnRankZero final : public RunObserver {
  public:
-  OnRankZero(GatheredFlock& flock, RunObserver* inner, bool each_frame)
-      : flock_(flock), inner_(inner), each_frame_(each_frame) {}
+  OnRankZero(GatheredFlock& flock, RunObserver* inner, std::function<bool(double)> reads)
+      : flock_(flock), inner_(inner), reads_(std::move(reads)) {}
   void start(Simulation&) override;
   bool reads_every_frame() const override { return true; }
   void frame(Simulation&, uint64_t frames) override;
@@ -48,7 +50,7 @@ class OnRankZero final : public RunObserver {
  private:
   GatheredFlock& flock_;
   RunObserver* inner_;
-  bool each_frame_;
+  std::function<bool(double)> reads_;
 };
 
 }  // namespace aeroflock::dist

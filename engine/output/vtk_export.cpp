@@ -751,7 +751,14 @@ void VtkExporter::start_writer(const VtkOptions& options, const Scenario& scenar
 
 VtkExporter::~VtkExporter() {
   try {
-    finish();
+    // Over many ranks finish() is collective, and a destructor may run on one rank alone (an
+    // error unwinding it): the writer only stops then.
+    if (ranks_ && !finished_) {
+      finished_ = true;
+      async_->finish();
+    } else {
+      finish();
+    }
   } catch (...) {
     // Reported by finish() when the caller asks; a destructor must not throw.
   }

@@ -31,12 +31,17 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
     return false;
   };
 
-  try {
-    for (RunObserver* o : observers) o->start(sim);
-  } catch (const std::runtime_error& e) {
-    result.end = RunResult::End::error;
-    result.errors.push_back(e.what());
-  }
+  // Each observer is called whatever the one before it threw: over many ranks an observer's call
+  // may be collective (dist/), and every rank must make it.
+  auto each = [&](auto&& call) {
+    for (RunObserver* o : observers) try {
+        call(o);
+      } catch (const std::runtime_error& e) {
+        result.end = RunResult::End::error;
+        result.errors.push_back(e.what());
+      }
+  };
+  each([&](RunObserver* o) { o->start(sim); });
   // Every part of the run stops on the same frame, for the strongest reason any part has
   // (Simulation::stops_together): a signal, then an error, then an observer's.
   constexpr int kByObserver = 1, kByError = 2, kBySignal = 256;  // kBySignal + its number
@@ -57,6 +62,7 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
       }
       break;
     }
+    bool stepped = false;
     try {
       std::optional<uint32_t> paced;
       for (RunObserver* o : observers)
@@ -74,11 +80,12 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
         if (steps > 0) sim.step(steps, forces);
       }
       result.frames += n;
-      for (RunObserver* o : observers) o->frame(sim, result.frames);
+      stepped = true;
     } catch (const std::runtime_error& e) {
       result.end = RunResult::End::error;
       result.errors.push_back(e.what());
     }
+    if (stepped) each([&](RunObserver* o) { o->frame(sim, result.frames); });
   }
   // A signal that came during the last frame stops nothing more, but the run was interrupted.
   if (result.end == RunResult::End::flown && limits.signal && *limits.signal) {
@@ -105,8 +112,11 @@ void StrictCheck::frame(Simulation& sim, uint64_t) {
 }
 
 void StrictCheck::finish(Simulation& sim) {
-  const std::vector<QuarantinedBird> first = quarantined_birds(sim.birds(), sim.scenario().dt, 1);
+  const Snapshot now = sim.snapshot();
+  std::vector<QuarantinedBird> first = quarantined_birds(*now.birds, sim.scenario().dt, 1);
   if (first.empty()) return;
+  // One rank's share of a flock over many: its global id.
+  if (now.ids) first.front().bird = (*now.ids)[first.front().bird];
   char why[160];
   std::snprintf(
       why, sizeof why,

@@ -72,8 +72,9 @@ struct RunResult {
 };
 
 // Flies `sim` through its observers: start, then each frame (stepped with its forces when one
-// asks), then finish for each. Errors thrown by an observer's frame() stop the run; by its
-// finish(), are collected; either way every observer is finished.
+// asks), then finish for each. Errors thrown by an observer's start() or frame() stop the run
+// after that frame (the other observers still see it: over many ranks their calls may be
+// collective); by its finish(), are collected; either way every observer is finished.
 RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
                      const RunLimits& limits);
 inline RunResult run_frames(Simulation& sim, std::initializer_list<RunObserver*> observers,

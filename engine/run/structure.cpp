@@ -17,11 +17,15 @@ void StructureObserver::start(Simulation& sim) {
     }
 }
 
-void StructureObserver::frame(Simulation& sim, uint64_t) {
-  const double t = sim.time();
+bool StructureObserver::due(double t) const {
   // A frame's time is a multiple of its length: the small allowance keeps a sampling time that
   // falls on a frame from missing it to rounding.
-  if (t < next_ - 1e-9 || t > window_.to + 1e-9) return;
+  return t >= next_ - 1e-9 && t <= window_.to + 1e-9;
+}
+
+void StructureObserver::frame(Simulation& sim, uint64_t) {
+  const double t = sim.time();
+  if (!due(t)) return;
   const std::vector<BirdState>& birds = sim.birds();
   for (size_t k = 0; k < flocking_.size(); ++k)
     if (const auto figures = measure_structure(sim.scenario(), birds, flocking_[k]))

@@ -27,6 +27,8 @@ class StructureObserver final : public RunObserver {
   // stepped one at a time (not in batches), so that it is that frame whatever the flock's size.
   bool reads_every_frame() const override { return true; }
   void frame(Simulation& sim, uint64_t frames) override;
+  // Whether a frame at simulated time `t` is one it measures (the next snapshot's).
+  bool due(double t) const;
   const std::vector<FlockStructureSummary>& flocks() const { return flocks_; }
 
  private:
