@@ -213,18 +213,71 @@ void DistributedCpuSimulation::migrate() {
   traffic_.seconds += MPI_Wtime() - start;
 }
 
+DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64_t frame) const {
+  Reach r{0.0, 0.0, 0.0, 0.0};
+  if (birds_.empty()) return r;
+  const double cell = slabs_.cell;
+  const double low = rank_ == 0 ? -INFINITY : double(slabs_.cuts[size_t(rank_) - 1]) * cell;
+  const double high = rank_ == ranks_ - 1 ? INFINITY : double(slabs_.cuts[size_t(rank_)]) * cell;
+  // A bird's nearest lie within the distance of its k-th nearest among this rank's own birds (or
+  // its perception radius, when it has fewer): the ghosts it may count among them lie no deeper
+  // past a cut than that distance less its own from the cut. A cell more covers rounding.
+  // The birds near a cut, and their own rank's birds they may see: those within two perception
+  // radii and a cell of it (in id order, as all of this rank's).
+  double radius = 0.0;
+  for (const Species& s : scenario().species) radius = std::max(radius, s.perception_radius);
+  std::vector<BirdState> edge;
+  for (const BirdState& b : birds_) {
+    const double x = b.position[slabs_.axis];
+    if (x - low < 2.0 * radius + cell || high - x < 2.0 * radius + cell) edge.push_back(b);
+  }
+  if (edge.empty()) return r;
+  GridShape local = shape_;
+  local.buckets = std::bit_ceil(
+      static_cast<uint32_t>(std::clamp<size_t>(4 * edge.size(), 1024, size_t{1} << 31)));
+  const NeighbourGrid grid(edge, local);
+  double deepest_low = -INFINITY, deepest_high = -INFINITY;
+  for (uint32_t k = 0; k < edge.size(); ++k) {
+    const BirdState& b = edge[k];
+    const Species& s = scenario().species[b.species];
+    if (!flocks_now(b) || frame % reaction_frames(s, scenario().frame_seconds()) != 0) continue;
+    const double x = b.position[slabs_.axis];
+    const double margin = s.perception_radius + cell;
+    if (x - low >= margin && high - x >= margin) continue;
+    const std::vector<uint32_t> near =
+        grid.seen_by(k, scenario().species, wind_at(world(), b.position.y));
+    const double reach = near.size() >= uint32_t(s.neighbours)
+                             ? glm::length(edge[near.back()].position - b.position)
+                             : s.perception_radius;
+    deepest_low = std::max(deepest_low, reach - (x - low));
+    deepest_high = std::max(deepest_high, reach - (high - x));
+  }
+  if (deepest_low > -cell) r.low = low - (deepest_low + cell), r.low_end = low;
+  if (deepest_high > -cell) r.high = high, r.high_end = high + (deepest_high + cell);
+  return r;
+}
+
 void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
                                                     std::vector<Perception>& perception) {
   const double start = MPI_Wtime();
-  // Only birds that flock now are seen by anyone: only they travel as ghosts.
+  // Each rank says how far past its cuts it looks; only birds that flock now are seen by anyone,
+  // and they go to every rank that looks where they are.
+  reach_ = reach_past_cuts(frame);
+  std::vector<Reach> reaches(static_cast<size_t>(ranks_));
+  MPI_Allgather(&reach_, 4, MPI_DOUBLE, reaches.data(), 4, MPI_DOUBLE, comm_);
   std::vector<std::vector<Ghost>> out(static_cast<size_t>(ranks_));
-  std::vector<int> to;
   for (size_t k = 0; k < birds_.size(); ++k) {
     if (!flocks_now(birds_[k])) continue;
-    to.clear();
-    slabs_.ghost_ranks(slabs_.cell_of(birds_[k].position), to);
-    for (int q : to) out[size_t(q)].push_back(Ghost::of(ids_[k], birds_[k]));
-    traffic_.ghosts_sent += to.size();
+    // A rank looks at most its perception radius and a cell past its cuts: only the owners of
+    // the cells a halo and a cell round this bird's may ask for it.
+    const double x = birds_[k].position[slabs_.axis];
+    const int64_t c = slabs_.cell_of(birds_[k].position);
+    for (int q = slabs_.owner(c - slabs_.halo - 1), last = slabs_.owner(c + slabs_.halo + 1);
+         q <= last; ++q)
+      if (q != rank_ && reaches[size_t(q)].holds(x)) {
+        out[size_t(q)].push_back(Ghost::of(ids_[k], birds_[k]));
+        ++traffic_.ghosts_sent;
+      }
   }
   std::vector<Ghost> ghosts = exchange(comm_, out, traffic_);
   ghosts_ = ghosts.size();

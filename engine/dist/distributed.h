@@ -61,6 +61,13 @@ class DistributedCpuSimulation final : public Simulation {
   // Every rank's share on rank `root` (empty elsewhere). Collective.
   std::vector<RankShare> gather_shares(int root = 0) const;
   const Slabs& slabs() const { return slabs_; }
+  // Along the cut axis, the birds this rank asked for as ghosts at its last perception: those at
+  // [low, low_end) below its slab and [high, high_end) above it (cm; empty where from >= to).
+  struct Reach {
+    double low, low_end, high, high_end;
+    bool holds(double x) const { return (x >= low && x < low_end) || (x >= high && x < high_end); }
+  };
+  const Reach& reach() const { return reach_; }
   size_t ghost_count() const { return ghosts_; }
   const Traffic& traffic() const { return traffic_; }
   int rank() const { return rank_; }
@@ -68,6 +75,8 @@ class DistributedCpuSimulation final : public Simulation {
 
  private:
   void place(const std::vector<BirdState>& all);
+  // How far past its cuts this rank's birds due at `frame` may find one of their nearest.
+  Reach reach_past_cuts(uint64_t frame) const;
   void rebalance_if_due();
   void migrate();
   // Ghosts in, then this rank's birds due at `frame` perceive among them, into `perception`
@@ -89,6 +98,7 @@ class DistributedCpuSimulation final : public Simulation {
   size_t total_ = 0;
   uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at
   size_t ghosts_ = 0;
+  Reach reach_{0.0, 0.0, 0.0, 0.0};
   Traffic traffic_;
 };
 
