@@ -542,16 +542,8 @@ struct VtkExporter::Writer {
     if (before_frame_write) before_frame_write();
     write_polydata(data, dir / name, compression);
     // Only frames written in full, and listed in the .pvd, reach the collection and the
-    // trajectories: a frame the .pvd cannot list is removed again.
-    collection.emplace_back(frame.time, name);
-    try {
-      write_collection();
-    } catch (...) {
-      collection.pop_back();
-      std::error_code ignored;
-      fs::remove(dir / name, ignored);
-      throw;
-    }
+    // trajectories.
+    list(frame.time, name);
     saved_times.push_back(frame.time);
     saved_positions.insert(saved_positions.end(), positions.begin(), positions.end());
     saved_speeds.insert(saved_speeds.end(), speeds.begin(), speeds.end());
@@ -582,15 +574,21 @@ struct VtkExporter::Writer {
       text += "  </PPolyData>\n</VTKFile>\n";
       const std::string name = "frames/" + pieces_name(k);
       write_text_atomically(dir / name, text);
-      collection.emplace_back(piece_times[k], name);
-      try {
-        write_collection();
-      } catch (...) {
-        collection.pop_back();
-        std::error_code ignored;
-        fs::remove(dir / name, ignored);
-        throw;
-      }
+      list(piece_times[k], name);
+    }
+  }
+
+  // The frame file `name` (relative to dir), written, listed in the .pvd at `time`; a frame the
+  // .pvd cannot list is removed again.
+  void list(double time, const std::string& name) {
+    collection.emplace_back(time, name);
+    try {
+      write_collection();
+    } catch (...) {
+      collection.pop_back();
+      std::error_code ignored;
+      fs::remove(dir / name, ignored);
+      throw;
     }
   }
 
