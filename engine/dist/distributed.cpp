@@ -240,13 +240,16 @@ DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64
   for (uint32_t k = 0; k < edge.size(); ++k) {
     const BirdState& b = edge[k];
     const Species& s = scenario().species[b.species];
-    if (!flocks_now(b) || frame % reaction_frames(s, scenario().frame_seconds()) != 0) continue;
+    const uint32_t k_nearest = static_cast<uint32_t>(s.neighbours);
+    if (!flocks_now(b) || k_nearest == 0 ||
+        frame % reaction_frames(s, scenario().frame_seconds()) != 0)
+      continue;
     const double x = b.position[slabs_.axis];
     const double margin = s.perception_radius + cell;
     if (x - low >= margin && high - x >= margin) continue;
     const std::vector<uint32_t> near =
         grid.seen_by(k, scenario().species, wind_at(world(), b.position.y));
-    const double reach = near.size() >= uint32_t(s.neighbours)
+    const double reach = near.size() >= k_nearest
                              ? glm::length(edge[near.back()].position - b.position)
                              : s.perception_radius;
     deepest_low = std::max(deepest_low, reach - (x - low));
