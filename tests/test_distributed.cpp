@@ -279,6 +279,13 @@ TEST(Distributed, BirdsExactlyOnTheCuts) {
     EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
 }
 
+// A flocking species that sees no neighbour (neighbours = 0): no ghosts asked for, the same run.
+TEST(Distributed, ASpeciesThatSeesNoNeighbour) {
+  Scenario s = load_scenario("default");
+  for (Species& sp : s.species) sp.neighbours = 0;
+  expect_same_as_one_rank(s, 200, 30, false);
+}
+
 TEST(Distributed, MoreRanksThanBirds) {
   Scenario s = load_scenario("default");
   expect_same_as_one_rank(s, 2, 20, false);
