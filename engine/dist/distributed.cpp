@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <type_traits>
 
 #include <omp.h>
+#include <glm/common.hpp>
 
 #include "model/world.h"
 
@@ -85,10 +87,9 @@ std::vector<T> exchange(MPI_Comm comm, const std::vector<std::vector<T>>& outgoi
   return received;
 }
 
-// The points whose spread picks the axis: the birds and where their routes lead.
-std::vector<glm::dvec3> spread_points(const std::vector<BirdState>& birds, const World& w) {
+// Where the birds' routes lead: with the birds' own spread, what picks the axis.
+std::vector<glm::dvec3> route_points(const World& w) {
   std::vector<glm::dvec3> points;
-  for (const BirdState& b : birds) points.push_back(b.position);
   for (const Target& t : w.targets) points.push_back(t.centre);
   for (const Branch& b : w.branches) points.push_back(b.point);
   return points;
@@ -115,35 +116,59 @@ DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm c
                                                    uint32_t birds_override)
     : Simulation(std::move(scenario)), comm_(comm) {
   // Every rank places every bird as one rank would (the same seed), cuts the world the same way
-  // and keeps its own: no communication, and the ids are the one-rank indices.
-  place(spawn_birds(this->scenario(), birds_override));
+  // and keeps its own: no communication, the ids are the one-rank indices, and no rank holds
+  // more than its own birds.
+  place([this, birds_override](const auto& each) {
+    for_each_spawned(this->scenario(), birds_override, each);
+  });
 }
 
 DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
                                                    const std::vector<BirdState>& all)
     : Simulation(std::move(scenario)), comm_(comm) {
-  place(all);
+  place([&all](const auto& each) {
+    for (uint32_t i = 0; i < all.size(); ++i) each(i, all[i]);
+  });
 }
 
-void DistributedCpuSimulation::place(const std::vector<BirdState>& all) {
+void DistributedCpuSimulation::place(const Birds& all) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &ranks_);
   flocking_ = any_flocking(scenario());
-  total_ = all.size();
-  shape_ = grid_shape(scenario().species, all);
+  // First pass: how many, how far they spread, and one bird of each species' flocking kind (the
+  // grid's cell follows from which species flock, not from how many birds).
+  total_ = 0;
+  std::vector<BirdState> kinds;
+  glm::dvec3 lo{INFINITY}, hi{-INFINITY};
+  all([&](uint32_t, const BirdState& b) {
+    ++total_;
+    lo = glm::min(lo, b.position), hi = glm::max(hi, b.position);
+    if (std::none_of(kinds.begin(), kinds.end(), [&](const BirdState& k) {
+          return k.species == b.species && k.flocking == b.flocking;
+        }))
+      kinds.push_back(b);
+  });
+  shape_ = grid_shape(scenario().species, kinds);
   double reach = 0.0;
   for (const Species& s : scenario().species) reach = std::max(reach, s.perception_radius);
-  slabs_.axis = longer_axis(spread_points(all, world()));
+  std::vector<glm::dvec3> points = route_points(world());
+  if (total_ > 0) points.push_back(lo), points.push_back(hi);
+  slabs_.axis = longer_axis(points);
   slabs_.cell = shape_.cell;
   // A whole cell more than the radius when it is a whole number of cells: a distance that rounds
   // down to the radius is seen.
   slabs_.halo = flocking_ ? static_cast<int64_t>(std::floor(reach / shape_.cell)) + 1 : 0;
-  slabs_.cuts = balanced_cuts(count_cells(slabs_, all), ranks_, slabs_.halo);
-  for (uint32_t i = 0; i < all.size(); ++i)
-    if (slabs_.owner(slabs_.cell_of(all[i].position)) == rank_) {
-      birds_.push_back(all[i]);
+  // Second pass: the birds per cell along the axis, then the cuts.
+  std::map<int64_t, uint64_t> per_cell;
+  all([&](uint32_t, const BirdState& b) { ++per_cell[slabs_.cell_of(b.position)]; });
+  slabs_.cuts = balanced_cuts(CellCounts(per_cell.begin(), per_cell.end()), ranks_, slabs_.halo);
+  // Third pass: this rank's own.
+  all([&](uint32_t i, const BirdState& b) {
+    if (slabs_.owner(slabs_.cell_of(b.position)) == rank_) {
+      birds_.push_back(b);
       ids_.push_back(i);
     }
+  });
   perception_.resize(birds_.size());
 }
 

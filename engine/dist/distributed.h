@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,7 +75,11 @@ class DistributedCpuSimulation final : public Simulation {
   int ranks() const { return ranks_; }
 
  private:
-  void place(const std::vector<BirdState>& all);
+  // Every bird, handed to a function one at a time (bird k with global id k), as often as asked.
+  using Birds = std::function<void(const std::function<void(uint32_t, const BirdState&)>&)>;
+  // Cuts the world from every bird and keeps this rank's: three passes over them, holding only
+  // this rank's birds and the counts per cell.
+  void place(const Birds& all);
   // How far past its cuts this rank's birds due at `frame` may find one of their nearest.
   Reach reach_past_cuts(uint64_t frame) const;
   void rebalance_if_due();

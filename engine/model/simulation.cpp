@@ -50,11 +50,19 @@ void next_step_forces(const std::vector<BirdState>& birds, const Scenario& s, co
 }
 
 std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
+  std::vector<BirdState> birds;
+  birds.reserve(spawn_count(s, birds_override));
+  for_each_spawned(s, birds_override, [&](uint32_t, const BirdState& b) { birds.push_back(b); });
+  return birds;
+}
+
+void for_each_spawned(const Scenario& s, uint32_t birds_override,
+                      const std::function<void(uint32_t, const BirdState&)>& each) {
   check_takeoff_steps(s, s.dt);  // a rest too long to count is refused, not shortened
   std::mt19937_64 rng(s.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const std::vector<uint32_t> sizes = flock_sizes(s, birds_override);
-  std::vector<BirdState> birds;
+  uint32_t index = 0;
   for (size_t fi = 0; fi < s.flocks.size(); ++fi) {
     const Flock& f = s.flocks[fi];
     const Species& sp = s.species[f.species];
@@ -81,10 +89,9 @@ std::vector<BirdState> spawn_birds(const Scenario& s, uint32_t birds_override) {
       } else {
         b.velocity = f.speed * dvec3{std::cos(f.heading), 0.0, std::sin(f.heading)};
       }
-      birds.push_back(b);
+      each(index++, b);
     }
   }
-  return birds;
 }
 
 uint64_t spawn_count(const Scenario& s, uint32_t birds_override) {

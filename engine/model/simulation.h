@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,6 +21,10 @@ namespace aeroflock {
 // a given seed. Throws std::invalid_argument for a standing flock's takeoff_time too late to count
 // in steps (check_takeoff_steps).
 std::vector<BirdState> spawn_birds(const Scenario& scenario, uint32_t birds_override = 0);
+// The same birds handed to `each` one at a time (bird k, as spawn_birds' k-th), none kept: a
+// process that keeps only some of a very large flock (dist/) never holds it all.
+void for_each_spawned(const Scenario& scenario, uint32_t birds_override,
+                      const std::function<void(uint32_t, const BirdState&)>& each);
 // The number of birds spawn_birds places, without placing them.
 uint64_t spawn_count(const Scenario& scenario, uint32_t birds_override = 0);
 
