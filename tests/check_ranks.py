@@ -13,9 +13,10 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   4. one rank failing mid-run (AEROFLOCK_TEST_FAIL_RANK=2:10), with --vtk and --structure-from
      (observers whose calls are collective): every rank ends, no hang, a non-zero exit, the
      failing rank's message once and rank 0's summary saying so.
-  5. SIGTERM to mpiexec mid-run (with --vtk): every rank stops on the same frame, rank 0 writes
-     the summary, `interrupted` true and `signal` SIGTERM, and the .pvd lists exactly the .pvtp
-     files there, each with all its pieces.
+  5. SIGTERM mid-run (with --vtk), to mpiexec and to the ranks: the .pvd lists exactly the .pvtp
+     files there, each with all its pieces; sent to the ranks, every rank stops on the same frame
+     and rank 0 writes the summary (`interrupted`, SIGTERM) and the trajectories (sent to mpiexec,
+     OpenMPI kills the ranks a second later, maybe before that).
   6. --vtk on 3 ranks: each frame a .pvtp of 3 pieces listed in the .pvd at one process's times,
      every bird once with the same values in every array as one process writes, a `rank` array,
      the same trajectories (read with python3-vtk9; skipped without it).
@@ -29,6 +30,7 @@ import signal
 import subprocess
 import sys
 import time
+import xml.etree.ElementTree as ET
 
 MPIEXEC, AEROFLOCK, WORK = sys.argv[1:4]
 os.makedirs(WORK, exist_ok=True)
@@ -96,45 +98,60 @@ try:
 except subprocess.TimeoutExpired:
     failures.append("a failing rank: the run hung")
 
-# 5. SIGTERM to mpiexec: every rank stops together, the summary is written.
-stopped = os.path.join(WORK, "stopped.json")
-if os.path.exists(stopped):
-    os.remove(stopped)
-stopped_vtk = os.path.join(WORK, "stopped_vtk")
-subprocess.run(["rm", "-rf", stopped_vtk])
-p = subprocess.Popen([MPIEXEC, "-n", "3", AEROFLOCK, "run", "migration-flock", "--backend", "cpu",
-                      "--birds", "500", "--summary", stopped, "--vtk", stopped_vtk],
-                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-# Signalled once the run is under way (its first frames listed), not while the ranks start: a
-# signal before a rank has its handler ends it at once, with nothing written.
-for _ in range(600):
-    if os.path.exists(os.path.join(stopped_vtk, "flock.pvd")) or p.poll() is not None:
-        break
-    time.sleep(0.1)
-time.sleep(0.5)
-p.send_signal(signal.SIGTERM)
-try:
-    out, err = p.communicate(timeout=60)
-    check(p.returncode != 0, "SIGTERM: exit 0")
-    s = json.load(open(stopped))
-    check(s["interrupted"] and s["signal"] == "SIGTERM", f"SIGTERM: summary {s['signal']}")
-    check(s["sim_seconds"] < 500, "SIGTERM: the run was not stopped")
-    # The .pvd lists exactly the frames whose every piece is there, each once.
-    import xml.etree.ElementTree as ET
-    listed = [d.get("file") for d in ET.parse(os.path.join(stopped_vtk, "flock.pvd")).iter("DataSet")]
-    frames = sorted(f for f in os.listdir(os.path.join(stopped_vtk, "frames")) if f.endswith(".pvtp"))
+# 5. SIGTERM mid-run (with --vtk), to mpiexec and to the ranks themselves.
+
+def stop_mid_run(name, to_ranks):
+    """Runs migration-flock on 3 ranks, SIGTERM once the run is under way (its first frames
+    listed), and checks what it leaves: the .pvd lists exactly the .pvtp files there, each with all
+    its pieces, and the summary, where there is one, says SIGTERM. Returns whether the summary
+    was written."""
+    stopped, vtk_dir = os.path.join(WORK, name + ".json"), os.path.join(WORK, name)
+    subprocess.run(["rm", "-rf", stopped, vtk_dir])
+    p = subprocess.Popen([MPIEXEC, "-n", "3", AEROFLOCK, "run", "migration-flock", "--backend",
+                          "cpu", "--birds", "500", "--summary", stopped, "--vtk", vtk_dir],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Not while the ranks start: a signal before a rank has its handler ends it at once.
+    for _ in range(600):
+        if os.path.exists(os.path.join(vtk_dir, "flock.pvd")) or p.poll() is not None:
+            break
+        time.sleep(0.1)
+    time.sleep(0.5)
+    if to_ranks:
+        ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True)
+        for pid in ranks.stdout.split():
+            os.kill(int(pid), signal.SIGTERM)
+    else:
+        p.send_signal(signal.SIGTERM)
+    try:
+        p.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        failures.append(f"SIGTERM ({name}): the run hung")
+        return False
+    check(p.returncode != 0, f"SIGTERM ({name}): exit 0")
+    listed = [d.get("file") for d in ET.parse(os.path.join(vtk_dir, "flock.pvd")).iter("DataSet")]
+    frames = sorted(f for f in os.listdir(os.path.join(vtk_dir, "frames")) if f.endswith(".pvtp"))
     check(listed == ["frames/" + f for f in frames] and len(frames) > 1,
-          f"SIGTERM: the .pvd lists {len(listed)} frames, {len(frames)} .pvtp there")
+          f"SIGTERM ({name}): the .pvd lists {len(listed)} frames, {len(frames)} .pvtp there")
     for f in frames:
-        for piece in ET.parse(os.path.join(stopped_vtk, "frames", f)).iter("Piece"):
-            check(os.path.exists(os.path.join(stopped_vtk, "frames", piece.get("Source"))),
-                  f"SIGTERM: {f} lists a piece that is not there")
-    check(os.path.exists(os.path.join(stopped_vtk, "trajectories.vtp")), "SIGTERM: no trajectories")
-except subprocess.TimeoutExpired:
-    p.kill()
-    failures.append("SIGTERM: the run hung")
-except (OSError, ValueError) as e:
-    failures.append(f"SIGTERM: no summary: {e}")
+        for piece in ET.parse(os.path.join(vtk_dir, "frames", f)).iter("Piece"):
+            check(os.path.exists(os.path.join(vtk_dir, "frames", piece.get("Source"))),
+                  f"SIGTERM ({name}): {f} lists a piece that is not there")
+    if not os.path.exists(stopped):
+        return False
+    s = json.load(open(stopped))
+    check(s["interrupted"] and s["signal"] == "SIGTERM", f"SIGTERM ({name}): summary {s['signal']}")
+    check(s["sim_seconds"] < 500, f"SIGTERM ({name}): the run was not stopped")
+    check(os.path.exists(os.path.join(vtk_dir, "trajectories.vtp")),
+          f"SIGTERM ({name}): no trajectories")
+    return True
+
+
+# mpiexec hands the signal on and kills the ranks a second later (OpenMPI's
+# odls_base_sigkill_timeout): the summary may not be written yet on a loaded machine.
+stop_mid_run("stopped_mpiexec", False)
+# Sent to the ranks themselves, every rank stops on the same frame and the files are finished.
+check(stop_mid_run("stopped_ranks", True), "SIGTERM to the ranks: no summary")
 
 # 6. The VTK export over 3 ranks against one process's: every frame a .pvtp of one piece a rank,
 #    listed in the .pvd with the same times; every bird once a frame with the same values in every
@@ -150,8 +167,6 @@ except ImportError:
     except ImportError:
         have_vtk = False
 if have_vtk:
-    import xml.etree.ElementTree as ET
-
     def read(path, parallel=False):
         reader = vtkXMLPPolyDataReader() if parallel else vtkXMLPolyDataReader()
         reader.SetFileName(path)

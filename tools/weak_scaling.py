@@ -35,7 +35,6 @@ args = parser.parse_args()
 
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl_vader_single_copy_mechanism="none",
-           OMPI_MCA_odls_base_sigkill_timeout="60",
            OMP_NUM_THREADS="1")
 points = []
 for p in [int(x) for x in args.ranks.split(",")]:
