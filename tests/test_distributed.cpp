@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "dist/collectives.h"
 #include "dist/distributed.h"
 #include "io/scenario_file.h"
 
@@ -49,23 +50,18 @@ std::vector<BirdState> all_birds(DistributedCpuSimulation& many) {
 }
 
 // `values` (one per id of this rank) of every rank, ordered by id, on rank 0.
-std::vector<uint32_t> gather_by_id(const std::vector<uint32_t>& ids,
-                                   const std::vector<uint32_t>& values) {
-  int ranks = 0;
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  std::vector<uint32_t> pairs;
-  for (size_t k = 0; k < values.size(); ++k) pairs.push_back(ids[k]), pairs.push_back(values[k]);
-  const int mine = static_cast<int>(pairs.size());
-  std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
-  MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  int all = 0;
-  for (int q = 0; q < ranks; ++q) at[size_t(q)] = all, all += counts[size_t(q)];
-  std::vector<uint32_t> every(rank_here() == 0 ? size_t(all) : 0);
-  MPI_Gatherv(pairs.data(), mine, MPI_UINT32_T, every.data(), counts.data(), at.data(),
-              MPI_UINT32_T, 0, MPI_COMM_WORLD);
-  std::vector<uint32_t> out(every.size() / 2);
-  for (size_t k = 0; k + 1 < every.size(); k += 2)
-    if (every[k] < out.size()) out[every[k]] = every[k + 1];
+template <class T>
+std::vector<T> gather_values_by_id(const std::vector<uint32_t>& ids, const std::vector<T>& values) {
+  struct Row {
+    uint32_t id;
+    T value;
+  };
+  std::vector<Row> rows;
+  for (size_t k = 0; k < ids.size(); ++k) rows.push_back({ids[k], values[k]});
+  std::vector<Row> all = aeroflock::dist::gather_to(0, MPI_COMM_WORLD, rows);
+  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+  std::vector<T> out;
+  for (const Row& r : all) out.push_back(r.value);
   return out;
 }
 
@@ -102,17 +98,7 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
     }
     if (root) one->step_frame();
     // Conservation: every id exactly once over the ranks.
-    const std::vector<uint32_t>& ids = many.ids();
-    const int mine = static_cast<int>(ids.size());
-    int ranks = 0;
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-    std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
-    MPI_Gather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-    int all = 0;
-    for (int q = 0; q < ranks; ++q) at[size_t(q)] = all, all += counts[size_t(q)];
-    std::vector<uint32_t> every(root ? size_t(all) : 0);
-    MPI_Gatherv(ids.data(), mine, MPI_UINT32_T, every.data(), counts.data(), at.data(),
-                MPI_UINT32_T, 0, MPI_COMM_WORLD);
+    std::vector<uint32_t> every = aeroflock::dist::gather_to(0, MPI_COMM_WORLD, many.ids());
     if (root) {
       std::sort(every.begin(), every.end());
       ASSERT_EQ(every.size(), total) << "frame " << f;
@@ -124,7 +110,7 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
   std::vector<uint32_t> keys;
   if (const std::vector<Perception>* p = many.snapshot().perception)
     for (const Perception& q : *p) keys.push_back(q.seen_key);
-  const std::vector<uint32_t> all_keys = gather_by_id(many.ids(), keys);
+  const std::vector<uint32_t> all_keys = gather_values_by_id(many.ids(), keys);
   // What crossed between ranks: on several ranks a test that never migrated or ghosted a bird
   // would prove nothing.
   const uint64_t mine[4] = {many.traffic().migrants_sent, many.traffic().ghosts_sent,
@@ -171,31 +157,6 @@ TEST(Distributed, TheDefaultFlockIsTheSameBirdForBird) {
 TEST(Distributed, TheDefaultScenarioTwentySeconds) {
   Scenario s = load_scenario("default");
   expect_same_as_one_rank(s, 0, static_cast<uint32_t>(std::lround(s.duration / s.frame_seconds())));
-}
-
-// `values` (T trivially copyable, one per id of this rank) of every rank, ordered by id, on rank 0.
-template <class T>
-std::vector<T> gather_values_by_id(const std::vector<uint32_t>& ids, const std::vector<T>& values) {
-  struct Row {
-    uint32_t id;
-    T value;
-  };
-  std::vector<Row> rows;
-  for (size_t k = 0; k < ids.size(); ++k) rows.push_back({ids[k], values[k]});
-  int ranks = 0;
-  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  const int bytes = static_cast<int>(rows.size() * sizeof(Row));
-  std::vector<int> sizes(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
-  MPI_Gather(&bytes, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  int total = 0;
-  for (int q = 0; q < ranks; ++q) at[size_t(q)] = total, total += sizes[size_t(q)];
-  std::vector<Row> all(rank_here() == 0 ? static_cast<size_t>(total) / sizeof(Row) : 0);
-  MPI_Gatherv(rows.data(), bytes, MPI_BYTE, all.data(), sizes.data(), at.data(), MPI_BYTE, 0,
-              MPI_COMM_WORLD);
-  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
-  std::vector<T> out;
-  for (const Row& r : all) out.push_back(r.value);
-  return out;
 }
 
 bool same_forces(const StepForces& a, const StepForces& b) {

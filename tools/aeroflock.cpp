@@ -27,6 +27,7 @@
 #include "bench.h"
 #include "bench_ranks.h"
 #include "converge.h"
+#include "dist/collectives.h"
 #include "dist/distributed.h"
 #include "dist/mpi_session.h"
 #include "dist/on_rank_zero.h"
@@ -228,28 +229,14 @@ VtkRanks vtk_ranks(const dist::MpiSession& mpi) {
     MPI_Allreduce(&mine, &fewest, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
     return fewest;
   };
-  r.gather = [ranks = mpi.ranks(), root = mpi.root()](const std::vector<TrajectoryPoint>& mine) {
-    // Counted in points, not bytes; more than one gather takes is every rank's error alike.
-    const int64_t count = static_cast<int64_t>(mine.size());
-    int64_t total = 0;
-    MPI_Allreduce(&count, &total, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
-    if (total > INT_MAX)
-      throw std::runtime_error("--vtk: the trajectories' " + std::to_string(total) +
-                               " saved positions are more than one gather takes (2^31 - 1): "
-                               "export fewer birds (--vtk-birds) or frames (--vtk-every)");
-    MPI_Datatype point;
-    MPI_Type_contiguous(static_cast<int>(sizeof(TrajectoryPoint)), MPI_BYTE, &point);
-    MPI_Type_commit(&point);
-    const int n = static_cast<int>(count);
-    std::vector<int> counts(static_cast<size_t>(ranks)), at(static_cast<size_t>(ranks));
-    MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-    int offset = 0;
-    for (int q = 0; q < ranks; ++q) at[size_t(q)] = offset, offset += counts[size_t(q)];
-    std::vector<TrajectoryPoint> all(root ? static_cast<size_t>(total) : 0);
-    MPI_Gatherv(mine.data(), n, point, all.data(), counts.data(), at.data(), point, 0,
-                MPI_COMM_WORLD);
-    MPI_Type_free(&point);
-    return all;
+  r.gather = [](const std::vector<TrajectoryPoint>& mine) {
+    try {
+      return dist::gather_to(0, MPI_COMM_WORLD, mine);
+    } catch (const std::runtime_error& e) {  // every rank's alike
+      throw std::runtime_error(std::string("--vtk: the trajectories' saved positions: ") +
+                               e.what() +
+                               ": export fewer birds (--vtk-birds) or frames (--vtk-every)");
+    }
   };
   return r;
 }

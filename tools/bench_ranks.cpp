@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "dist/collectives.h"
 #include "dist/distributed.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
@@ -66,9 +67,8 @@ int run_weak_scaling(const BenchOptions& o, const dist::MpiSession& mpi) {
     uint64_t birds;
     double ghosts, bytes, comm;
   };
-  const Row mine{mpi.rank(), birds, ghosts / frames, bytes, comm};
-  std::vector<Row> rows(mpi.root() ? size_t(ranks) : 0);
-  MPI_Gather(&mine, sizeof mine, MPI_BYTE, rows.data(), sizeof mine, MPI_BYTE, 0, MPI_COMM_WORLD);
+  const std::vector<Row> rows = dist::gather_to(
+      0, MPI_COMM_WORLD, std::vector<Row>{{mpi.rank(), birds, ghosts / frames, bytes, comm}});
   if (!mpi.root()) return 0;
 
   const double steps = double(scenario.steps_per_frame) * double(f.count);

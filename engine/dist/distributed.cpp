@@ -10,6 +10,7 @@
 #include <omp.h>
 #include <glm/common.hpp>
 
+#include "dist/collectives.h"
 #include "model/world.h"
 
 namespace aeroflock::dist {
@@ -54,14 +55,6 @@ static_assert(std::is_trivially_copyable_v<Migrant> && std::is_trivially_copyabl
 // A cut moves at most this many halos per balance check: a bounded number of birds changes owner
 // at once.
 constexpr int64_t kCutMoveHalos = 2;
-
-template <class T>
-MPI_Datatype bytes_of() {
-  MPI_Datatype t;
-  MPI_Type_contiguous(static_cast<int>(sizeof(T)), MPI_BYTE, &t);
-  MPI_Type_commit(&t);
-  return t;
-}
 
 // Sends outgoing[q] to rank q, for every q at once; what every rank sent here, by rank.
 template <class T>
@@ -391,11 +384,7 @@ Snapshot DistributedCpuSimulation::start_snapshot() {
 }
 
 std::vector<RankShare> DistributedCpuSimulation::gather_shares(int root) const {
-  static_assert(std::is_trivially_copyable_v<RankShare>);
-  const RankShare mine{rank_, birds_.size(), ghosts_, traffic_};
-  std::vector<RankShare> all(rank_ == root ? static_cast<size_t>(ranks_) : 0);
-  MPI_Gather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, root, comm_);
-  return all;
+  return gather_to(root, comm_, std::vector<RankShare>{{rank_, birds_.size(), ghosts_, traffic_}});
 }
 
 int DistributedCpuSimulation::stops_together(int here) {
@@ -407,15 +396,7 @@ int DistributedCpuSimulation::stops_together(int here) {
 std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {
   std::vector<Numbered> mine;
   for (size_t k = 0; k < birds_.size(); ++k) mine.push_back({ids_[k], birds_[k]});
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<size_t>(ranks_)), at(static_cast<size_t>(ranks_));
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, comm_);
-  int total = 0;
-  for (int q = 0; q < ranks_; ++q) at[size_t(q)] = total, total += counts[size_t(q)];
-  std::vector<Numbered> all(rank_ == root ? size_t(total) : 0);
-  MPI_Datatype type = bytes_of<Numbered>();
-  MPI_Gatherv(mine.data(), count, type, all.data(), counts.data(), at.data(), type, root, comm_);
-  MPI_Type_free(&type);
+  std::vector<Numbered> all = gather_to(root, comm_, mine);
   std::sort(all.begin(), all.end(),
             [](const Numbered& a, const Numbered& b) { return a.id < b.id; });
   std::vector<BirdState> birds;
