@@ -353,11 +353,7 @@ void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
   end_frame(steps);
   forces_current_ = record_forces;
   if (!record_forces) return;
-  // As CpuSimulation: the forces of the next step, with the targets where it will see them.
-  World next = world();
-  next.move_targets(frame_start(this->steps()));
-  next_step_forces(birds_, scenario(), next, this->steps(), flocking_ ? &perception_ : nullptr,
-                   forces_);
+  record_next_forces(birds_, flocking_ ? &perception_ : nullptr, forces_);
 }
 
 Snapshot DistributedCpuSimulation::snapshot() {

@@ -168,11 +168,15 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   end_frame(steps);
   forces_current_ = record_forces;
   if (!record_forces) return;
-  // The forces of the step each bird takes next, with the targets where it will see them.
-  World next = world;
-  next.move_targets(frame_start(this->steps()));
-  next_step_forces(birds_, scenario(), next, this->steps(), flocking ? &perception_ : nullptr,
-                   forces_);
+  record_next_forces(birds_, flocking ? &perception_ : nullptr, forces_);
+}
+
+void Simulation::record_next_forces(const std::vector<BirdState>& birds,
+                                    const std::vector<Perception>* perception,
+                                    std::vector<StepForces>& forces) const {
+  World next = world();
+  next.move_targets(frame_start(steps_));
+  next_step_forces(birds, scenario_, next, steps_, perception, forces);
 }
 
 void CpuSimulation::retire(std::span<const uint32_t> birds) {
