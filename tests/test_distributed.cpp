@@ -1,7 +1,8 @@
-// One flock over MPI ranks against the same flock on one (engine/dist): every bird's state bit for
-// bit the same by global id, no bird lost or doubled at any frame, each rank's ghosts exactly the
-// birds within its halo. Run under mpiexec with 1 to 4 ranks (tests/CMakeLists.txt); rank 0
-// flies the one-rank reference and reports.
+// One flock over MPI ranks against the same flock on one (engine/dist), on the CPU reference and on
+// the Vulkan backend (a device a rank against one device): every bird's state bit for bit the same
+// by global id, no bird lost or doubled at any frame, each rank's ghosts exactly the birds within
+// its halo. Run under mpiexec with 1 to 4 ranks (tests/CMakeLists.txt); rank 0 flies the one-rank
+// reference and reports.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -11,12 +12,41 @@
 
 #include "dist/collectives.h"
 #include "dist/distributed.h"
+#include "dist/distributed_gpu.h"
+#include "gpu/gpu_simulation.h"
 #include "io/scenario_file.h"
 
 using namespace aeroflock;
-using aeroflock::dist::DistributedCpuSimulation;
+using aeroflock::dist::DistributedSimulation;
 
 namespace {
+
+enum class Backend { cpu, vulkan };
+
+// The flock over the ranks (each rank a device of its own on Vulkan), spawned or given.
+std::unique_ptr<DistributedSimulation> many_ranks(Backend backend, const Scenario& s,
+                                                  uint32_t birds) {
+  if (backend == Backend::cpu)
+    return std::make_unique<dist::DistributedCpuSimulation>(s, MPI_COMM_WORLD, birds);
+  return std::make_unique<dist::DistributedGpuSimulation>(dist::rank_device(MPI_COMM_WORLD, -1), s,
+                                                          MPI_COMM_WORLD, birds);
+}
+std::unique_ptr<DistributedSimulation> many_ranks(Backend backend, const Scenario& s,
+                                                  const std::vector<BirdState>& birds) {
+  if (backend == Backend::cpu)
+    return std::make_unique<dist::DistributedCpuSimulation>(s, MPI_COMM_WORLD, birds);
+  return std::make_unique<dist::DistributedGpuSimulation>(dist::rank_device(MPI_COMM_WORLD, -1), s,
+                                                          MPI_COMM_WORLD, birds);
+}
+// The same flock on one process (and one device).
+std::unique_ptr<Simulation> one_rank(Backend backend, const Scenario& s,
+                                     std::vector<BirdState> birds) {
+  if (backend == Backend::cpu) return std::make_unique<CpuSimulation>(s, std::move(birds));
+  return std::make_unique<gpu::GpuSimulation>(
+      std::make_unique<gpu::Device>(gpu::headless(-1, false)), s, std::move(birds));
+}
+
+class Distributed : public ::testing::TestWithParam<Backend> {};
 
 int rank_here() {
   int r = 0;
@@ -34,7 +64,7 @@ bool same_state(const BirdState& a, const BirdState& b) {
 }
 
 // Every rank's birds on every rank (in no particular order).
-std::vector<BirdState> all_birds(DistributedCpuSimulation& many) {
+std::vector<BirdState> all_birds(DistributedSimulation& many) {
   int ranks = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   const std::vector<BirdState>& mine = *many.snapshot().birds;
@@ -67,13 +97,14 @@ std::vector<T> gather_values_by_id(const std::vector<uint32_t>& ids, const std::
 
 // Flies `scenario` for `frames` frames on every rank and on rank 0 alone; checks each frame that
 // the ranks hold every id once, and at the end that every bird is the same.
-void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
+void expect_same_as_one_rank(Backend backend, Scenario scenario, uint32_t birds, uint32_t frames,
                              bool expect_traffic = true) {
-  DistributedCpuSimulation many(scenario, MPI_COMM_WORLD, birds);
+  std::unique_ptr<DistributedSimulation> many_ptr = many_ranks(backend, scenario, birds);
+  DistributedSimulation& many = *many_ptr;
   const bool root = rank_here() == 0;
   uint64_t halo_ghosts = 0;  // what a halo as wide as the perception radius would have sent
-  std::unique_ptr<CpuSimulation> one;
-  if (root) one = std::make_unique<CpuSimulation>(scenario, birds);
+  std::unique_ptr<Simulation> one;
+  if (root) one = one_rank(backend, scenario, spawn_birds(scenario, birds));
   const uint64_t total = root ? one->bird_count() : 0;
   for (uint32_t f = 0; f < frames; ++f) {
     // Every bird as the frame starts, on every rank: the ghosts this rank should receive.
@@ -148,15 +179,16 @@ void expect_same_as_one_rank(Scenario scenario, uint32_t birds, uint32_t frames,
 
 }  // namespace
 
-TEST(Distributed, TheDefaultFlockIsTheSameBirdForBird) {
+TEST_P(Distributed, TheDefaultFlockIsTheSameBirdForBird) {
   Scenario s = load_scenario("default");
-  expect_same_as_one_rank(s, 300, 100);
+  expect_same_as_one_rank(GetParam(), s, 300, 100);
 }
 
 // The whole default scenario, 1,020 birds for 20 s (the full tier).
-TEST(Distributed, TheDefaultScenarioTwentySeconds) {
+TEST_P(Distributed, TheDefaultScenarioTwentySeconds) {
   Scenario s = load_scenario("default");
-  expect_same_as_one_rank(s, 0, static_cast<uint32_t>(std::lround(s.duration / s.frame_seconds())));
+  expect_same_as_one_rank(GetParam(), s, 0,
+                          static_cast<uint32_t>(std::lround(s.duration / s.frame_seconds())));
 }
 
 bool same_forces(const StepForces& a, const StepForces& b) {
@@ -167,11 +199,14 @@ bool same_forces(const StepForces& a, const StepForces& b) {
 
 // What an export reads: the start (perceived among the ghosts) and a frame stepped with its
 // forces, the same as one rank's.
-TEST(Distributed, TheStartAndTheRecordedForcesAreOneRanks) {
+TEST_P(Distributed, TheStartAndTheRecordedForcesAreOneRanks) {
   const Scenario s = load_scenario("default");
-  DistributedCpuSimulation many(s, MPI_COMM_WORLD, 300);
-  std::unique_ptr<CpuSimulation> one;
-  if (rank_here() == 0) one = std::make_unique<CpuSimulation>(s, 300);
+  std::unique_ptr<DistributedSimulation> many_ptr = many_ranks(GetParam(), s, 300);
+  DistributedSimulation& many = *many_ptr;
+  std::unique_ptr<Simulation> one;
+  if (rank_here() == 0) one = one_rank(GetParam(), s, spawn_birds(s, 300));
+  many.prepare_forces();
+  if (one) one->prepare_forces();
   auto compare = [&](const Snapshot& m, const char* when) {
     ASSERT_NE(m.forces, nullptr) << when;
     ASSERT_NE(m.ids, nullptr) << when;
@@ -198,23 +233,24 @@ TEST(Distributed, TheStartAndTheRecordedForcesAreOneRanks) {
 }
 
 // The migrating flock flies its route through several slabs with its turns; the cuts follow it.
-TEST(Distributed, TheMigratingFlockThroughItsSlabs) {
+TEST_P(Distributed, TheMigratingFlockThroughItsSlabs) {
   Scenario s = load_scenario("migration-flock");
-  expect_same_as_one_rank(s, 400, 600);
+  expect_same_as_one_rank(GetParam(), s, 400, 600);
 }
 
 // Two flocks 3 km apart along the cut axis: ranks between them hold no bird.
-TEST(Distributed, TwoFlocksFarApart) {
+TEST_P(Distributed, TwoFlocksFarApart) {
   Scenario s = load_scenario("default");
   Flock far = s.flocks.front();
   far.spawn_centre.x += 300000.0;
   s.flocks.push_back(far);
-  expect_same_as_one_rank(s, 400, 100, false);  // on 2 ranks each flock alone on its own
+  expect_same_as_one_rank(GetParam(), s, 400, 100,
+                          false);  // on 2 ranks each flock alone on its own
 }
 
 // Every bird exactly on a cell's face, so some exactly on a cut (cuts fall on faces): owned by the
 // slab after it, perceived by both sides' ghosts as on one rank.
-TEST(Distributed, BirdsExactlyOnTheCuts) {
+TEST_P(Distributed, BirdsExactlyOnTheCuts) {
   const Scenario s = load_scenario("default");
   std::vector<BirdState> birds = spawn_birds(s, 300);
   const double cell = grid_shape(s.species, birds).cell;
@@ -222,13 +258,14 @@ TEST(Distributed, BirdsExactlyOnTheCuts) {
     b.position.x = std::round(b.position.x / cell) * cell;
     b.position.z = std::round(b.position.z / cell) * cell;
   }
-  DistributedCpuSimulation many(s, MPI_COMM_WORLD, birds);
+  std::unique_ptr<DistributedSimulation> many_ptr = many_ranks(GetParam(), s, birds);
+  DistributedSimulation& many = *many_ptr;
   for (size_t k = 0; k < many.ids().size(); ++k) {
     const int64_t c = many.slabs().cell_of(many.snapshot().birds->at(k).position);
     EXPECT_EQ(many.slabs().owner(c), many.rank());
   }
-  std::unique_ptr<CpuSimulation> one;
-  if (rank_here() == 0) one = std::make_unique<CpuSimulation>(s, birds);
+  std::unique_ptr<Simulation> one;
+  if (rank_here() == 0) one = one_rank(GetParam(), s, birds);
   for (int f = 0; f < 30; ++f) {
     many.step_frame();
     if (one) one->step_frame();
@@ -241,16 +278,21 @@ TEST(Distributed, BirdsExactlyOnTheCuts) {
 }
 
 // A flocking species that sees no neighbour (neighbours = 0): no ghosts asked for, the same run.
-TEST(Distributed, ASpeciesThatSeesNoNeighbour) {
+TEST_P(Distributed, ASpeciesThatSeesNoNeighbour) {
   Scenario s = load_scenario("default");
   for (Species& sp : s.species) sp.neighbours = 0;
-  expect_same_as_one_rank(s, 200, 30, false);
+  expect_same_as_one_rank(GetParam(), s, 200, 30, false);
 }
 
-TEST(Distributed, MoreRanksThanBirds) {
+TEST_P(Distributed, MoreRanksThanBirds) {
   Scenario s = load_scenario("default");
-  expect_same_as_one_rank(s, 2, 20, false);
+  expect_same_as_one_rank(GetParam(), s, 2, 20, false);
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, Distributed, ::testing::Values(Backend::cpu, Backend::vulkan),
+                         [](const auto& info) {
+                           return info.param == Backend::cpu ? "cpu" : "vulkan";
+                         });
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);

@@ -29,6 +29,7 @@
 #include "converge.h"
 #include "dist/collectives.h"
 #include "dist/distributed.h"
+#include "dist/distributed_gpu.h"
 #include "dist/mpi_session.h"
 #include "dist/on_rank_zero.h"
 #include "envelope.h"
@@ -270,15 +271,6 @@ struct OptionError : std::runtime_error {
 // The MPI session main() opened (dist/mpi_session.h): one process unless a launcher started many.
 const dist::MpiSession* g_mpi = nullptr;
 
-// Over many ranks what is not built yet (issue 42) is refused on every rank alike, said by rank 0
-// alone: "" when the options are ones a distributed run has.
-std::string refused_across_ranks(const RunOptions& opt) {
-  if (opt.backend != "cpu")
-    return "--backend " + opt.backend +
-           " does not run over many ranks yet: add --backend cpu (docs/DISTRIBUTED.md)";
-  return {};
-}
-
 int run(const RunOptions& opt) {
   g_signal = 0;
   struct sigaction action {};
@@ -292,12 +284,6 @@ int run(const RunOptions& opt) {
   std::signal(SIGPIPE, SIG_IGN);
   const bool many = g_mpi && g_mpi->ranks() > 1;
   const bool root = !g_mpi || g_mpi->root();
-  if (many) {
-    if (const std::string why = refused_across_ranks(opt); !why.empty()) {
-      if (root) std::cerr << "aeroflock: error: " << why << "\n";
-      return 2;
-    }
-  }
   if (!opt.summary.empty() && !many) check_output_path(opt.summary, "--summary", {".json"});
   if (!opt.summary.empty() && many) {
     // Rank 0 writes it: rank 0 checks it, and every rank stops alike when it cannot.
@@ -346,10 +332,16 @@ int run(const RunOptions& opt) {
   summary.dt = scenario.dt;
   summary.steps_per_frame = scenario.steps_per_frame;
   std::unique_ptr<Simulation> sim;
-  dist::DistributedCpuSimulation* ranks = nullptr;
+  dist::DistributedSimulation* ranks = nullptr;
   if (many) {
-    auto d = std::make_unique<dist::DistributedCpuSimulation>(std::move(scenario), MPI_COMM_WORLD,
-                                                              opt.size.birds);
+    std::unique_ptr<dist::DistributedSimulation> d;
+    if (opt.backend == "cpu")
+      d = std::make_unique<dist::DistributedCpuSimulation>(std::move(scenario), MPI_COMM_WORLD,
+                                                           opt.size.birds);
+    else  // a device each, chosen on every rank (collective)
+      d = std::make_unique<dist::DistributedGpuSimulation>(
+          dist::rank_device(MPI_COMM_WORLD, opt.device), std::move(scenario), MPI_COMM_WORLD,
+          opt.size.birds);
     ranks = d.get();
     sim = std::move(d);
   } else {

@@ -906,8 +906,8 @@ Command add_bench_command(CLI::App& app, BenchOptions& o) {
   add_device_option(cmd, o.device);
   add_step_options(cmd, o.step, "the scenario's");
   cmd->add_option("--weak-scaling", o.weak_scaling,
-                  "Under mpirun: P ranks fly P x N0 birds, the flock P times as long "
-                  "(docs/DISTRIBUTED.md); N0 here")
+                  "Under mpirun: P ranks fly P x N0 birds, the flock P times as long, on the "
+                  "first of --backends (docs/DISTRIBUTED.md); N0 here")
       ->check(kCount);
   return {cmd, [&o] { return run_bench(o); }};
 }

@@ -9,6 +9,7 @@
 
 #include "dist/collectives.h"
 #include "dist/distributed.h"
+#include "dist/distributed_gpu.h"
 #include "io/atomic_file.h"
 #include "io/scenario_file.h"
 
@@ -42,7 +43,15 @@ int run_weak_scaling(const BenchOptions& o, const dist::MpiSession& mpi) {
   f.spawn_extent.x *= ranks;
   const uint32_t frames = o.repetitions > 0 ? uint32_t(o.repetitions) : 10;
 
-  dist::DistributedCpuSimulation sim(scenario, MPI_COMM_WORLD);
+  // On the first of --backends (Vulkan unless said): a device a rank.
+  const std::string backend = o.backends.front();
+  std::unique_ptr<dist::DistributedSimulation> flock;
+  if (backend == "cpu")
+    flock = std::make_unique<dist::DistributedCpuSimulation>(scenario, MPI_COMM_WORLD);
+  else
+    flock = std::make_unique<dist::DistributedGpuSimulation>(
+        dist::rank_device(MPI_COMM_WORLD, o.device), scenario, MPI_COMM_WORLD);
+  dist::DistributedSimulation& sim = *flock;
   for (uint32_t k = 0; k < kWarmUpFrames; ++k) sim.step_frame();
   const dist::Traffic before = sim.traffic();
   double ghosts = 0.0, slowest_total = 0.0;
@@ -74,9 +83,9 @@ int run_weak_scaling(const BenchOptions& o, const dist::MpiSession& mpi) {
   const double steps = double(scenario.steps_per_frame) * double(f.count);
   std::printf(
       "weak scaling: %d rank%s, %u birds a rank (%u in all), %s lengthened %d times along "
-      "x, %u frames of %u steps of %g s\n",
+      "x, %u frames of %u steps of %g s\n%s\n",
       ranks, ranks == 1 ? "" : "s", per_rank, f.count, scenario.name.c_str(), ranks, frames,
-      scenario.steps_per_frame, scenario.dt);
+      scenario.steps_per_frame, scenario.dt, sim.device().c_str());
   std::printf("%6s %10s %10s %12s %14s %10s\n", "rank", "birds", "ghosts", "ghosts/bird",
               "bytes/frame", "comm s");
   nlohmann::ordered_json json_rows = nlohmann::ordered_json::array();
@@ -105,6 +114,8 @@ int run_weak_scaling(const BenchOptions& o, const dist::MpiSession& mpi) {
                                 {"birds_per_rank", per_rank},
                                 {"birds", f.count},
                                 {"scenario", scenario.name},
+                                {"backend", backend},
+                                {"device", sim.device()},
                                 {"dt", scenario.dt},
                                 {"steps_per_frame", scenario.steps_per_frame},
                                 {"frames", frames},

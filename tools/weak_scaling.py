@@ -2,9 +2,10 @@
 """The weak-scaling study over MPI ranks (docs/DISTRIBUTED.md "Speed").
 
 usage: tools/weak_scaling.py [--birds N0] [--ranks 1,2,4] [--scenario migration] [--frames F]
-                             [--json OUT.json] [--aeroflock build/release/aeroflock]
+                             [--backend cpu|vulkan] [--json OUT.json]
+                             [--aeroflock build/release/aeroflock]
 
-Runs `mpirun -n P aeroflock bench SCENARIO --weak-scaling N0` for each P (P ranks fly P x N0 birds,
+Runs `mpirun -n P aeroflock bench SCENARIO --weak-scaling N0 --backends BACKEND` for each P (P ranks fly P x N0 birds,
 the flock P times as long along x), prints each point and E(P) = t(1, N0) / t(P, P N0), then
 projects E to 64 and 1,024 ranks from the measured step time and halo volume for links of 10 and
 25 GB/s at a latency of 2 microseconds:
@@ -29,6 +30,7 @@ parser.add_argument("--birds", type=int, default=500000)
 parser.add_argument("--ranks", default="1,2,4")
 parser.add_argument("--scenario", default="migration")
 parser.add_argument("--frames", type=int, default=5)
+parser.add_argument("--backend", default="cpu", choices=("cpu", "vulkan"))
 parser.add_argument("--json")
 parser.add_argument("--aeroflock", default="build/release/aeroflock")
 args = parser.parse_args()
@@ -41,6 +43,7 @@ for p in [int(x) for x in args.ranks.split(",")]:
     out = f"/tmp/weak_scaling_{os.getpid()}_{p}.json"
     r = subprocess.run(["mpirun", "-n", str(p), args.aeroflock, "bench", args.scenario,
                         "--weak-scaling", str(args.birds), "--repetitions", str(args.frames),
+                        "--backends", args.backend,
                         "--json", out], env=env, capture_output=True, text=True)
     sys.stdout.write(r.stdout)
     if r.returncode != 0:

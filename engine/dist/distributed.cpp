@@ -11,18 +11,13 @@
 #include <glm/common.hpp>
 
 #include "dist/collectives.h"
+#include "dist/exchange.h"
+#include "model/constants.h"
 #include "model/world.h"
 
 namespace aeroflock::dist {
 namespace {
 
-// A bird handed to its new owner: all its state and what it last perceived (a bird keeps that
-// between its ticks).
-struct Migrant {
-  uint32_t id;
-  BirdState bird;
-  Perception perception;
-};
 // A bird with its id (gather()).
 struct Numbered {
   uint32_t id;
@@ -49,36 +44,11 @@ struct Ghost {
     return b;
   }
 };
-static_assert(std::is_trivially_copyable_v<Migrant> && std::is_trivially_copyable_v<Ghost> &&
-              std::is_trivially_copyable_v<Numbered>);
+static_assert(std::is_trivially_copyable_v<Ghost> && std::is_trivially_copyable_v<Numbered>);
 
 // A cut moves at most this many halos per balance check: a bounded number of birds changes owner
 // at once.
 constexpr int64_t kCutMoveHalos = 2;
-
-// Sends outgoing[q] to rank q, for every q at once; what every rank sent here, by rank.
-template <class T>
-std::vector<T> exchange(MPI_Comm comm, const std::vector<std::vector<T>>& outgoing, Traffic& t) {
-  const int ranks = static_cast<int>(outgoing.size());
-  std::vector<int> send_counts(static_cast<size_t>(ranks)), recv_counts(static_cast<size_t>(ranks));
-  std::vector<int> send_at(static_cast<size_t>(ranks), 0), recv_at(static_cast<size_t>(ranks), 0);
-  std::vector<T> send;
-  for (int q = 0; q < ranks; ++q) {
-    send_at[size_t(q)] = static_cast<int>(send.size());
-    send_counts[size_t(q)] = static_cast<int>(outgoing[size_t(q)].size());
-    send.insert(send.end(), outgoing[size_t(q)].begin(), outgoing[size_t(q)].end());
-  }
-  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int q = 0; q < ranks; ++q) recv_at[size_t(q)] = total, total += recv_counts[size_t(q)];
-  std::vector<T> received(static_cast<size_t>(total));
-  MPI_Datatype type = bytes_of<T>();
-  MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), type, received.data(),
-                recv_counts.data(), recv_at.data(), type, comm);
-  MPI_Type_free(&type);
-  t.bytes_sent += send.size() * sizeof(T);
-  return received;
-}
 
 // Where the birds' routes lead: with the birds' own spread, what picks the axis.
 std::vector<glm::dvec3> route_points(const World& w) {
@@ -105,43 +75,54 @@ CellCounts count_cells(const Slabs& slabs, const std::vector<BirdState>& birds) 
 
 }  // namespace
 
+DistributedSimulation::DistributedSimulation(Scenario scenario, MPI_Comm comm)
+    : Simulation(std::move(scenario)), comm_(comm) {}
+
+// Every rank places every bird as one rank would (the same seed), cuts the world the same way and
+// keeps its own: no communication, the ids are the one-rank indices, and no rank holds more than
+// its own birds.
+DistributedSimulation::Birds DistributedSimulation::spawned(const Scenario& scenario,
+                                                            uint32_t birds_override) {
+  return [&scenario, birds_override](const auto& each) {
+    for_each_spawned(scenario, birds_override, each);
+  };
+}
+
+DistributedSimulation::Birds DistributedSimulation::given(const std::vector<BirdState>& all) {
+  return [&all](const auto& each) {
+    for (uint32_t i = 0; i < all.size(); ++i) each(i, all[i]);
+  };
+}
+
 DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
                                                    uint32_t birds_override)
-    : Simulation(std::move(scenario)), comm_(comm) {
-  // Every rank places every bird as one rank would (the same seed), cuts the world the same way
-  // and keeps its own: no communication, the ids are the one-rank indices, and no rank holds
-  // more than its own birds.
-  place([this, birds_override](const auto& each) {
-    for_each_spawned(this->scenario(), birds_override, each);
-  });
+    : DistributedSimulation(std::move(scenario), comm) {
+  place(spawned(this->scenario(), birds_override));
 }
 
 DistributedCpuSimulation::DistributedCpuSimulation(Scenario scenario, MPI_Comm comm,
                                                    const std::vector<BirdState>& all)
-    : Simulation(std::move(scenario)), comm_(comm) {
-  place([&all](const auto& each) {
-    for (uint32_t i = 0; i < all.size(); ++i) each(i, all[i]);
-  });
+    : DistributedSimulation(std::move(scenario), comm) {
+  place(given(all));
 }
 
-void DistributedCpuSimulation::place(const Birds& all) {
+void DistributedSimulation::place(const Birds& all) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &ranks_);
   flocking_ = any_flocking(scenario());
   // First pass: how many, how far they spread, and one bird of each species' flocking kind (the
   // grid's cell follows from which species flock, not from how many birds).
   total_ = 0;
-  std::vector<BirdState> kinds;
   glm::dvec3 lo{INFINITY}, hi{-INFINITY};
   all([&](uint32_t, const BirdState& b) {
     ++total_;
     lo = glm::min(lo, b.position), hi = glm::max(hi, b.position);
-    if (std::none_of(kinds.begin(), kinds.end(), [&](const BirdState& k) {
+    if (std::none_of(kinds_.begin(), kinds_.end(), [&](const BirdState& k) {
           return k.species == b.species && k.flocking == b.flocking;
         }))
-      kinds.push_back(b);
+      kinds_.push_back(b);
   });
-  shape_ = grid_shape(scenario().species, kinds);
+  shape_ = grid_shape(scenario().species, kinds_);
   double reach = 0.0;
   for (const Species& s : scenario().species) reach = std::max(reach, s.perception_radius);
   std::vector<glm::dvec3> points = route_points(world());
@@ -170,7 +151,7 @@ std::string DistributedCpuSimulation::device() const {
          std::to_string(ranks_) + " MPI ranks";
 }
 
-void DistributedCpuSimulation::rebalance_if_due() {
+void DistributedSimulation::rebalance_if_due() {
   const uint64_t second = static_cast<uint64_t>(std::floor(time()));
   if (second <= checked_second_) return;
   checked_second_ = second;
@@ -196,42 +177,7 @@ void DistributedCpuSimulation::rebalance_if_due() {
   traffic_.seconds += MPI_Wtime() - start;
 }
 
-void DistributedCpuSimulation::migrate() {
-  const double start = MPI_Wtime();
-  std::vector<std::vector<Migrant>> out(static_cast<size_t>(ranks_));
-  size_t kept = 0;
-  for (size_t k = 0; k < birds_.size(); ++k) {
-    const int owner = slabs_.owner(slabs_.cell_of(birds_[k].position));
-    if (owner == rank_) {
-      birds_[kept] = birds_[k], ids_[kept] = ids_[k], perception_[kept] = perception_[k];
-      ++kept;
-    } else {
-      out[size_t(owner)].push_back({ids_[k], birds_[k], perception_[k]});
-      ++traffic_.migrants_sent;
-    }
-  }
-  birds_.resize(kept), ids_.resize(kept), perception_.resize(kept);
-  std::vector<Migrant> in = exchange(comm_, out, traffic_);
-  if (!in.empty()) {
-    // Merged in by id, so that this rank's birds stay in the one-rank order.
-    for (const Migrant& m : in) {
-      birds_.push_back(m.bird), ids_.push_back(m.id), perception_.push_back(m.perception);
-    }
-    std::vector<uint32_t> order(birds_.size());
-    for (uint32_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(),
-              [&](uint32_t a, uint32_t b) { return ids_[a] < ids_[b]; });
-    std::vector<BirdState> birds(order.size());
-    std::vector<uint32_t> ids(order.size());
-    std::vector<Perception> perception(order.size());
-    for (size_t k = 0; k < order.size(); ++k)
-      birds[k] = birds_[order[k]], ids[k] = ids_[order[k]], perception[k] = perception_[order[k]];
-    birds_.swap(birds), ids_.swap(ids), perception_.swap(perception);
-  }
-  traffic_.seconds += MPI_Wtime() - start;
-}
-
-DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64_t frame) const {
+DistributedSimulation::Reach DistributedSimulation::reach_past_cuts(uint64_t frame) const {
   Reach r{0.0, 0.0, 0.0, 0.0};
   if (birds_.empty()) return r;
   const double cell = slabs_.cell;
@@ -244,6 +190,8 @@ DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64
   // radii and a cell of it (in id order, as all of this rank's).
   double radius = 0.0;
   for (const Species& s : scenario().species) radius = std::max(radius, s.perception_radius);
+  std::vector<Species> looking = scenario().species;
+  for (Species& s : looking) s.blind_angle = std::min(s.blind_angle + blind_margin_, 2.0 * kPi);
   std::vector<BirdState> edge;
   for (const BirdState& b : birds_) {
     const double x = b.position[slabs_.axis];
@@ -251,8 +199,7 @@ DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64
   }
   if (edge.empty()) return r;
   GridShape local = shape_;
-  local.buckets = std::bit_ceil(
-      static_cast<uint32_t>(std::clamp<size_t>(4 * edge.size(), 1024, size_t{1} << 31)));
+  local.buckets = grid_buckets(edge.size());
   const NeighbourGrid grid(edge, local);
   double deepest_low = -INFINITY, deepest_high = -INFINITY;
   for (uint32_t k = 0; k < edge.size(); ++k) {
@@ -265,8 +212,7 @@ DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64
     const double x = b.position[slabs_.axis];
     const double margin = s.perception_radius + cell;
     if (x - low >= margin && high - x >= margin) continue;
-    const std::vector<uint32_t> near =
-        grid.seen_by(k, scenario().species, wind_at(world(), b.position.y));
+    const std::vector<uint32_t> near = grid.seen_by(k, looking, wind_at(world(), b.position.y));
     const double reach = near.size() >= k_nearest
                              ? glm::length(edge[near.back()].position - b.position)
                              : s.perception_radius;
@@ -278,50 +224,25 @@ DistributedCpuSimulation::Reach DistributedCpuSimulation::reach_past_cuts(uint64
   return r;
 }
 
-void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
-                                                    std::vector<Perception>& perception) {
-  const double start = MPI_Wtime();
-  // Each rank says how far past its cuts it looks; only birds that flock now are seen by anyone,
-  // and they go to every rank that looks where they are.
-  reach_ = reach_past_cuts(frame);
-  std::vector<Reach> reaches(static_cast<size_t>(ranks_));
-  MPI_Allgather(&reach_, 4, MPI_DOUBLE, reaches.data(), 4, MPI_DOUBLE, comm_);
-  std::vector<std::vector<Ghost>> out(static_cast<size_t>(ranks_));
-  for (size_t k = 0; k < birds_.size(); ++k) {
-    if (!flocks_now(birds_[k])) continue;
-    // A rank looks at most its perception radius and a cell past its cuts: only the owners of
-    // the cells a halo and a cell round this bird's may ask for it.
-    const double x = birds_[k].position[slabs_.axis];
-    const int64_t c = slabs_.cell_of(birds_[k].position);
-    for (int q = slabs_.owner(c - slabs_.halo - 1), last = slabs_.owner(c + slabs_.halo + 1);
-         q <= last; ++q)
-      if (q != rank_ && reaches[size_t(q)].holds(x)) {
-        out[size_t(q)].push_back(Ghost::of(ids_[k], birds_[k]));
-        ++traffic_.ghosts_sent;
-      }
-  }
-  std::vector<Ghost> ghosts = exchange(comm_, out, traffic_);
-  ghosts_ = ghosts.size();
-  traffic_.seconds += MPI_Wtime() - start;
-  std::sort(ghosts.begin(), ghosts.end(),
-            [](const Ghost& a, const Ghost& b) { return a.id < b.id; });
+void DistributedSimulation::perceive_with_ghosts(uint64_t frame,
+                                                 std::vector<Perception>& perception) {
+  const std::vector<Ghost> ghosts =
+      exchange_ghosts<Ghost>(frame, [this](size_t k) { return Ghost::of(ids_[k], birds_[k]); });
   // This rank's birds and the ghosts, merged by id.
   std::vector<BirdState> seen;
   std::vector<uint32_t> seen_ids, mine;
   seen.reserve(birds_.size() + ghosts.size());
   seen_ids.reserve(seen.capacity());
   mine.reserve(birds_.size());
-  size_t g = 0;
-  for (size_t k = 0; k < birds_.size(); ++k) {
-    for (; g < ghosts.size() && ghosts[g].id < ids_[k]; ++g)
-      seen.push_back(ghosts[g].bird()), seen_ids.push_back(ghosts[g].id);
-    mine.push_back(static_cast<uint32_t>(seen.size()));
-    seen.push_back(birds_[k]), seen_ids.push_back(ids_[k]);
-  }
-  for (; g < ghosts.size(); ++g) seen.push_back(ghosts[g].bird()), seen_ids.push_back(ghosts[g].id);
+  merge_by_id(
+      ids_, ghosts,
+      [&](size_t k) {
+        mine.push_back(static_cast<uint32_t>(seen.size()));
+        seen.push_back(birds_[k]), seen_ids.push_back(ids_[k]);
+      },
+      [&](size_t g) { seen.push_back(ghosts[g].bird()), seen_ids.push_back(ghosts[g].id); });
   GridShape local = shape_;
-  local.buckets = std::bit_ceil(
-      static_cast<uint32_t>(std::clamp<size_t>(4 * seen.size(), 1024, size_t{1} << 31)));
+  local.buckets = grid_buckets(seen.size());
   std::vector<Perception> fresh;
   perceive(seen, seen_ids, mine, scenario().species, world(), frame, scenario().frame_seconds(),
            local, fresh);
@@ -336,7 +257,7 @@ void DistributedCpuSimulation::perceive_with_ghosts(uint64_t frame,
 void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
   begin_frame();
   rebalance_if_due();
-  migrate();
+  migrate(perception_);
   if (flocking_) perceive_with_ghosts(frames() - 1, perception_);
   const double dt = scenario().dt;
   const uint64_t first = this->steps();
@@ -356,7 +277,7 @@ void DistributedCpuSimulation::step(uint32_t steps, bool record_forces) {
   record_next_forces(birds_, flocking_ ? &perception_ : nullptr, forces_);
 }
 
-Snapshot DistributedCpuSimulation::snapshot() {
+Snapshot DistributedSimulation::snapshot() {
   return {frames(),
           this->steps(),
           time(),
@@ -366,7 +287,7 @@ Snapshot DistributedCpuSimulation::snapshot() {
           &ids_};
 }
 
-Snapshot DistributedCpuSimulation::start_snapshot() {
+Snapshot DistributedSimulation::start_snapshot() {
   if (frames() > 0) throw std::logic_error("start_snapshot after the first step");
   // What frame 0 perceives, among the ghosts, as the first frame will (its own copy: the run's
   // perception is untouched).
@@ -379,17 +300,17 @@ Snapshot DistributedCpuSimulation::start_snapshot() {
   return s;
 }
 
-std::vector<RankShare> DistributedCpuSimulation::gather_shares(int root) const {
+std::vector<RankShare> DistributedSimulation::gather_shares(int root) const {
   return gather_to(root, comm_, std::vector<RankShare>{{rank_, birds_.size(), ghosts_, traffic_}});
 }
 
-int DistributedCpuSimulation::stops_together(int here) {
+int DistributedSimulation::stops_together(int here) {
   int strongest = 0;
   MPI_Allreduce(&here, &strongest, 1, MPI_INT, MPI_MAX, comm_);
   return strongest;
 }
 
-std::vector<BirdState> DistributedCpuSimulation::gather(int root) const {
+std::vector<BirdState> DistributedSimulation::gather(int root) const {
   std::vector<Numbered> mine;
   for (size_t k = 0; k < birds_.size(); ++k) mine.push_back({ids_[k], birds_[k]});
   std::vector<Numbered> all = gather_to(root, comm_, mine);

@@ -30,25 +30,21 @@ struct RankShare {
   Traffic traffic;
 };
 
-// The CPU reference on the rank's own birds. Before each frame's perception the birds that left
-// the slab move to their new owner, then each rank receives as ghosts the birds within the halo
-// of its slab; ghosts are perceived, never stepped. Every simulated second the cuts are moved
-// towards balance if the busiest rank holds more than kImbalance times the mean. All ranks of
+// One flock over the ranks of `comm`, each the owner of the birds in its slab, ordered by global id
+// (the one-rank index). Before each frame's perception the birds that left the slab move to their
+// new owner, then each rank receives as ghosts the birds its own may count among their nearest;
+// ghosts are perceived, never stepped. Every simulated second the cuts are moved towards balance
+// if the busiest rank holds more than kImbalance times the mean. What steps the birds is the
+// backend's: DistributedCpuSimulation, DistributedGpuSimulation (distributed_gpu.h). All ranks of
 // `comm` construct it and call step() together (collective).
-class DistributedCpuSimulation final : public Simulation {
+class DistributedSimulation : public Simulation {
  public:
   static constexpr double kImbalance = 1.05;
 
-  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, uint32_t birds_override = 0);
-  // Given birds (every rank the same), bird k of `all` with global id k.
-  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, const std::vector<BirdState>& all);
-
-  std::string backend() const override { return "cpu"; }
-  std::string device() const override;
   size_t bird_count() const override { return birds_.size(); }
-  void step(uint32_t steps, bool record_forces = false) override;
   Snapshot snapshot() override;
-  // The start as Simulation's, the first perception among the ghosts (collective).
+  // The start as Simulation's, the first perception among the ghosts by the CPU reference
+  // (collective).
   Snapshot start_snapshot() override;
   // The strongest reason any rank has to stop (collective).
   int stops_together(int here) override;
@@ -74,19 +70,35 @@ class DistributedCpuSimulation final : public Simulation {
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
 
- private:
+ protected:
+  DistributedSimulation(Scenario scenario, MPI_Comm comm);
   // Every bird, handed to a function one at a time (bird k with global id k), as often as asked.
   using Birds = std::function<void(const std::function<void(uint32_t, const BirdState&)>&)>;
+  // Every bird spawned as one rank would (the same seed), or bird k of `all`.
+  static Birds spawned(const Scenario& scenario, uint32_t birds_override);
+  static Birds given(const std::vector<BirdState>& all);
   // Cuts the world from every bird and keeps this rank's: three passes over them, holding only
   // this rank's birds and the counts per cell.
   void place(const Birds& all);
-  // How far past its cuts this rank's birds due at `frame` may find one of their nearest.
-  Reach reach_past_cuts(uint64_t frame) const;
+  // Collective, before a frame's exchanges: every simulated second.
   void rebalance_if_due();
-  void migrate();
-  // Ghosts in, then this rank's birds due at `frame` perceive among them, into `perception`
-  // (one per bird of this rank; the others' entries stay as they were).
+  // The birds that left the slab go to their owner (collective), each with its `extra` (what the
+  // backend keeps of a bird beside its state, one per bird in order); birds_, ids_ and `extra`
+  // stay ordered by id.
+  template <class Extra>
+  void migrate(std::vector<Extra>& extra);
+  // Each rank says how far past its cuts its birds due at `frame` may see (reach_past_cuts), then
+  // every bird that flocks now goes as `make(k)`, a Ghost type with an `id`, to the ranks that
+  // look where it is. The ghosts received, ordered by id (collective).
+  template <class Ghost, class Make>
+  std::vector<Ghost> exchange_ghosts(uint64_t frame, const Make& make);
+  // The CPU reference's perception of this rank's birds due at `frame` among the ghosts, into
+  // `perception` (one per bird of this rank; the others' entries stay as they were). Collective.
   void perceive_with_ghosts(uint64_t frame, std::vector<Perception>& perception);
+  // The blind sector a rank assumes when it says how deep past its cuts its birds may see, wider
+  // than the species' by this (radians): a backend that perceives in float may see a bird at its
+  // edge that the reference does not.
+  double blind_margin_ = 0.0;
 
   MPI_Comm comm_;
   int rank_ = 0, ranks_ = 1;
@@ -94,17 +106,35 @@ class DistributedCpuSimulation final : public Simulation {
   Slabs slabs_;
   std::vector<BirdState> birds_;  // this rank's, ordered by id
   std::vector<uint32_t> ids_;     // their global ids
-  std::vector<Perception> perception_;
-  std::vector<StepForces> forces_;  // of the next step, when the last frame recorded them
+  std::vector<BirdState> kinds_;  // a bird of each species and flocking kind of the whole flock
+  std::vector<Perception> perception_;  // this rank's birds' last (flocking)
+  std::vector<StepForces> forces_;      // of the next step, when the last frame recorded them
   bool forces_current_ = false;
+  bool flocking_ = false;
+
+ private:
+  // How far past its cuts this rank's birds due at `frame` may find one of their nearest.
+  Reach reach_past_cuts(uint64_t frame) const;
+
   std::vector<Perception> start_perception_;  // start_snapshot()'s
   std::vector<StepForces> start_forces_;
-  bool flocking_ = false;
   size_t total_ = 0;
   uint64_t checked_second_ = 0;  // the last whole simulated second the balance was checked at
   size_t ghosts_ = 0;
   Reach reach_{0.0, 0.0, 0.0, 0.0};
   Traffic traffic_;
+};
+
+// The CPU reference on each rank's own birds, bird for bird the same as CpuSimulation on one.
+class DistributedCpuSimulation final : public DistributedSimulation {
+ public:
+  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, uint32_t birds_override = 0);
+  // Given birds (every rank the same), bird k of `all` with global id k.
+  DistributedCpuSimulation(Scenario scenario, MPI_Comm comm, const std::vector<BirdState>& all);
+
+  std::string backend() const override { return "cpu"; }
+  std::string device() const override;
+  void step(uint32_t steps, bool record_forces = false) override;
 };
 
 }  // namespace aeroflock::dist

@@ -4,7 +4,7 @@
 
 namespace aeroflock::dist {
 
-GatheredFlock::GatheredFlock(DistributedCpuSimulation& flock)
+GatheredFlock::GatheredFlock(DistributedSimulation& flock)
     : Simulation(flock.scenario()), flock_(flock) {
   refresh();
 }

@@ -11,12 +11,12 @@
 
 namespace aeroflock::dist {
 
-// Every bird of a DistributedCpuSimulation, ordered by global id, on rank 0 (none elsewhere), as a
+// Every bird of a DistributedSimulation, ordered by global id, on rank 0 (none elsewhere), as a
 // Simulation at the same frame: what an observer of one process reads. It is not stepped.
 class GatheredFlock final : public Simulation {
  public:
   // Gathers the start (collective).
-  explicit GatheredFlock(DistributedCpuSimulation& flock);
+  explicit GatheredFlock(DistributedSimulation& flock);
   // Gathers the birds as they are now and catches up with the flock's frames (collective).
   void refresh();
 
@@ -28,7 +28,7 @@ class GatheredFlock final : public Simulation {
   Snapshot snapshot() override;
 
  private:
-  DistributedCpuSimulation& flock_;
+  DistributedSimulation& flock_;
   std::vector<BirdState> birds_;
 };
 

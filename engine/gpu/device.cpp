@@ -131,7 +131,14 @@ DeviceInfo query(VkPhysicalDevice physical, uint32_t index) {
   return info;
 }
 
-// Lower is better: discrete, integrated, virtual, cpu, other.
+std::string device_list(const std::vector<DeviceInfo>& infos) {
+  std::string s;
+  for (const auto& info : infos) s += "\n  " + describe(info);
+  return s.empty() ? "\n  (none)" : s;
+}
+
+}  // namespace
+
 int preference(VkPhysicalDeviceType type) {
   switch (type) {
     case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
@@ -146,14 +153,6 @@ int preference(VkPhysicalDeviceType type) {
       return 4;
   }
 }
-
-std::string device_list(const std::vector<DeviceInfo>& infos) {
-  std::string s;
-  for (const auto& info : infos) s += "\n  " + describe(info);
-  return s.empty() ? "\n  (none)" : s;
-}
-
-}  // namespace
 
 const char* type_name(VkPhysicalDeviceType type) {
   switch (type) {

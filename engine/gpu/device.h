@@ -26,6 +26,8 @@ struct DeviceInfo {
   uint32_t subgroup_size = 0;
 };
 
+// Which kind of device is preferred, lower first: discrete, integrated, virtual, cpu, other.
+int preference(VkPhysicalDeviceType type);
 // "cpu", "discrete GPU", "integrated GPU", "virtual GPU", "other".
 const char* type_name(VkPhysicalDeviceType type);
 // "1.3.230".

@@ -59,12 +59,20 @@ void check_flock_fits(const Device& device, uint64_t birds) {
   check_group_count(device, birds, kWorkgroupSize);
 }
 
-Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds) {
-  check_flock_fits(device, birds.size());
-  std::vector<GpuBird> packed;
-  packed.reserve(birds.size());
-  for (const BirdState& b : birds) packed.push_back(pack(b));
+// Room for `capacity` birds, the first of them `birds`.
+Buffer make_bird_buffer(const Device& device, const std::vector<BirdState>& birds,
+                        uint32_t capacity) {
+  check_flock_fits(device, capacity);
+  std::vector<GpuBird> packed(capacity, pack(BirdState{}));
+  for (size_t i = 0; i < birds.size(); ++i) packed[i] = pack(birds[i]);
   return buffer_with(device, packed, Memory::device_local, "birds");
+}
+
+// Room for `capacity` birds' ids, bird k's k (one device: its index is its id).
+Buffer make_ids_buffer(const Device& device, uint32_t capacity) {
+  std::vector<uint32_t> ids(capacity);
+  for (uint32_t k = 0; k < capacity; ++k) ids[k] = k;
+  return buffer_with(device, ids, Memory::device_local, "birds' ids");
 }
 
 // The scenario's birds, once the device is known to hold that many (before spawning them).
@@ -93,8 +101,9 @@ constexpr uint32_t kMaxRowGroups = 65535;
 // The bindings of every pass that flies or sees birds: the birds, their species and their world
 // (GpuSimulation::world_buffers), and then the pass's own.
 std::vector<Binding> world_and(std::initializer_list<Binding> more) {
-  std::vector<Binding> all = {kBindingBirds,  kBindingSpecies,      kBindingTargets,
-                              kBindingRoutes, kBindingRouteTargets, kBindingBranches};
+  std::vector<Binding> all = {kBindingBirds,   kBindingIds,    kBindingSpecies,
+                              kBindingTargets, kBindingRoutes, kBindingRouteTargets,
+                              kBindingBranches};
   all.insert(all.end(), more);
   return all;
 }
@@ -138,18 +147,18 @@ Buffer search_buffer(const Device& device, const GridShape& shape, double radius
 }  // namespace
 
 GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario,
-                                  const std::vector<BirdState>& birds)
-    : shape(grid_shape(scenario.species, birds)),
-      place(grid_buffer(device, 2 * birds.size(), "birds' grid places")),
+                                  const std::vector<BirdState>& kinds, uint32_t capacity)
+    : shape{grid_shape(scenario.species, kinds).cell, grid_buckets(capacity)},
+      place(grid_buffer(device, 2 * size_t{capacity}, "birds' grid places")),
       counts(grid_buffer(device, shape.buckets, "grid slots")),
       starts(grid_buffer(device, shape.buckets, "grid slots")),
       blocks(grid_buffer(device, shape.buckets / kScanBlock, "grid blocks")),
-      points(grid_buffer(device, 4 * std::max<size_t>(birds.size(), 1),
+      points(grid_buffer(device, 4 * std::max<size_t>(capacity, 1),
                          "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
       ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
-      search(search_buffer(device, shape, farthest_seen(scenario, birds))),
+      search(search_buffer(device, shape, farthest_seen(scenario, kinds))),
       count(device, shader_spirv("grid_count"),
             world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners,
                        kBindingPerception}),
@@ -167,7 +176,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
               {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridPoints},
               sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
-               perceive_constants(scenario, birds)) {
+               perceive_constants(scenario, kinds)) {
   scan_blocks.set_buffers({{kBindingGridCounts, &counts},
                            {kBindingGridStarts, &starts},
                            {kBindingGridBlocks, &blocks}});
@@ -179,7 +188,7 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                            {kBindingGridBlocks, &blocks},
                            {kBindingGridRanges, &ranges}});
 
-  perceive.check_groups(group_count(birds.size(), kWorkgroupSize));
+  perceive.check_groups(group_count(capacity, kWorkgroupSize));
   scan_blocks.check_groups(shape.buckets / kScanBlock);
 }
 
@@ -192,18 +201,34 @@ GpuSimulation::GpuSimulation(std::unique_ptr<Device> device, Scenario scenario,
   owned_device_ = std::move(device);  // the members made on it are destroyed before it
 }
 
+GpuSimulation::GpuSimulation(std::unique_ptr<Device> device, Scenario scenario,
+                             std::vector<BirdState> birds)
+    : GpuSimulation(*device, std::move(scenario), std::move(birds)) {
+  owned_device_ = std::move(device);
+}
+
 GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds)
+    : GpuSimulation(device, std::move(scenario), std::move(birds), nullptr, 0) {}
+
+GpuSimulation::GpuSimulation(const Device& device, Scenario scenario,
+                             const std::vector<BirdState>& kinds, uint32_t capacity)
+    : GpuSimulation(device, std::move(scenario), {}, &kinds, capacity) {}
+
+GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds,
+                             const std::vector<BirdState>* kinds, uint32_t capacity)
     : Simulation(std::move(scenario)),
       device_(device),
       count_(static_cast<uint32_t>(birds.size())),
-      birds_(make_bird_buffer(device, birds)),
+      capacity_(kinds ? capacity : count_),
+      birds_(make_bird_buffer(device, birds, capacity_)),
+      ids_(make_ids_buffer(device, capacity_)),
       species_(
           buffer_with(device, pack_species(this->scenario()), Memory::device_local, "species")),
       routes_(buffer_with(device, pack(world()).routes, Memory::device_local, "routes")),
       route_targets_(buffer_with(device, pack(world()).route_targets, Memory::device_local,
                                  "routes' targets")),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
-      perception_(perception_buffer(device, birds.size(), any_flocking(this->scenario()))),
+      perception_(perception_buffer(device, capacity_, any_flocking(this->scenario()))),
       step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingStepsShort}),
             sizeof(StepConstants), 2),
       frames_per_submission_(frames_fitting(device, world())),
@@ -215,9 +240,10 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
               Buffer(device, sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
-  step_.check_groups(group_count(count_, kWorkgroupSize));  // so that step() cannot fail on it
+  step_.check_groups(group_count(capacity_, kWorkgroupSize));  // so that step() cannot fail on it
   if (any_flocking(this->scenario()))
-    flocking_ = std::make_unique<Flocking>(device, this->scenario(), initial_);
+    flocking_ =
+        std::make_unique<Flocking>(device, this->scenario(), kinds ? *kinds : initial_, capacity_);
   for (Slot& slot : slots_) {
     std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
     slot.set =
@@ -277,11 +303,9 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
 
 std::vector<Bound> GpuSimulation::world_buffers(const Buffer& targets,
                                                 std::initializer_list<Bound> more) const {
-  std::vector<Bound> all = {{kBindingBirds, &birds_},
-                            {kBindingSpecies, &species_},
-                            {kBindingTargets, &targets},
-                            {kBindingRoutes, &routes_},
-                            {kBindingRouteTargets, &route_targets_},
+  std::vector<Bound> all = {{kBindingBirds, &birds_},      {kBindingIds, &ids_},
+                            {kBindingSpecies, &species_},  {kBindingTargets, &targets},
+                            {kBindingRoutes, &routes_},    {kBindingRouteTargets, &route_targets_},
                             {kBindingBranches, &branches_}};
   all.insert(all.end(), more);
   return all;
@@ -293,7 +317,7 @@ std::string GpuSimulation::device() const { return device_.name() + " (" + devic
 // as large as the flock's state again, three times over).
 void GpuSimulation::prepare_forces() {
   if (step_forces_) return;
-  const VkDeviceSize bytes = std::max<VkDeviceSize>(count_, 1) * sizeof(GpuForces);
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(capacity_, 1) * sizeof(GpuForces);
   check_storage_size(device_, bytes, sizeof(GpuForces), "birds' forces");
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
@@ -442,6 +466,36 @@ Snapshot GpuSimulation::read(Slot& slot) {
   s.forces = slot.has_forces ? &slot.step_forces : nullptr;
   s.perception = flocking_ ? &slot.perception_state : nullptr;
   return s;
+}
+
+void GpuSimulation::load(std::span<const GpuBird> birds, std::span<const GpuPerception> perception,
+                         std::span<const uint32_t> ids) {
+  if (birds.size() > capacity_ || ids.size() != birds.size() ||
+      (flocking_ && perception.size() != birds.size()))
+    throw std::logic_error("GpuSimulation::load: " + std::to_string(birds.size()) + " birds, " +
+                           std::to_string(ids.size()) + " ids, " +
+                           std::to_string(perception.size()) + " perceptions for room for " +
+                           std::to_string(capacity_));
+  submitter_.wait_all();
+  count_ = static_cast<uint32_t>(birds.size());
+  if (birds.empty()) return;
+  birds_.upload(std::as_bytes(birds));
+  ids_.upload(std::as_bytes(ids));
+  if (flocking_) perception_.upload(std::as_bytes(perception));
+}
+
+GpuSimulation::Raw GpuSimulation::raw() {
+  if (last_ < 0) throw std::logic_error("GpuSimulation::raw before the first step");
+  Slot& slot = slots_[last_];
+  submitter_.wait(slot.fence);
+  check_steps_taken(slot);
+  Raw r;
+  r.birds = {reinterpret_cast<const GpuBird*>(slot.readback.mapped()), count_};
+  if (flocking_)
+    r.perception = {reinterpret_cast<const GpuPerception*>(slot.perception->mapped()), count_};
+  if (slot.has_forces)
+    r.forces = {reinterpret_cast<const GpuForces*>(slot.forces->mapped()), count_};
+  return r;
 }
 
 Snapshot GpuSimulation::snapshot() {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -37,6 +38,12 @@ class GpuSimulation final : public Simulation {
   GpuSimulation(const Device& device, Scenario scenario, uint32_t birds_override = 0);
   // The same on a device of its own.
   GpuSimulation(std::unique_ptr<Device> device, Scenario scenario, uint32_t birds_override = 0);
+  GpuSimulation(std::unique_ptr<Device> device, Scenario scenario, std::vector<BirdState> birds);
+  // One MPI rank's share of a flock (dist/distributed_gpu.h), empty until load(): room for
+  // `capacity` birds and ghosts, the neighbour grid's cell and the search as for the whole flock,
+  // of which `kinds` holds a bird of each species and flocking kind.
+  GpuSimulation(const Device& device, Scenario scenario, const std::vector<BirdState>& kinds,
+                uint32_t capacity);
 
   std::string backend() const override { return "vulkan"; }
   std::string device() const override;
@@ -60,6 +67,24 @@ class GpuSimulation final : public Simulation {
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
+
+  // A share's birds as the device holds them, with their perception (where a flock flocks) and
+  // global ids (kGhostBird set for a ghost), in the order of the ids without kGhostBird; at most
+  // capacity(). Waits for the frames in flight.
+  void load(std::span<const GpuBird> birds, std::span<const GpuPerception> perception,
+            std::span<const uint32_t> ids);
+  uint32_t capacity() const { return capacity_; }
+  // The last frame's state as the device left it (waits for it): bird_count() birds, their
+  // perception where a flock flocks, their forces where the frame recorded them (else empty).
+  struct Raw {
+    std::span<const GpuBird> birds;
+    std::span<const GpuPerception> perception;
+    std::span<const GpuForces> forces;
+  };
+  Raw raw();
+  // A share made to replace another continues its clock: `steps` and `frames` already flown
+  // (before its first step).
+  void continue_clock(uint64_t steps, uint64_t frames) { resume_clock(steps, frames); }
 
  private:
   // What one frame in flight owns: its targets, its readback and its unpacked state.
@@ -86,8 +111,12 @@ class GpuSimulation final : public Simulation {
     GridShape shape;
     Buffer place, counts, starts, blocks, points, keys, owners, ranges, search;
     ComputePipeline count, scan_blocks, scan_totals, ranges_pass, scatter, perceive;
-    Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& birds);
+    // For up to `capacity` birds of the kinds of `kinds`.
+    Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& kinds,
+             uint32_t capacity);
   };
+  GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds,
+                const std::vector<BirdState>* kinds, uint32_t capacity);
   Snapshot read(Slot& slot);
   // Throws Error when the finished submission of `slot` had birds' steps cut short by the device.
   void check_steps_taken(const Slot& slot) const;
@@ -97,8 +126,8 @@ class GpuSimulation final : public Simulation {
 
   std::unique_ptr<Device> owned_device_;
   const Device& device_;
-  uint32_t count_;
-  Buffer birds_, species_, routes_, route_targets_, branches_;
+  uint32_t count_, capacity_;
+  Buffer birds_, ids_, species_, routes_, route_targets_, branches_;
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
   std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
   ComputePipeline step_;

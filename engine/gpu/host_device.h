@@ -87,6 +87,12 @@ AF_UINT(kBindingGridSearch,
         22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
 // The birds whose steps a dispatch ended short of its steps (step.glsl): a driver's limit caught.
 AF_UINT(kBindingStepsShort, 23)
+// Each bird's global id (its index in the whole flock), kGhostBird set for a ghost: a copy of
+// another MPI rank's bird, perceived, never stepped nor perceiving (engine/dist). On one device the
+// index itself. The perception's seen_key sums ids, and ties among neighbours go by buffer index,
+// which follows the ids' order.
+AF_UINT(kBindingIds, 24)
+AF_UINT(kGhostBird, 0x80000000u)
 
 // The parts of its cell along each axis for which the search has an order of its own (flock.h:
 // grid_search_order): a bird stops sooner the finer they are.

@@ -177,9 +177,12 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
   GridShape g;
   g.cell = std::max(0.6 * separation, perception / 12.0);
   g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
-  g.buckets = std::bit_ceil(
-      static_cast<uint32_t>(std::clamp<size_t>(4 * birds.size(), 1024, size_t{1} << 31)));
+  g.buckets = grid_buckets(birds.size());
   return g;
+}
+
+uint32_t grid_buckets(size_t birds) {
+  return std::bit_ceil(static_cast<uint32_t>(std::clamp<size_t>(4 * birds, 1024, size_t{1} << 31)));
 }
 
 std::vector<glm::ivec4> grid_search_order(const GridShape& shape, double radius, int parts) {

@@ -110,6 +110,8 @@ struct GridShape {
 // for 1.5 s flown. It sets only how fast the search is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
+// The buckets of a grid of `birds` birds (grid_shape's).
+uint32_t grid_buckets(size_t birds);
 // Which of `species` species have birds that flock (the grid's cells and search are theirs).
 std::vector<bool> flocking_species(size_t species, const std::vector<BirdState>& birds);
 // The cells around a bird's own that a bird in it may see within `radius`, in the order a bird in

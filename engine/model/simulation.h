@@ -117,6 +117,9 @@ class Simulation {
   double frame_start(uint64_t steps) const;
   // Called by step() after the work is submitted.
   void end_frame(uint32_t steps) { steps_ += steps; }
+  // A simulation that takes over another's birds mid-run goes on from its clock (before its own
+  // first step).
+  void resume_clock(uint64_t steps, uint64_t frames) { steps_ = steps, frames_ = frames; }
   // After a frame stepped with record_forces: the forces of each of `birds`' next step, with the
   // targets where it will see them (the next frame's start) and its `perception` (null: none).
   void record_next_forces(const std::vector<BirdState>& birds,

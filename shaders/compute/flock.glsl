@@ -1,6 +1,6 @@
 // Flocking (engine/model/flock.cpp, the same in float): what a bird sees, its k nearest by a
 // search of the neighbour grid's cells nearest first, and its social goal. The includer declares
-// the grid's texel buffers and kSeen, and includes model.glsl first (perceive.comp).
+// the grid's texel buffers, the ids and kSeen, and includes model.glsl first (perceive.comp).
 
 vec3 unit_or_zero(vec3 v) {
   float l = length(v);
@@ -197,7 +197,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     }
   }
   p.nearest = sqrt(near_d2[0]);
-  for (uint e = 0u; e < near_count; ++e) p.seen_key += near_index[e] * kSeenKeyFactor;
+  for (uint e = 0u; e < near_count; ++e)
+    p.seen_key += (ids[near_index[e]] & ~kGhostBird) * kSeenKeyFactor;
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   float faster = faster_sum / float(near_count);
   float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);

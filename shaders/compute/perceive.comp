@@ -9,6 +9,7 @@ layout(push_constant) uniform StepPush { StepConstants pc; };
 layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions {
   GpuPerception perception[];
 };
+layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
 // The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
@@ -28,6 +29,7 @@ void main() {
   uint t = gl_GlobalInvocationID.x;
   if (t >= texelFetch(grid_ranges, int(pc.buckets - 1u)).y) return;
   uint i = floatBitsToUint(texelFetch(grid_points, int(t)).w);
+  if ((ids[i] & kGhostBird) != 0u) return;  // seen here, perceiving on its own rank
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   if (pc.frame % reaction_frames(s, pc.frame_seconds) != 0u) return;

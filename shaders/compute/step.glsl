@@ -16,6 +16,7 @@ layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perception
 // Counts the birds whose loop ended before its steps were taken: a driver may end a shader's
 // loops (lavapipe after 65,535 turns); the host refuses the frame rather than show it.
 layout(std430, set = 0, binding = kBindingStepsShort) buffer StepsShort { uint steps_short; };
+layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
 #ifdef RECORD_FORCES
 layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
   GpuForces forces_out[];
@@ -40,7 +41,7 @@ void retile(inout GpuBird b) {
 
 void main() {
   uint i = gl_GlobalInvocationID.x;
-  if (i >= pc.bird_count) return;
+  if (i >= pc.bird_count || (ids[i] & kGhostBird) != 0u) return;  // a ghost is its rank's to step
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   Leg leg = load_leg(b, pc.targets_base);

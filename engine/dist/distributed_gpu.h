@@ -1,0 +1,66 @@
+// One flock over many MPI ranks on the Vulkan backend: each rank steps its own birds on a device of
+// its own with the compute shaders, bird for bird the same as GpuSimulation on one device
+// (docs/DISTRIBUTED.md "The Vulkan backend").
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mpi.h>
+
+#include "dist/distributed.h"
+#include "gpu/device.h"
+#include "gpu/gpu_simulation.h"
+#include "gpu/host_device.h"
+
+namespace aeroflock::dist {
+
+class DistributedGpuSimulation final : public DistributedSimulation {
+ public:
+  // Every bird spawned as one rank would, or bird k of `all` with global id k (every rank the
+  // same); this rank's on `device`, which it keeps.
+  DistributedGpuSimulation(std::unique_ptr<gpu::Device> device, Scenario scenario, MPI_Comm comm,
+                           uint32_t birds_override = 0);
+  DistributedGpuSimulation(std::unique_ptr<gpu::Device> device, Scenario scenario, MPI_Comm comm,
+                           const std::vector<BirdState>& all);
+  ~DistributedGpuSimulation() override;
+
+  std::string backend() const override { return "vulkan"; }
+  std::string device() const override;
+  // Each frame: migrants and ghosts exchanged from the state the last frame read back, this
+  // rank's birds and its ghosts loaded on the device in id order, the frame stepped there (the
+  // ghosts perceived, never stepped) and read back. It waits for the device: a frame's exchange
+  // needs the last frame's state.
+  void step(uint32_t steps, bool record_forces = false) override;
+  void prepare_forces() override;
+  // The birds and ghosts the device has room for (it grows by half again when a frame needs more).
+  uint32_t capacity() const { return engine_->capacity(); }
+
+  // What a rank keeps of each of its birds beside its state: the device's own state of it (its
+  // world tile and float offset, not re-tiled by a round trip through BirdState) and its last
+  // perception.
+  struct OnDevice {
+    gpu::GpuBird bird;
+    gpu::GpuPerception perception;
+  };
+
+ private:
+  void start(uint32_t capacity);
+  // A device share with room for `capacity` birds and ghosts, continuing this run's clock.
+  void make_engine(uint32_t capacity);
+
+  std::unique_ptr<gpu::Device> device_;
+  std::unique_ptr<gpu::GpuSimulation> engine_;
+  bool forces_prepared_ = false;
+  std::vector<OnDevice> on_device_;  // one per bird of this rank, in order
+};
+
+// The Vulkan device of this rank of `comm` (collective): device `index` where it is >= 0, else the
+// node's devices of the preferred kind (a discrete GPU, else integrated, virtual, a CPU) dealt to
+// its ranks in turn (the node-local rank modulo their count). The ranks of a node share its cores
+// on a CPU device: LP_NUM_THREADS (lavapipe's threads), unless set, is the cores over the node's
+// ranks.
+std::unique_ptr<gpu::Device> rank_device(MPI_Comm comm, int index);
+
+}  // namespace aeroflock::dist
