@@ -91,9 +91,9 @@ void DistributedGpuSimulation::start(uint32_t capacity) {
   for (const BirdState& b : birds_) on_device_.push_back({gpu::pack(b), none});
   perception_.assign(birds_.size(), Perception{});
   // A share of the flock that the device cannot hold fails now, naming the limit.
-  capacity = std::min<uint32_t>(
-      capacity, static_cast<uint32_t>(std::min<VkDeviceSize>(
-                    gpu::storage_capacity(*device_, sizeof(GpuBird)), UINT32_MAX)));
+  capacity = std::min<uint32_t>(capacity,
+                                static_cast<uint32_t>(std::min<VkDeviceSize>(
+                                    gpu::storage_capacity(*device_, sizeof(GpuBird)), UINT32_MAX)));
   make_engine(std::max<uint32_t>(capacity, static_cast<uint32_t>(birds_.size())));
 }
 
