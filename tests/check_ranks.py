@@ -18,11 +18,12 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
      files there, each with all its pieces; sent to the ranks, every rank stops on the same frame
      and rank 0 writes the summary (`interrupted`, SIGTERM) and the trajectories (sent to mpiexec,
      OpenMPI kills the ranks a second later, maybe before that).
-  6. --vtk on 3 ranks: each frame a .pvtp of 3 pieces listed in the .pvd at one process's times,
-     every bird once with the same values in every array as one process writes, a `rank` array,
-     the same trajectories (read with python3-vtk9; skipped without it).
-  7. --png and --structure-from on 3 ranks: the same PNG byte for byte and the same structure
-     figures as one process's.
+  6. --vtk on 3 ranks, on the CPU and on Vulkan: each frame a .pvtp of 3 pieces listed in the
+     .pvd at one process's times, every bird once with the same values in every array as one
+     process writes, a `rank` array, the same trajectories (read with python3-vtk9; skipped
+     without it).
+  7. --png and --structure-from on 3 ranks, on either backend: the same PNG byte for byte and the
+     same structure figures as one process's.
 Exits 0 when all hold, 1 with what did not.
 """
 import json
@@ -199,46 +200,54 @@ if have_vtk:
     def collection(path):
         return [(d.get("timestep"), d.get("file")) for d in ET.parse(path).iter("DataSet")]
 
-    vtk = {}
-    for n in (1, 3):
-        out = os.path.join(WORK, f"vtk{n}")
-        subprocess.run(["rm", "-rf", out])
-        r = run(n if n > 1 else 0, ["run", "default", "--backend", "cpu", "--seconds", "0.3",
-                                    "--threads", "1", "--vtk", out])
-        check(r.returncode == 0, f"vtk on {n}: exit {r.returncode}: {r.stderr}")
-        vtk[n] = out
-    one, many = collection(os.path.join(vtk[1], "flock.pvd")), collection(os.path.join(vtk[3], "flock.pvd"))
-    check([t for t, _ in one] == [t for t, _ in many], "vtk: the .pvd's times differ")
-    check(all(f.endswith(".pvtp") for _, f in many), "vtk: the .pvd does not list .pvtp files")
-    for (_, f1), (_, f3) in zip(one, many):
-        pieces = [p.get("Source") for p in ET.parse(os.path.join(vtk[3], f3)).iter("Piece")]
-        check(len(pieces) == 3, f"vtk: {f3} has {len(pieces)} pieces")
-        a, b = by_id(read(os.path.join(vtk[1], f1))), by_id(read(os.path.join(vtk[3], f3), True))
-        check(a == b, f"vtk: {f3} differs from {f1} ({len(a)} against {len(b)} birds)")
-        ranks = read(os.path.join(vtk[3], f3), True).GetPointData().GetArray("rank")
-        check(ranks is not None, f"vtk: {f3} has no rank array")
-    t1, t3 = read(os.path.join(vtk[1], "trajectories.vtp")), read(os.path.join(vtk[3], "trajectories.vtp"))
-    check(t1.GetNumberOfPoints() == t3.GetNumberOfPoints() and
-          all(t1.GetPoint(i) == t3.GetPoint(i) for i in range(t1.GetNumberOfPoints())),
-          "vtk: the trajectories differ")
+    for backend in ("cpu", "vulkan"):
+        vtk = {}
+        for n in (1, 3):
+            out = os.path.join(WORK, f"vtk{n}-{backend}")
+            subprocess.run(["rm", "-rf", out])
+            r = run(n if n > 1 else 0, ["run", "default", "--backend", backend, "--seconds", "0.3",
+                                        "--threads", "1", "--vtk", out])
+            check(r.returncode == 0, f"vtk on {n} ({backend}): exit {r.returncode}: {r.stderr}")
+            vtk[n] = out
+        one = collection(os.path.join(vtk[1], "flock.pvd"))
+        many = collection(os.path.join(vtk[3], "flock.pvd"))
+        check([t for t, _ in one] == [t for t, _ in many], f"vtk ({backend}): the .pvd's times differ")
+        check(all(f.endswith(".pvtp") for _, f in many),
+              f"vtk ({backend}): the .pvd does not list .pvtp files")
+        for (_, f1), (_, f3) in zip(one, many):
+            pieces = [p.get("Source") for p in ET.parse(os.path.join(vtk[3], f3)).iter("Piece")]
+            check(len(pieces) == 3, f"vtk ({backend}): {f3} has {len(pieces)} pieces")
+            a, b = by_id(read(os.path.join(vtk[1], f1))), by_id(read(os.path.join(vtk[3], f3), True))
+            check(a == b, f"vtk ({backend}): {f3} differs from {f1} ({len(a)} against {len(b)} birds)")
+            ranks = read(os.path.join(vtk[3], f3), True).GetPointData().GetArray("rank")
+            check(ranks is not None, f"vtk ({backend}): {f3} has no rank array")
+        t1 = read(os.path.join(vtk[1], "trajectories.vtp"))
+        t3 = read(os.path.join(vtk[3], "trajectories.vtp"))
+        check(t1.GetNumberOfPoints() == t3.GetNumberOfPoints() and
+              all(t1.GetPoint(i) == t3.GetPoint(i) for i in range(t1.GetNumberOfPoints())),
+              f"vtk ({backend}): the trajectories differ")
 else:
     print("vtk: not checked (no VTK Python modules)")
 
 # 7. Pictures and the flock's structure over 3 ranks: drawn and measured on rank 0 from every
 #    rank's birds, the same PNG byte for byte and the same structure figures as one process's.
-pictures = {}
-for n in (1, 3):
-    png, summary = os.path.join(WORK, f"last{n}.png"), os.path.join(WORK, f"structure{n}.json")
-    for f in (png, summary):
-        if os.path.exists(f):
-            os.remove(f)
-    r = run(n if n > 1 else 0, ["run", "default", "--backend", "cpu", "--seconds", "2", "--threads",
-                                "1", "--png", png, "--structure-from", "1", "--summary", summary])
-    check(r.returncode == 0, f"pictures on {n}: exit {r.returncode}: {r.stderr}")
-    pictures[n] = (open(png, "rb").read() if os.path.exists(png) else b"",
-                   json.load(open(summary))["structure"] if os.path.exists(summary) else None)
-check(pictures[1][0] and pictures[1][0] == pictures[3][0], "pictures: the PNGs differ")
-check(pictures[1][1] and pictures[1][1] == pictures[3][1], "pictures: the structure differs")
+for backend in ("cpu", "vulkan"):
+    pictures = {}
+    for n in (1, 3):
+        png = os.path.join(WORK, f"last{n}-{backend}.png")
+        summary = os.path.join(WORK, f"structure{n}-{backend}.json")
+        for f in (png, summary):
+            if os.path.exists(f):
+                os.remove(f)
+        r = run(n if n > 1 else 0, ["run", "default", "--backend", backend, "--seconds", "2",
+                                    "--threads", "1", "--png", png, "--structure-from", "1",
+                                    "--summary", summary])
+        check(r.returncode == 0, f"pictures on {n} ({backend}): exit {r.returncode}: {r.stderr}")
+        pictures[n] = (open(png, "rb").read() if os.path.exists(png) else b"",
+                       json.load(open(summary))["structure"] if os.path.exists(summary) else None)
+    check(pictures[1][0] and pictures[1][0] == pictures[3][0], f"pictures ({backend}): the PNGs differ")
+    check(pictures[1][1] and pictures[1][1] == pictures[3][1],
+          f"pictures ({backend}): the structure differs")
 
 for f in failures:
     print("FAIL:", f)
