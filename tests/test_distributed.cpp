@@ -289,6 +289,32 @@ TEST_P(Distributed, MoreRanksThanBirds) {
   expect_same_as_one_rank(GetParam(), s, 2, 20, false);
 }
 
+// A rank's device share made with room for half again its birds and no more (at least 1): the
+// ghosts and migrants make it grow mid-run, each time made again larger, its clock continued; the
+// run stays one device's, bird for bird.
+TEST(DistributedVulkan, ASmallShareGrowsAndStaysOneDevices) {
+  const Scenario s = load_scenario("default");
+  dist::DistributedGpuSimulation many(dist::rank_device(MPI_COMM_WORLD, -1), s, MPI_COMM_WORLD, 300,
+                                      1);
+  std::unique_ptr<Simulation> one;
+  if (rank_here() == 0) one = one_rank(Backend::vulkan, s, spawn_birds(s, 300));
+  for (int f = 0; f < 60; ++f) {
+    many.step_frame();
+    if (one) one->step_frame();
+  }
+  const std::vector<BirdState> gathered = many.gather();
+  uint64_t mine = many.growths(), growths = 0;
+  MPI_Reduce(&mine, &growths, 1, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+  if (!one) return;
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  std::printf("%d ranks: the shares grew %lu times\n", ranks, (unsigned long)growths);
+  if (ranks > 1) EXPECT_GT(growths, 0u) << "no share grew";
+  ASSERT_EQ(gathered.size(), one->bird_count());
+  for (size_t i = 0; i < gathered.size(); ++i)
+    EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Distributed, ::testing::Values(Backend::cpu, Backend::vulkan),
                          [](const auto& info) {
                            return info.param == Backend::cpu ? "cpu" : "vulkan";

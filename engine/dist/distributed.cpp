@@ -304,6 +304,12 @@ std::vector<RankShare> DistributedSimulation::gather_shares(int root) const {
   return gather_to(root, comm_, std::vector<RankShare>{{rank_, birds_.size(), ghosts_, traffic_}});
 }
 
+bool DistributedSimulation::stepped_together(bool here) {
+  int mine = here ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm_);
+  return all == 1;
+}
+
 int DistributedSimulation::stops_together(int here) {
   int strongest = 0;
   MPI_Allreduce(&here, &strongest, 1, MPI_INT, MPI_MAX, comm_);

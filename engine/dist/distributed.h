@@ -48,6 +48,8 @@ class DistributedSimulation : public Simulation {
   Snapshot start_snapshot() override;
   // The strongest reason any rank has to stop (collective).
   int stops_together(int here) override;
+  // Whether every rank stepped the frame (collective).
+  bool stepped_together(bool here) override;
 
   // Birds over all ranks.
   size_t total_birds() const { return total_; }

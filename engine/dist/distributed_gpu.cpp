@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -39,7 +40,8 @@ struct DeviceGhost {
   }
   // As the device's state of a bird: these fields, the rest a new bird's.
   GpuBird bird() const {
-    GpuBird b = gpu::pack(BirdState{});
+    static const GpuBird blank = gpu::pack(BirdState{});
+    GpuBird b = blank;
     b.species = species, b.flock = flock, b.flocking = flocking;
     b.mode = mode, b.landing_stage = landing_stage;
     b.tile_x = tile_x, b.tile_z = tile_z;
@@ -56,34 +58,38 @@ static_assert(std::is_trivially_copyable_v<DeviceGhost> &&
 // with a blind sector this much wider (radians), by far more than float's rounding of its angle.
 constexpr double kFloatBlindMargin = 1e-3;
 
-// Room for this many birds and ghosts at least: a share that starts small grows less often.
-constexpr uint32_t kLeastCapacity = 1024;
-
-uint32_t room_for(size_t birds) {
-  return static_cast<uint32_t>(std::max<size_t>(kLeastCapacity, birds + birds / 2));
-}
-
 }  // namespace
 
 DistributedGpuSimulation::DistributedGpuSimulation(std::unique_ptr<gpu::Device> device,
                                                    Scenario scenario, MPI_Comm comm,
-                                                   uint32_t birds_override)
-    : DistributedSimulation(std::move(scenario), comm), device_(std::move(device)) {
+                                                   uint32_t birds_override, uint32_t least_capacity)
+    : DistributedSimulation(std::move(scenario), comm),
+      device_(std::move(device)),
+      least_capacity_(least_capacity) {
   place(spawned(this->scenario(), birds_override));
-  start(room_for(birds_.size()));
+  start();
 }
 
 DistributedGpuSimulation::DistributedGpuSimulation(std::unique_ptr<gpu::Device> device,
                                                    Scenario scenario, MPI_Comm comm,
-                                                   const std::vector<BirdState>& all)
-    : DistributedSimulation(std::move(scenario), comm), device_(std::move(device)) {
+                                                   const std::vector<BirdState>& all,
+                                                   uint32_t least_capacity)
+    : DistributedSimulation(std::move(scenario), comm),
+      device_(std::move(device)),
+      least_capacity_(least_capacity) {
   place(given(all));
-  start(room_for(birds_.size()));
+  start();
 }
 
 DistributedGpuSimulation::~DistributedGpuSimulation() = default;
 
-void DistributedGpuSimulation::start(uint32_t capacity) {
+void DistributedGpuSimulation::start() {
+  // A global id carries kGhostBird on the device for a ghost: every rank knows the count, and
+  // every one refuses alike.
+  if (total_birds() >= gpu::kGhostBird)
+    throw std::runtime_error(std::to_string(total_birds()) +
+                             " birds over ranks on Vulkan: at most " +
+                             std::to_string(gpu::kGhostBird - 1) + " (the ids' ghost flag)");
   blind_margin_ = kFloatBlindMargin;
   // As GpuSimulation packs a flock, each bird's perception none yet.
   const GpuPerception none = gpu::pack(Perception{});
@@ -91,17 +97,24 @@ void DistributedGpuSimulation::start(uint32_t capacity) {
   for (const BirdState& b : birds_) on_device_.push_back({gpu::pack(b), none});
   perception_.assign(birds_.size(), Perception{});
   // A share of the flock that the device cannot hold fails now, naming the limit.
-  capacity = std::min<uint32_t>(capacity,
-                                static_cast<uint32_t>(std::min<VkDeviceSize>(
-                                    gpu::storage_capacity(*device_, sizeof(GpuBird)), UINT32_MAX)));
-  make_engine(std::max<uint32_t>(capacity, static_cast<uint32_t>(birds_.size())));
+  make_engine(room_for(birds_.size()));
+}
+
+uint32_t DistributedGpuSimulation::room_for(size_t birds) const {
+  const uint64_t most = std::min<uint64_t>(
+      {gpu::storage_capacity(*device_, sizeof(GpuBird)),
+       uint64_t(device_->limits().maxComputeWorkGroupCount[0]) * gpu::kWorkgroupSize,
+       gpu::kGhostBird});
+  const uint64_t room = std::max<uint64_t>(least_capacity_, birds + birds / 2);
+  return static_cast<uint32_t>(std::max<uint64_t>(std::min(room, most), birds));
 }
 
 void DistributedGpuSimulation::make_engine(uint32_t capacity) {
-  engine_.reset();  // its memory first
-  engine_ = std::make_unique<gpu::GpuSimulation>(*device_, scenario(), kinds_, capacity);
-  engine_->continue_clock(steps(), frames());
-  if (forces_prepared_) engine_->prepare_forces();
+  auto engine = std::make_unique<gpu::GpuSimulation>(*device_, scenario(), kinds_, capacity);
+  engine->continue_clock(steps(), frames());
+  if (forces_prepared_) engine->prepare_forces();
+  if (engine_) ++growths_;
+  engine_ = std::move(engine);
 }
 
 std::string DistributedGpuSimulation::device() const {
@@ -116,6 +129,7 @@ void DistributedGpuSimulation::prepare_forces() {
 
 void DistributedGpuSimulation::step(uint32_t steps, bool record_forces) {
   const uint64_t frame = frames();  // this frame's number, as perceive.comp counts it
+  forces_current_ = false;          // until this frame's are read back
   rebalance_if_due();
   migrate(on_device_);
   perception_.resize(birds_.size());  // set again from the device below

@@ -18,12 +18,18 @@ namespace aeroflock::dist {
 
 class DistributedGpuSimulation final : public DistributedSimulation {
  public:
+  // Room for this many birds and ghosts at least: a share that starts small grows less often.
+  static constexpr uint32_t kLeastCapacity = 1024;
+
   // Every bird spawned as one rank would, or bird k of `all` with global id k (every rank the
-  // same); this rank's on `device`, which it keeps.
+  // same); this rank's on `device`, which it keeps. Its share starts with room for half again its
+  // birds, at least `least_capacity` (tests make it small, so that shares grow). Throws
+  // std::runtime_error for a flock of kGhostBird or more birds (the ids' flag).
   DistributedGpuSimulation(std::unique_ptr<gpu::Device> device, Scenario scenario, MPI_Comm comm,
-                           uint32_t birds_override = 0);
+                           uint32_t birds_override = 0, uint32_t least_capacity = kLeastCapacity);
   DistributedGpuSimulation(std::unique_ptr<gpu::Device> device, Scenario scenario, MPI_Comm comm,
-                           const std::vector<BirdState>& all);
+                           const std::vector<BirdState>& all,
+                           uint32_t least_capacity = kLeastCapacity);
   ~DistributedGpuSimulation() override;
 
   std::string backend() const override { return "vulkan"; }
@@ -34,8 +40,11 @@ class DistributedGpuSimulation final : public DistributedSimulation {
   // needs the last frame's state.
   void step(uint32_t steps, bool record_forces = false) override;
   void prepare_forces() override;
-  // The birds and ghosts the device has room for (it grows by half again when a frame needs more).
+  // The birds and ghosts the device has room for (it grows by half again when a frame needs more,
+  // up to what the device holds).
   uint32_t capacity() const { return engine_->capacity(); }
+  // How many times the share was made again larger.
+  uint32_t growths() const { return growths_; }
 
   // What a rank keeps of each of its birds beside its state: the device's own state of it (its
   // world tile and float offset, not re-tiled by a round trip through BirdState) and its last
@@ -46,13 +55,19 @@ class DistributedGpuSimulation final : public DistributedSimulation {
   };
 
  private:
-  void start(uint32_t capacity);
-  // A device share with room for `capacity` birds and ghosts, continuing this run's clock.
+  void start();
+  // Room for `birds` birds and ghosts and half again, at least least_capacity_, at most what the
+  // device holds (never less than `birds`: a share that does not fit fails as it is made).
+  uint32_t room_for(size_t birds) const;
+  // A device share with room for `capacity` birds and ghosts, continuing this run's clock; the
+  // last one stays when it cannot be made.
   void make_engine(uint32_t capacity);
 
   std::unique_ptr<gpu::Device> device_;
   std::unique_ptr<gpu::GpuSimulation> engine_;
   bool forces_prepared_ = false;
+  uint32_t least_capacity_;
+  uint32_t growths_ = 0;
   std::vector<OnDevice> on_device_;  // one per bird of this rank, in order
 };
 

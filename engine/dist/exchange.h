@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <type_traits>
 #include <vector>
@@ -61,7 +62,10 @@ void DistributedSimulation::migrate(std::vector<Extra>& extra) {
       birds_[kept] = birds_[k], ids_[kept] = ids_[k], extra[kept] = extra[k];
       ++kept;
     } else {
-      out[size_t(owner)].push_back({ids_[k], birds_[k], extra[k]});
+      Migrant<Extra> m;
+      std::memset(&m, 0, sizeof m);  // no byte sent is left unset (the padding)
+      m.id = ids_[k], m.bird = birds_[k], m.extra = extra[k];
+      out[size_t(owner)].push_back(m);
       ++traffic_.migrants_sent;
     }
   }

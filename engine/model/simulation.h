@@ -97,6 +97,10 @@ class Simulation {
   // codes, the larger the stronger). One flown by several processes (dist/) stops on the frame
   // any of them must, for the strongest reason any has, asked of all together. Alone, `here`.
   virtual int stops_together(int here) { return here; }
+  // Whether every part stepped the frame (`here`: this one did), asked of all together after each
+  // frame: one that failed in its step skips the observers, whose calls may be collective, and so
+  // must every other. Alone, `here`.
+  virtual bool stepped_together(bool here) { return here; }
   // The state before the first step (frame 0, t = 0) with each bird's forces of its first step
   // and what it perceives first, evaluated by the CPU reference from the backend's own state:
   // an export's t = 0 frame. Only before the first step (std::logic_error after it).

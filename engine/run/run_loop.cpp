@@ -85,7 +85,7 @@ RunResult run_frames(Simulation& sim, std::span<RunObserver* const> observers,
       result.end = RunResult::End::error;
       result.errors.push_back(e.what());
     }
-    if (stepped) each([&](RunObserver* o) { o->frame(sim, result.frames); });
+    if (sim.stepped_together(stepped)) each([&](RunObserver* o) { o->frame(sim, result.frames); });
   }
   // A signal that came during the last frame stops nothing more, but the run was interrupted.
   if (result.end == RunResult::End::flown && limits.signal && *limits.signal) {
