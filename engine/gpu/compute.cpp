@@ -276,9 +276,9 @@ void copy_buffer(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDe
   vkCmdCopyBuffer(cmd, src.handle(), dst.handle(), 1, &region);
 }
 
-void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst) {
+void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize size) {
   barrier_to_transfer(cmd);
-  copy_buffer(cmd, src, dst, std::min(src.size(), dst.size()));
+  copy_buffer(cmd, src, dst, std::min({size, src.size(), dst.size()}));
   barrier_to_host(cmd);
 }
 

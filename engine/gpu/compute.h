@@ -107,9 +107,10 @@ void barrier_to_host(VkCommandBuffer cmd);
 // vkCmdCopyBuffer of `size` bytes.
 void copy_buffer(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize size,
                  VkDeviceSize src_offset = 0, VkDeviceSize dst_offset = 0);
-// barrier_to_transfer, copy the whole of `src` (at most dst.size()) to `dst`, barrier_to_host:
-// after the fence, dst.mapped() holds src's contents.
-void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst);
+// barrier_to_transfer, copy the whole of `src` (at most dst.size(), and at most `size` bytes) to
+// `dst`, barrier_to_host: after the fence, dst.mapped() holds src's contents.
+void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst,
+                     VkDeviceSize size = VK_WHOLE_SIZE);
 
 // Owns a command pool on the device's compute queue. Not thread-safe (one thread submits).
 //

@@ -424,9 +424,11 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     }
     end_frame(steps);
   }
-  record_readback(cmd, birds_, slot.readback);
-  if (record_forces) record_readback(cmd, *forces_, *slot.forces);
-  if (flocking_) record_readback(cmd, perception_, *slot.perception);
+  // The birds there are (a share has room for more), at least one element: a copy is never empty.
+  const VkDeviceSize birds = std::max<VkDeviceSize>(count_, 1);
+  record_readback(cmd, birds_, slot.readback, birds * sizeof(GpuBird));
+  if (record_forces) record_readback(cmd, *forces_, *slot.forces, birds * sizeof(GpuForces));
+  if (flocking_) record_readback(cmd, perception_, *slot.perception, birds * sizeof(GpuPerception));
   slot.fence = submitter_.submit();
 
   slot.snapshot = {this->frames(), this->steps(), time(), nullptr, nullptr};
