@@ -15,6 +15,7 @@
 #include "dist/distributed_gpu.h"
 #include "gpu/gpu_simulation.h"
 #include "io/scenario_file.h"
+#include "run/run_loop.h"
 
 using namespace aeroflock;
 using aeroflock::dist::DistributedSimulation;
@@ -313,6 +314,55 @@ TEST(DistributedVulkan, ASmallShareGrowsAndStaysOneDevices) {
   ASSERT_EQ(gathered.size(), one->bird_count());
   for (size_t i = 0; i < gathered.size(); ++i)
     EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
+}
+
+// A rank whose step throws after the frame's exchanges (a device error, say) skips the frame's
+// observers, and so must every rank: their calls may be collective (here a barrier, as the VTK
+// pieces' count and the gathering for pictures are). Before Simulation::stepped_together the
+// others waited in the observer for the failed rank: a hang. Every rank then stops on the next
+// frame, the failed one with its error, the others for another rank's error.
+TEST(DistributedRun, AStepThatFailsOnOneRankStopsEveryRankWithoutAHang) {
+  const Scenario s = load_scenario("default");
+  dist::DistributedCpuSimulation flock(s, MPI_COMM_WORLD, 200);
+  int ranks = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const int failing = ranks - 1;
+  constexpr uint64_t kFailingFrame = 3;
+  // The flock, its step failing on the last rank after frame kFailingFrame's work.
+  struct FailingStep final : Simulation {
+    DistributedSimulation& inner;
+    bool fails;
+    FailingStep(DistributedSimulation& d, bool f) : Simulation(d.scenario()), inner(d), fails(f) {}
+    std::string backend() const override { return inner.backend(); }
+    std::string device() const override { return inner.device(); }
+    size_t bird_count() const override { return inner.bird_count(); }
+    void step(uint32_t steps, bool forces) override {
+      inner.step(steps, forces);
+      if (fails && inner.frames() == kFailingFrame) throw std::runtime_error("the device failed");
+    }
+    Snapshot snapshot() override { return inner.snapshot(); }
+    int stops_together(int here) override { return inner.stops_together(here); }
+    bool stepped_together(bool here) override { return inner.stepped_together(here); }
+  } sim(flock, flock.rank() == failing);
+  struct Collective final : RunObserver {
+    uint64_t seen = 0;
+    void frame(Simulation&, uint64_t) override {
+      MPI_Barrier(MPI_COMM_WORLD);
+      ++seen;
+    }
+  } collective;
+  RunLimits limits;
+  limits.frames = 10;
+  const RunResult result = run_frames(sim, {&collective}, limits);
+  EXPECT_EQ(collective.seen, kFailingFrame - 1) << "rank " << flock.rank();
+  if (flock.rank() == failing) {
+    EXPECT_EQ(result.end, RunResult::End::error);
+    ASSERT_EQ(result.errors.size(), 1u);
+    EXPECT_EQ(result.errors[0], "the device failed");
+  } else {
+    EXPECT_EQ(result.end, RunResult::End::observer) << "rank " << flock.rank();
+    EXPECT_EQ(result.stopped_by, "another rank's error") << "rank " << flock.rank();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Distributed, ::testing::Values(Backend::cpu, Backend::vulkan),
