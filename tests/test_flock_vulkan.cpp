@@ -213,6 +213,43 @@ TEST(GpuFrames, SeveralFramesASubmissionFlyAsFramesOneByOne) {
   }
 }
 
+// Issue 44: each frame's passes timed on the device (timestamps; aeroflock bench reports them):
+// every frame of every submission, in order, the grid's passes, the perception and the steps each
+// taking time; none for the grid or the perception of a flock that does not flock; the flight the
+// same bit for bit as untimed.
+TEST(GpuFrames, EachFramesPassesAreTimedOnTheDevice) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  if (!gpu::Timestamps::supported(device)) GTEST_SKIP() << "the device writes no timestamps";
+  for (const bool flocking : {true, false}) {
+    SCOPED_TRACE(flocking ? "flocking" : "not flocking");
+    Scenario s = load_scenario("default");
+    for (Flock& f : s.flocks) f.flocking = flocking;
+    gpu::GpuSimulation timed(device, s, 300), untimed(device, s, 300);
+    ASSERT_TRUE(timed.time_passes());
+    timed.step_frames(20);  // a submission of 16, then one of 4
+    untimed.step_frames(20);
+    const std::vector<BirdState> a = timed.birds(), b = untimed.birds();
+    size_t same = 0;
+    for (size_t i = 0; i < a.size(); ++i)
+      same += a[i].position == b[i].position && a[i].velocity == b[i].velocity;
+    EXPECT_EQ(same, a.size());
+    const std::vector<gpu::GpuSimulation::PassTimes>& t = timed.pass_times();
+    ASSERT_EQ(t.size(), 20u);
+    for (size_t f = 0; f < t.size(); ++f) {
+      EXPECT_EQ(t[f].frame, f + 1);
+      EXPECT_GT(t[f].steps_ms, 0.0);
+      if (flocking) {
+        EXPECT_GT(t[f].grid_ms, 0.0);
+        EXPECT_GT(t[f].perception_ms, 0.0);
+      } else {
+        EXPECT_EQ(t[f].grid_ms, 0.0);
+        EXPECT_EQ(t[f].perception_ms, 0.0);
+      }
+    }
+    EXPECT_EQ(untimed.pass_times().size(), 0u);
+  }
+}
+
 TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = load_scenario("default");

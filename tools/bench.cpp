@@ -87,12 +87,20 @@ struct Settings {
   int device = -1;
 };
 
+// A Vulkan frame's passes on the device's own clock (timestamps, gpu_simulation.h): the median
+// over the timed frames of each pass, ms.
+struct DevicePasses {
+  double grid = 0, perception = 0, steps = 0;
+  double total() const { return grid + perception + steps; }
+};
+
 struct Measurement {
   std::string backend, variant, device;
   uint32_t birds = 0;
   int iterations = 0;
   double median = 0, p10 = 0, p90 = 0;  // ms per frame
   double bird_steps_per_second = 0;
+  std::optional<DevicePasses> passes;  // Vulkan, headless and solo, where the device times them
 };
 
 struct Series {
@@ -190,6 +198,10 @@ class Subject {
     sim_ = make_simulation(
         {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
     if (rendering) render_ = std::make_unique<OffscreenLoad>(*sim_);
+    // The passes are timed where nothing but the flock runs (a timestamp costs next to nothing).
+    if (auto* gpu = dynamic_cast<gpu::GpuSimulation*>(sim_.get());
+        gpu && (variant == "headless" || variant == "solo"))
+      timed_ = gpu->time_passes();
     if (variant == "vtk") {
       static int counter = 0;
       vtk_dir_.path = fs::temp_directory_path() / ("aeroflock-bench-" + std::to_string(::getpid()) +
@@ -223,8 +235,24 @@ class Subject {
   double sample() { return samples(1).front(); }
   const Simulation& simulation() const { return *sim_; }
 
+  // The passes' median device times over the frames after the first `skipped` (the warm-up).
+  std::optional<DevicePasses> passes(uint64_t skipped) {
+    if (!timed_) return std::nullopt;
+    auto& gpu = dynamic_cast<gpu::GpuSimulation&>(*sim_);
+    std::vector<double> grid, perception, steps;
+    for (const gpu::GpuSimulation::PassTimes& t : gpu.pass_times())
+      if (t.frame > skipped) {
+        grid.push_back(t.grid_ms);
+        perception.push_back(t.perception_ms);
+        steps.push_back(t.steps_ms);
+      }
+    if (steps.empty()) return std::nullopt;
+    return DevicePasses{quantile(grid, 0.5), quantile(perception, 0.5), quantile(steps, 0.5)};
+  }
+
  private:
   int cycle_;
+  bool timed_ = false;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<OffscreenLoad> render_;
   TempDir vtk_dir_;  // before vtk_: the exporter finishes before its directory goes
@@ -249,6 +277,7 @@ Measurement measure(const std::string& backend_name, const std::string& variant,
   m.p90 = quantile(times, 0.9);
   m.bird_steps_per_second =
       m.median > 0 ? m.birds * double(s.scenario.steps_per_frame) / (m.median / 1000.0) : 0.0;
+  m.passes = subject.passes(uint64_t(s.warmup) * frames_per_sample(variant));
   return m;
 }
 
@@ -293,9 +322,16 @@ void print_header(const Settings& s) {
 }
 
 void print_row(const Measurement& m, double budget_ms) {
-  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s\n", m.backend.c_str(), m.variant.c_str(),
+  std::printf("%-8s %-9s %9u %11.3f %10.3f %10.3f %14.4g%s", m.backend.c_str(), m.variant.c_str(),
               m.birds, m.median, m.p10, m.p90, m.bird_steps_per_second,
               m.median <= budget_ms ? "  fits" : "");
+  if (m.passes) {
+    const DevicePasses& p = *m.passes;
+    const double total = p.total() > 0 ? p.total() : 1.0;
+    std::printf("  device: grid %.3f, perception %.3f (%.0f %%), steps %.3f ms", p.grid,
+                p.perception, 100.0 * p.perception / total, p.steps);
+  }
+  std::printf("\n");
   std::fflush(stdout);
 }
 
@@ -797,6 +833,10 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
           {"p90", m.p90},
           {"time_unit", "ms"},
           {"bird_steps_per_second", m.bird_steps_per_second},
+          {"device_passes_ms", m.passes ? nlohmann::json{{"grid", m.passes->grid},
+                                                         {"perception", m.passes->perception},
+                                                         {"steps", m.passes->steps}}
+                                        : nlohmann::json(nullptr)},
       });
   }
   nlohmann::json ratios_json = nlohmann::json::array();

@@ -63,7 +63,7 @@ void DistributedSimulation::migrate(std::vector<Extra>& extra) {
       ++kept;
     } else {
       Migrant<Extra> m;
-      std::memset(&m, 0, sizeof m);  // no byte sent is left unset (the padding)
+      std::memset(static_cast<void*>(&m), 0, sizeof m);  // no byte sent is left unset (padding)
       m.id = ids_[k], m.bird = birds_[k], m.extra = extra[k];
       out[size_t(owner)].push_back(m);
       ++traffic_.migrants_sent;

@@ -385,4 +385,49 @@ void Submitter::wait_all() const {
     if (s.submitted) wait(s.fence);
 }
 
+namespace {
+// The bits of a timestamp the device's queue writes (0: it writes none).
+uint32_t timestamp_bits(const Device& device) {
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(device.physical(), &n, nullptr);
+  std::vector<VkQueueFamilyProperties> families(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(device.physical(), &n, families.data());
+  return device.queue_family() < n ? families[device.queue_family()].timestampValidBits : 0;
+}
+}  // namespace
+
+bool Timestamps::supported(const Device& device) {
+  return timestamp_bits(device) > 0 && device.limits().timestampPeriod > 0.0f;
+}
+
+Timestamps::Timestamps(const Device& device, uint32_t count) : device_(device), count_(count) {
+  if (!supported(device)) throw Error(device.name() + " writes no timestamps on its queue");
+  const uint32_t bits = timestamp_bits(device);
+  mask_ = bits >= 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1;
+  ns_per_tick_ = double(device.limits().timestampPeriod);
+  VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  info.queryCount = count;
+  check(vkCreateQueryPool(device.handle(), &info, nullptr, &pool_), "vkCreateQueryPool");
+}
+
+Timestamps::~Timestamps() { vkDestroyQueryPool(device_.handle(), pool_, nullptr); }
+
+void Timestamps::reset(VkCommandBuffer cmd, uint32_t n) { vkCmdResetQueryPool(cmd, pool_, 0, n); }
+
+void Timestamps::write(VkCommandBuffer cmd, uint32_t query) {
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, pool_, query);
+}
+
+std::vector<double> Timestamps::read_ns(uint32_t n) const {
+  std::vector<uint64_t> ticks(n);
+  if (n == 0) return {};
+  check(vkGetQueryPoolResults(device_.handle(), pool_, 0, n, n * sizeof(uint64_t), ticks.data(),
+                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  std::vector<double> ns(n);
+  for (uint32_t i = 0; i < n; ++i) ns[i] = double((ticks[i] - ticks[0]) & mask_) * ns_per_tick_;
+  return ns;
+}
+
 }  // namespace aeroflock::gpu

@@ -122,6 +122,33 @@ void record_readback(VkCommandBuffer cmd, const Buffer& src, const Buffer& dst,
 //     record_readback(cmd, state, readback[submitter.frame()]);
 //     VkFence done = submitter.submit();
 //     ... later: submitter.wait(done); read readback[...]
+// Device timestamps a command buffer writes (vkCmdWriteTimestamp), read once it has finished:
+// where each pass of a frame begins and ends on the device's own clock (aeroflock bench).
+class Timestamps {
+ public:
+  // Whether the device's queue writes timestamps (its family's timestampValidBits).
+  static bool supported(const Device& device);
+  Timestamps(const Device& device, uint32_t count);
+  ~Timestamps();
+  Timestamps(const Timestamps&) = delete;
+  Timestamps& operator=(const Timestamps&) = delete;
+
+  uint32_t count() const { return count_; }
+  // Records the reset of the first `n`, before any is written again.
+  void reset(VkCommandBuffer cmd, uint32_t n);
+  // Records timestamp `query` once the commands before it have finished their compute work.
+  void write(VkCommandBuffer cmd, uint32_t query);
+  // The first `n` in nanoseconds, from the first; the command buffer that wrote them has finished.
+  std::vector<double> read_ns(uint32_t n) const;
+
+ private:
+  const Device& device_;
+  VkQueryPool pool_ = VK_NULL_HANDLE;
+  uint32_t count_;
+  uint64_t mask_;       // the bits the queue writes
+  double ns_per_tick_;  // timestampPeriod
+};
+
 class Submitter {
  public:
   explicit Submitter(const Device& device, uint32_t frames = 2);

@@ -276,7 +276,8 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
 // The birds see their flock (the frame's start): the grid is built (each bird's cell's slot and a
 // counting sort: count, prefix sum in two levels, ranges, scatter), then each due bird searches
 // it; a barrier between each.
-void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c) {
+void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c,
+                                      Timestamps* timestamps, uint32_t first) {
   Flocking& f = *flocking_;
   // The last frame's passes (several frames a submission) are done with the grid before it is
   // cleared.
@@ -297,8 +298,48 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
   f.scatter.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);
+  if (timestamps) timestamps->write(cmd, first + 1);
   f.perceive.dispatch(cmd, slot.perceive_set, groups, &c, sizeof c);
   barrier_to_compute(cmd);
+  if (timestamps) timestamps->write(cmd, first + 2);
+}
+
+// A frame's timestamps: its start, the grid built, the perception done, the steps done.
+constexpr uint32_t kTimestampsPerFrame = 4;
+
+bool GpuSimulation::time_passes() {
+  if (!Timestamps::supported(device_)) return false;
+  for (Slot& slot : slots_)
+    if (!slot.timestamps)
+      slot.timestamps =
+          std::make_unique<Timestamps>(device_, frames_per_submission_ * kTimestampsPerFrame);
+  return true;
+}
+
+const std::vector<GpuSimulation::PassTimes>& GpuSimulation::pass_times() {
+  if (last_ >= 0) {
+    submitter_.wait_all();
+    collect_pass_times(slots_[1 - last_]);  // the older first
+    collect_pass_times(slots_[last_]);
+  }
+  // A snapshot may have read the last submission's before the one before.
+  std::sort(pass_times_.begin(), pass_times_.end(),
+            [](const PassTimes& a, const PassTimes& b) { return a.frame < b.frame; });
+  return pass_times_;
+}
+
+void GpuSimulation::collect_pass_times(Slot& slot) {
+  if (slot.timed_frames == 0) return;
+  const std::vector<double> ns = slot.timestamps->read_ns(slot.timed_frames * kTimestampsPerFrame);
+  for (uint32_t f = 0; f < slot.timed_frames; ++f) {
+    const double* t = &ns[f * kTimestampsPerFrame];
+    if (flocking_)
+      pass_times_.push_back(
+          {slot.first_frame + f, (t[1] - t[0]) * 1e-6, (t[2] - t[1]) * 1e-6, (t[3] - t[2]) * 1e-6});
+    else  // its middle two mark no pass (a device's clock may still move between them)
+      pass_times_.push_back({slot.first_frame + f, 0.0, 0.0, (t[3] - t[0]) * 1e-6});
+  }
+  slot.timed_frames = 0;
 }
 
 std::vector<Bound> GpuSimulation::world_buffers(const Buffer& targets,
@@ -366,10 +407,14 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     Slot& reused = slots_[1 - last_];
     submitter_.wait(reused.fence);  // as begin() would
     check_steps_taken(reused);      // before its count is cleared
+    collect_pass_times(reused);
     std::memset(reused.steps_short.mapped(), 0, sizeof(uint32_t));
   }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];
+  Timestamps* timestamps = slot.timestamps.get();
+  if (timestamps) timestamps->reset(cmd, frames * kTimestampsPerFrame);
+  slot.first_frame = this->frames() + 1;
   auto* targets_of = reinterpret_cast<GpuTarget*>(slot.targets.mapped());
   const uint32_t targets_count = uint32_t(world().targets.size());
   const uint32_t per_frame =
@@ -407,7 +452,14 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     c.frame = uint32_t(this->frames() - 1);
     c.targets_base = f * per_frame;
     barrier_to_compute(cmd);  // after the frame before: its stepping, or the host's writes
-    if (flocking_) record_perception(cmd, slot, c);
+    const uint32_t first_timestamp = f * kTimestampsPerFrame;
+    if (timestamps) timestamps->write(cmd, first_timestamp);
+    if (flocking_) {
+      record_perception(cmd, slot, c, timestamps, first_timestamp);
+    } else if (timestamps) {  // no grid, no perception: written, as every query read must be
+      timestamps->write(cmd, first_timestamp + 1);
+      timestamps->write(cmd, first_timestamp + 2);
+    }
     // The frame's steps, at most steps_per_dispatch_ a dispatch (kMaxStepsPerDispatch); a frame
     // of 0 steps is one dispatch still (it retiles, it may record forces).
     for (uint32_t first = 0;;) {
@@ -422,6 +474,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
       first += c.steps;
       if (first == steps) break;
     }
+    if (timestamps) timestamps->write(cmd, first_timestamp + 3);
     end_frame(steps);
   }
   // The birds there are (a share has room for more), at least one element: a copy is never empty.
@@ -430,6 +483,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   if (record_forces) record_readback(cmd, *forces_, *slot.forces, birds * sizeof(GpuForces));
   if (flocking_) record_readback(cmd, perception_, *slot.perception, birds * sizeof(GpuPerception));
   slot.fence = submitter_.submit();
+  slot.timed_frames = timestamps ? frames : 0;
 
   slot.snapshot = {this->frames(), this->steps(), time(), nullptr, nullptr};
   slot.unpacked = false;
@@ -448,6 +502,7 @@ Snapshot GpuSimulation::read(Slot& slot) {
   if (!slot.unpacked) {
     submitter_.wait(slot.fence);
     check_steps_taken(slot);
+    collect_pass_times(slot);
     const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
     slot.birds.resize(count_);
     for (uint32_t i = 0; i < count_; ++i) slot.birds[i] = unpack(gpu[i]);
@@ -491,6 +546,7 @@ GpuSimulation::Raw GpuSimulation::raw() {
   Slot& slot = slots_[last_];
   submitter_.wait(slot.fence);
   check_steps_taken(slot);
+  collect_pass_times(slot);
   Raw r;
   r.birds = {reinterpret_cast<const GpuBird*>(slot.readback.mapped()), count_};
   if (flocking_)

@@ -64,6 +64,18 @@ class GpuSimulation final : public Simulation {
   uint32_t steps_per_dispatch() const { return steps_per_dispatch_; }
   // The frames step_frames() records in one command buffer (at most kFramesPerSubmission).
   uint32_t frames_per_submission() const { return frames_per_submission_; }
+  // Device time of a frame's passes (time_passes): the neighbour grid's (its clearing, count,
+  // prefix sum, ranges and scatter), the perception's and the steps'. Without flocking the grid
+  // and perception take none.
+  struct PassTimes {
+    uint64_t frame = 0;  // the frame's number, from 1 (Simulation::frames() after it)
+    double grid_ms = 0.0, perception_ms = 0.0, steps_ms = 0.0;
+  };
+  // Times every frame's passes from now on with device timestamps; false where the device's queue
+  // writes none (nothing is timed then).
+  bool time_passes();
+  // Every frame timed so far, in order (waits for the frames in flight).
+  const std::vector<PassTimes>& pass_times();
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
@@ -95,8 +107,11 @@ class GpuSimulation final : public Simulation {
   struct Slot {
     Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
     Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)
-    std::unique_ptr<Buffer> forces;      // host copy of the forces, once asked for
-    std::unique_ptr<Buffer> perception;  // host copy of the perception, when the flock flocks
+    std::unique_ptr<Timestamps> timestamps;  // kTimestampsPerFrame a frame, once time_passes()
+    uint32_t timed_frames = 0;               // its frames' timestamps not yet read
+    uint64_t first_frame = 0;                // the number of the first of them
+    std::unique_ptr<Buffer> forces;          // host copy of the forces, once asked for
+    std::unique_ptr<Buffer> perception;      // host copy of the perception, when the flock flocks
     VkDescriptorSet set = VK_NULL_HANDLE, forces_set = VK_NULL_HANDLE,
                     perceive_set = VK_NULL_HANDLE;
     VkFence fence = VK_NULL_HANDLE;
@@ -122,7 +137,12 @@ class GpuSimulation final : public Simulation {
   void check_steps_taken(const Slot& slot) const;
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
-  void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c);
+  // With `timestamps`, writes `first` + 1 after the grid's passes and `first` + 2 after the
+  // perception.
+  void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c,
+                         Timestamps* timestamps, uint32_t first);
+  // Adds the timed frames of `slot`, whose submission has finished, to pass_times_.
+  void collect_pass_times(Slot& slot);
 
   std::unique_ptr<Device> owned_device_;
   const Device& device_;
@@ -138,6 +158,7 @@ class GpuSimulation final : public Simulation {
   Slot slots_[2];
   int last_ = -1;  // the slot of the last frame (-1: none yet)
   uint32_t steps_per_dispatch_ = kMaxStepsPerDispatch;
+  std::vector<PassTimes> pass_times_;
   std::vector<BirdState> initial_;
   Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
 };
