@@ -310,7 +310,9 @@ TEST(DistributedVulkan, ASmallShareGrowsAndStaysOneDevices) {
   int ranks = 0;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   std::printf("%d ranks: the shares grew %lu times\n", ranks, (unsigned long)growths);
-  if (ranks > 1) EXPECT_GT(growths, 0u) << "no share grew";
+  if (ranks > 1) {
+    EXPECT_GT(growths, 0u) << "no share grew";
+  }
   ASSERT_EQ(gathered.size(), one->bird_count());
   for (size_t i = 0; i < gathered.size(); ++i)
     EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;

@@ -250,6 +250,29 @@ TEST(GpuFrames, EachFramesPassesAreTimedOnTheDevice) {
   }
 }
 
+// Issue 44: a cell of the neighbour grid holding more birds than a shader's loops may look
+// through (lavapipe ends them after 65,535 turns) makes reading the frame an error naming the
+// search, not a perception silently cut short. 70,000 birds in a metre cube.
+TEST(GpuFlock, ASearchCutShortByTheDriverIsAnError) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  if (device.driver().find("llvmpipe") == std::string::npos)
+    GTEST_SKIP() << "only lavapipe's limit on loops is known";
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 100.0);
+  std::vector<BirdState> birds;
+  for (int i = 0; i < 70000; ++i)
+    birds.push_back(flocking_bird(dvec3{u(rng), 2000.0 + u(rng), u(rng)}, dvec3{1000.0, 0.0, 0.0}));
+  gpu::GpuSimulation sim(device, flocking_scenario(), birds);
+  sim.step(0);
+  try {
+    sim.snapshot();
+    FAIL() << "a search cut short was read as a perception";
+  } catch (const gpu::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("ended the neighbour search of"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = load_scenario("default");

@@ -114,7 +114,8 @@ const std::vector<Binding> kPerceiveBindings =
                {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
                {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
                {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
-               {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT}});
+               {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT},
+               kBindingCutShort});
 
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
 // 1), and whether each of them sees that many (kAllSeeKSeen).
@@ -229,15 +230,15 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
                                  "routes' targets")),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, capacity_, any_flocking(this->scenario()))),
-      step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingStepsShort}),
+      step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingCutShort}),
             sizeof(StepConstants), 2),
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, sizeof(uint32_t), Memory::host)},
+              Buffer(device, 2 * sizeof(uint32_t), Memory::host)},
              {targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, sizeof(uint32_t), Memory::host)}},
+              Buffer(device, 2 * sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(capacity_, kWorkgroupSize));  // so that step() cannot fail on it
@@ -245,10 +246,9 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
     flocking_ =
         std::make_unique<Flocking>(device, this->scenario(), kinds ? *kinds : initial_, capacity_);
   for (Slot& slot : slots_) {
-    std::memset(slot.steps_short.mapped(), 0, sizeof(uint32_t));
-    slot.set =
-        step_.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
-                                                    {kBindingStepsShort, &slot.steps_short}}));
+    std::memset(slot.cut_short.mapped(), 0, slot.cut_short.size());
+    slot.set = step_.make_set(world_buffers(
+        slot.targets, {{kBindingPerception, &perception_}, {kBindingCutShort, &slot.cut_short}}));
     if (!flocking_) continue;
     Flocking& f = *flocking_;
     slot.perception = std::make_unique<Buffer>(device, perception_.size(), Memory::host);
@@ -257,7 +257,8 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
                                                          {kBindingGridPoints, &f.points},
                                                          {kBindingGridKeys, &f.keys},
                                                          {kBindingGridRanges, &f.ranges},
-                                                         {kBindingGridSearch, &f.search}}));
+                                                         {kBindingGridSearch, &f.search},
+                                                         {kBindingCutShort, &slot.cut_short}}));
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
     Flocking& f = *flocking_;
@@ -363,14 +364,13 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      world_and({kBindingPerception, kBindingForces, kBindingStepsShort}), sizeof(StepConstants),
-      2);
+      world_and({kBindingPerception, kBindingForces, kBindingCutShort}), sizeof(StepConstants), 2);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
-    slot.forces_set = step_forces_->make_set(
-        world_buffers(slot.targets, {{kBindingPerception, &perception_},
-                                     {kBindingForces, forces_.get()},
-                                     {kBindingStepsShort, &slot.steps_short}}));
+    slot.forces_set =
+        step_forces_->make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
+                                                            {kBindingForces, forces_.get()},
+                                                            {kBindingCutShort, &slot.cut_short}}));
   }
 }
 
@@ -380,13 +380,19 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
 }
 
 void GpuSimulation::check_steps_taken(const Slot& slot) const {
-  const uint32_t short_birds = *reinterpret_cast<const uint32_t*>(slot.steps_short.mapped());
-  if (short_birds == 0) return;
-  throw Error(device() + " ended the steps of " + std::to_string(short_birds) + " of " +
-              std::to_string(count_) +
-              " birds early (a limit of the driver's on a shader's loops; dispatches of " +
-              std::to_string(steps_per_dispatch_) + " steps at most): frame " +
-              std::to_string(slot.snapshot.frame) + "'s state is wrong");
+  const auto* cut = reinterpret_cast<const uint32_t*>(slot.cut_short.mapped());
+  if (cut[0] > 0)
+    throw Error(device() + " ended the steps of " + std::to_string(cut[0]) + " of " +
+                std::to_string(count_) +
+                " birds early (a limit of the driver's on a shader's loops; dispatches of " +
+                std::to_string(steps_per_dispatch_) + " steps at most): frame " +
+                std::to_string(slot.snapshot.frame) + "'s state is wrong");
+  if (cut[1] > 0)
+    throw Error(device() + " ended the neighbour search of " + std::to_string(cut[1]) + " of " +
+                std::to_string(count_) +
+                " birds early (a limit of the driver's on a shader's loops: a cell of the grid "
+                "holds more birds than a search can look through): frame " +
+                std::to_string(slot.snapshot.frame) + "'s perception is wrong");
 }
 
 void GpuSimulation::step(uint32_t steps, bool record_forces) {
@@ -408,7 +414,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     submitter_.wait(reused.fence);  // as begin() would
     check_steps_taken(reused);      // before its count is cleared
     collect_pass_times(reused);
-    std::memset(reused.steps_short.mapped(), 0, sizeof(uint32_t));
+    std::memset(reused.cut_short.mapped(), 0, reused.cut_short.size());
   }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
   Slot& slot = slots_[submitter_.frame()];

@@ -106,7 +106,7 @@ class GpuSimulation final : public Simulation {
 
   struct Slot {
     Buffer targets, readback;  // targets: a frame's at its start, then at the next one's, per frame
-    Buffer steps_short;        // the birds whose steps a dispatch of it cut short (step.glsl)
+    Buffer cut_short;          // the birds whose steps, and whose search, its dispatches cut short
     std::unique_ptr<Timestamps> timestamps;  // kTimestampsPerFrame a frame, once time_passes()
     uint32_t timed_frames = 0;               // its frames' timestamps not yet read
     uint64_t first_frame = 0;                // the number of the first of them

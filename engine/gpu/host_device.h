@@ -85,8 +85,10 @@ AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: no
 AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
 AF_UINT(kBindingGridSearch,
         22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
-// The birds whose steps a dispatch ended short of its steps (step.glsl): a driver's limit caught.
-AF_UINT(kBindingStepsShort, 23)
+// What a driver's limit on a shader's loops cut short, counted (two uints): the birds whose steps
+// a dispatch ended short of its steps (step.glsl), and the birds whose search of the neighbour
+// grid ended before it was done (flock.glsl: search).
+AF_UINT(kBindingCutShort, 23)
 // Each bird's global id (its index in the whole flock), kGhostBird set for a ghost: a copy of
 // another MPI rank's bird, perceived, never stepped nor perceiving (engine/dist). On one device the
 // index itself. The perception's seen_key sums ids, and ties among neighbours go by buffer index,

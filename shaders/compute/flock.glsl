@@ -22,6 +22,9 @@ bool outside_blind(vec3 ahead, vec3 offset, float distance2, float cos_blind) {
 uint near_index[kMaxNeighbours];
 float near_d2[kMaxNeighbours];
 uint near_count;
+// Set when a loop of the search ended before its end (a driver's limit on a shader's loops): every
+// loop below ends by its own condition otherwise, and the probing one at the cell or an empty slot.
+bool search_cut;
 
 const float kFar = 3.4e38;  // an empty place's distance squared: every bird seen is nearer
 
@@ -50,6 +53,7 @@ uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
       key = texelFetch(grid_keys, int(slot));
       other = holds_another(key, c, flock);
     }
+    if (other) search_cut = true;
   } else if (other) {
     blocked = true;
   }
@@ -92,17 +96,22 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
                    parts - 1);  // exact: cell / parts is a power of two
   int first = cells * (part.x + parts * (part.y + parts * part.z));
   float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
-  bool blocked = false;
-  for (int n = 0; n < cells && !blocked; ++n) {
+  bool blocked = false, ended = false;
+  int n = 0;
+  for (; n < cells && !blocked; ++n) {
     ivec4 around = texelFetch(grid_search, first + n);
-    float least2 = float(around.w) * part2;            // exact
-    if (least2 > radius2 || least2 > worst_d2) break;  // nor can any cell after it
-    vec3 low = vec3(around.xyz) * cell;                // the cell's low corner
+    float least2 = float(around.w) * part2;  // exact
+    if (least2 > radius2 || least2 > worst_d2) {
+      ended = true;  // nor can any cell after it
+      break;
+    }
+    vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
     float gap2 = dot(gap, gap);
     if (gap2 > radius2 || gap2 > worst_d2) continue;
     uvec2 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
-    for (uint e = range.x; e < range.y; ++e) {
+    uint e = range.x;
+    for (; e < range.y; ++e) {
       vec4 point = texelFetch(grid_points, int(e));
       uint j = floatBitsToUint(point.w);
       vec3 offset = low + point.xyz - inside;
@@ -126,7 +135,9 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
         }
       }
     }
+    if (e < range.y) search_cut = true;
   }
+  if (!ended && !blocked && n < cells) search_cut = true;
   near_count = 0u;
   [[unroll]] for (uint n = 0u; n < kSeen; ++n) {
     near_index[n] = kept[n];

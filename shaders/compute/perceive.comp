@@ -10,6 +10,12 @@ layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions {
   GpuPerception perception[];
 };
 layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
+// Counts the birds whose search a driver's limit on loops ended early (lavapipe ends a shader's
+// loops after 65,535 turns: a cell of tens of thousands of birds); the host refuses the frame.
+layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
+  uint steps_short;  // step.glsl's
+  uint searches_short;
+};
 // The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
@@ -37,7 +43,9 @@ void main() {
   // The air it flies in: its search looks along its flight through it.
   step_wind = wind_at(b.position.y);
   uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
+  search_cut = false;
   if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
+  if (search_cut) atomicAdd(searches_short, 1u);
   vec3 goal = vec3(0.0);
   bool route_done = false;
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes

@@ -15,7 +15,10 @@ layout(std430, set = 0, binding = kBindingPerception) readonly buffer Perception
 };
 // Counts the birds whose loop ended before its steps were taken: a driver may end a shader's
 // loops (lavapipe after 65,535 turns); the host refuses the frame rather than show it.
-layout(std430, set = 0, binding = kBindingStepsShort) buffer StepsShort { uint steps_short; };
+layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
+  uint steps_short;
+  uint searches_short;  // perceive.comp's
+};
 layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
 #ifdef RECORD_FORCES
 layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
