@@ -379,7 +379,7 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
   steps_per_dispatch_ = steps;
 }
 
-void GpuSimulation::check_steps_taken(const Slot& slot) const {
+void GpuSimulation::check_cut_short(const Slot& slot) const {
   const auto* cut = reinterpret_cast<const uint32_t*>(slot.cut_short.mapped());
   if (cut[0] > 0)
     throw Error(device() + " ended the steps of " + std::to_string(cut[0]) + " of " +
@@ -412,7 +412,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   if (last_ >= 0 && slots_[1 - last_].fence != VK_NULL_HANDLE) {  // the slot about to be reused
     Slot& reused = slots_[1 - last_];
     submitter_.wait(reused.fence);  // as begin() would
-    check_steps_taken(reused);      // before its count is cleared
+    check_cut_short(reused);        // before its count is cleared
     collect_pass_times(reused);
     std::memset(reused.cut_short.mapped(), 0, reused.cut_short.size());
   }
@@ -507,7 +507,7 @@ uint64_t GpuSimulation::ready_frame() const {
 Snapshot GpuSimulation::read(Slot& slot) {
   if (!slot.unpacked) {
     submitter_.wait(slot.fence);
-    check_steps_taken(slot);
+    check_cut_short(slot);
     collect_pass_times(slot);
     const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
     slot.birds.resize(count_);
@@ -551,7 +551,7 @@ GpuSimulation::Raw GpuSimulation::raw() {
   if (last_ < 0) throw std::logic_error("GpuSimulation::raw before the first step");
   Slot& slot = slots_[last_];
   submitter_.wait(slot.fence);
-  check_steps_taken(slot);
+  check_cut_short(slot);
   collect_pass_times(slot);
   Raw r;
   r.birds = {reinterpret_cast<const GpuBird*>(slot.readback.mapped()), count_};

@@ -133,8 +133,9 @@ class GpuSimulation final : public Simulation {
   GpuSimulation(const Device& device, Scenario scenario, std::vector<BirdState> birds,
                 const std::vector<BirdState>* kinds, uint32_t capacity);
   Snapshot read(Slot& slot);
-  // Throws Error when the finished submission of `slot` had birds' steps cut short by the device.
-  void check_steps_taken(const Slot& slot) const;
+  // Throws Error when the finished submission of `slot` had birds' steps or neighbour search cut
+  // short by the device.
+  void check_cut_short(const Slot& slot) const;
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   // With `timestamps`, writes `first` + 1 after the grid's passes and `first` + 2 after the
