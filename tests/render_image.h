@@ -22,15 +22,18 @@ struct Image {
   }
 };
 
-// Renders the birds of `sim` as they are, seen by `camera` (the targets and routes too: `targets`).
+// Renders the birds of `sim` as they are, seen by `camera` (the targets and routes too: `targets`),
+// `msaa` samples a pixel, birds narrower than `tiny_pixels` drawn tiny (render::View).
 inline Image render(const gpu::Device& device, gpu::GpuSimulation& sim,
-                    const render::Camera& camera, VkExtent2D size, bool targets = false) {
-  render::Renderer renderer(device, sim.scenario(), render::Offscreen::kFormat, size);
+                    const render::Camera& camera, VkExtent2D size, bool targets = false,
+                    uint32_t msaa = 4, float tiny_pixels = 0.0f) {
+  render::Renderer renderer(device, sim.scenario(), render::Offscreen::kFormat, size, msaa);
   render::Offscreen target(device, size);
   gpu::Submitter submitter(device, 1);
   render::View view;
   view.camera = camera;
   view.show_targets = targets;
+  view.tiny_pixels = tiny_pixels;
   sim.birds();  // the last frame has finished
   submitter.run([&](VkCommandBuffer cmd) {
     renderer.record(cmd, target.image(), target.view(), sim.bird_buffer(), sim.bird_count(),

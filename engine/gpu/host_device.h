@@ -240,8 +240,9 @@ struct PoseConstants {
   float lod_scale;  // a bird farther than its span times this is distant
   int tile_x;
   int tile_z;
-  float min_angle;  // rad: a bird is drawn at least this wide (distant birds grown to it)
-  uint pad1, pad2;
+  float min_angle;   // rad: a bird is drawn at least this wide (distant birds grown to it)
+  float tiny_scale;  // a bird farther than its span times this is tiny (0: none; View::tiny_pixels)
+  uint pad;
 };
 
 // Push constants of every render shader (frame.glsl): the camera and the light. Everything is

@@ -146,6 +146,15 @@ std::vector<MeshVertex> distant_bird_mesh() {
   return v;
 }
 
+std::vector<MeshVertex> tiny_bird_mesh() {
+  std::vector<MeshVertex> v;
+  for (float side : {0.0f, 4.0f}) {
+    triangle(v, flat({0.5f, 0.0f}), flat({0.1f, 1.0f}), flat({-0.5f, 0.0f}), 1.0f + side);
+    v[v.size() - 2].position.w = 2.0f + side;  // the tip on the hand
+  }
+  return v;
+}
+
 std::vector<MeshVertex> box_mesh() {
   std::vector<MeshVertex> v;
   const float x0 = -0.5f, x1 = 0.5f, y0 = 0.0f, y1 = 1.0f, z0 = -0.5f, z1 = 0.5f;

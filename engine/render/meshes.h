@@ -21,6 +21,10 @@ std::vector<MeshVertex> bird_mesh();
 // The same bird from afar, in four triangles, one a wing segment: a few pixels wide, its wings
 // are what shows (and every vertex counts when a flock of 100,000 is drawn).
 std::vector<MeshVertex> distant_bird_mesh();
+// The same bird a few pixels wide, in a window (View::tiny_pixels): one triangle a wing, from the
+// arm's root chord to the hand's tip, without the bend at the wrist. Drawing a vertex costs a CPU
+// device (lavapipe) most of a window's frame with a large flock in view.
+std::vector<MeshVertex> tiny_bird_mesh();
 // A box from -0.5 to 0.5 in x, 0 to 1 in y, -0.5 to 0.5 in z.
 std::vector<MeshVertex> box_mesh();
 

@@ -37,6 +37,7 @@ constexpr uint32_t kMaxTargets = 2048;  // vkCmdUpdateBuffer writes at most 6553
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kDetailPixels = 32.0f;  // narrower birds are drawn with a few triangles
 constexpr float kMinPixels = 2.5f;      // no bird is drawn narrower: a far one is a soft dot
+constexpr uint32_t kDrawLists = 3;      // the birds' draws: detailed, distant, tiny (pose.comp)
 constexpr int kRingVertices = 128;      // a target's ring: 64 line segments
 // The haze: what the camera looks at (View::scene_distance) is 5 % hazed, ten times as far 40 %.
 constexpr float kHazeAtSubject = 0.05f;
@@ -97,7 +98,8 @@ struct Renderer::Impl {
   VkExtent2D extent;
   // Buffers the renderer owns: species, targets now, branches, meshes, route lines.
   Buffer species, targets, branches, bird_mesh, box, segments;
-  uint32_t bird_vertices, distant_vertices, box_vertices, target_count, branch_count, segment_count;
+  uint32_t bird_vertices, distant_vertices, tiny_vertices, box_vertices, target_count, branch_count,
+      segment_count;
   float ground_height;
   // Each bird's pose for drawing, computed once a frame by pose.comp.
   std::unique_ptr<Buffer> poses, lists, draws;
@@ -142,15 +144,18 @@ struct Renderer::Impl {
         branches(buffer_of(d, gpu::pack(scenario.world).branches)),
         bird_mesh(buffer_of(d,
                             [] {
-                              std::vector<MeshVertex> both = render::bird_mesh(),
-                                                      distant = distant_bird_mesh();
-                              both.insert(both.end(), distant.begin(), distant.end());
-                              return both;
+                              std::vector<MeshVertex> all = render::bird_mesh(),
+                                                      distant = distant_bird_mesh(),
+                                                      tiny = tiny_bird_mesh();
+                              all.insert(all.end(), distant.begin(), distant.end());
+                              all.insert(all.end(), tiny.begin(), tiny.end());
+                              return all;
                             }())),
         box(buffer_of(d, box_mesh())),
         segments(buffer_of(d, route_segments(scenario.world))),
         bird_vertices(uint32_t(render::bird_mesh().size())),
         distant_vertices(uint32_t(distant_bird_mesh().size())),
+        tiny_vertices(uint32_t(tiny_bird_mesh().size())),
         box_vertices(uint32_t(box_mesh().size())),
         target_count(uint32_t(std::min<size_t>(scenario.world.targets.size(), kMaxTargets))),
         branch_count(uint32_t(scenario.world.branches.size())),
@@ -405,10 +410,10 @@ struct Renderer::Impl {
     pose_capacity = std::max({count, 2 * pose_capacity, 1024u});
     poses = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * sizeof(gpu::Pose),
                                      Memory::device_local);
-    lists = std::make_unique<Buffer>(device, VkDeviceSize(pose_capacity) * 2 * sizeof(uint32_t),
+    lists = std::make_unique<Buffer>(
+        device, VkDeviceSize(pose_capacity) * kDrawLists * sizeof(uint32_t), Memory::device_local);
+    draws = std::make_unique<Buffer>(device, kDrawLists * sizeof(VkDrawIndirectCommand),
                                      Memory::device_local);
-    draws =
-        std::make_unique<Buffer>(device, 2 * sizeof(VkDrawIndirectCommand), Memory::device_local);
     check(vkResetDescriptorPool(device.handle(), pool, 0), "vkResetDescriptorPool");
     sets.reset();
     pose_sets.clear();
@@ -500,9 +505,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
                        nullptr, 0, nullptr, 0, nullptr);
   // Each bird's pose, once, and into the detailed or the distant draw by its size on screen
   // (after the simulation's writes to the birds).
-  const std::array<VkDrawIndirectCommand, 2> empty_draws = {
+  const std::array<VkDrawIndirectCommand, kDrawLists> empty_draws = {
       VkDrawIndirectCommand{r.bird_vertices, 0, 0, 0},
-      VkDrawIndirectCommand{r.distant_vertices, 0, r.bird_vertices, 0}};
+      VkDrawIndirectCommand{r.distant_vertices, 0, r.bird_vertices, 0},
+      VkDrawIndirectCommand{r.tiny_vertices, 0, r.bird_vertices + r.distant_vertices, 0}};
   vkCmdUpdateBuffer(cmd, r.draws->handle(), 0, sizeof empty_draws, empty_draws.data());
   gpu::barrier_to_compute(cmd);
   // Everything is drawn from the eye (host_device.h: FrameConstants).
@@ -518,7 +524,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
                            tile.tile.x,
                            tile.tile.y,
                            kMinPixels / focal_pixels,
-                           0,
+                           view.tiny_pixels > 0.0f ? focal_pixels / view.tiny_pixels : 0.0f,
                            0};
   if (bird_count > 0)
     r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds),
@@ -582,12 +588,13 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
                      sizeof frame, &frame);
   draw(pipelines.shadows, sets.birds,
        6 * ((bird_count + frame.shadow_stride - 1) / frame.shadow_stride), bird_count > 0 ? 1 : 0);
-  // The flock: the detailed birds, then the distant ones, as the pose pass sorted them.
+  // The flock: the detailed birds, then the distant ones, then the tiny ones, as the pose pass
+  // sorted them.
   if (bird_count > 0) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.birds);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, r.layout, 0, 1, &sets.birds, 0,
                             nullptr);
-    for (uint32_t list = 0; list < 2; ++list) {
+    for (uint32_t list = 0; list < kDrawLists; ++list) {
       frame.list_offset = list * r.pose_capacity;
       vkCmdPushConstants(cmd, r.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT,
                          0, sizeof frame, &frame);

@@ -25,6 +25,9 @@ struct View {
   // At most this many birds cast shadows, each for the birds after it up to the next (0: all):
   // the shadows' fill is what costs in a window on the CPU.
   uint32_t shadow_casters = 0;
+  // Birds narrower than this (pixels) are drawn with one triangle a wing (tiny_bird_mesh), 0: none.
+  // The window's level of detail on a CPU device; pictures draw every bird in full.
+  float tiny_pixels = 0.0f;
 };
 
 // Towards the sun (world, unit): the light and the birds' shadows.

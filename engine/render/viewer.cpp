@@ -29,6 +29,9 @@ using Clock = std::chrono::steady_clock;
 // (the fill of 10,000 soft discs costs lavapipe a quarter of its frame rate); GPUs and pictures
 // have all.
 constexpr uint32_t kWindowShadows = 4096;
+// In a window on the CPU birds narrower than this many pixels are drawn with a triangle a wing
+// (View::tiny_pixels): drawing a vertex is what costs lavapipe's one vertex thread.
+constexpr float kWindowTinyPixels = 6.0f;
 
 double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
@@ -123,6 +126,7 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
   camera_ = CameraControl(options.camera, flock_);
   view_.show_targets = options.targets;
   view_.shadow_casters = is_cpu_device(device) ? kWindowShadows : 0;
+  view_.tiny_pixels = is_cpu_device(device) ? kWindowTinyPixels : 0.0f;
 }
 
 void Viewer::run() {

@@ -10,9 +10,9 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, set = 0, binding = kBindingPoses) writeonly buffer Poses { Pose poses[]; };
-// Two draws (detailed, distant), each drawing the birds of its list.
+// Three draws (detailed, distant, tiny), each drawing the birds of its list.
 layout(std430, set = 0, binding = kBindingDrawLists) writeonly buffer Lists { uint lists[]; };
-layout(std430, set = 0, binding = kBindingDraws) buffer Draws { DrawCommand draws[2]; };
+layout(std430, set = 0, binding = kBindingDraws) buffer Draws { DrawCommand draws[3]; };
 layout(push_constant) uniform PosePush { PoseConstants pc; };
 
 mat3 rot_x(float a) {
@@ -90,8 +90,9 @@ void main() {
   // Tail: hinged at x = -a/2, bent up by incidence + bend, twisted about x; scaled by lr.
   mat3 tail = rot_x(b.tail_twist) * rot_z(-(s.tail_incidence + b.tail_bend));
   store(i, 3u, attitude * tail * s.tail_length, attitude * vec3(s.tail_hinge_x, 0.0, 0.0));
-  // Detailed or distant: how wide the bird is on screen.
+  // Detailed, distant or tiny: how wide the bird is on screen.
   uint list = distance > span * pc.lod_scale ? 1u : 0u;
+  if (pc.tiny_scale > 0.0 && distance > span * pc.tiny_scale) list = 2u;
   lists[list * pc.capacity + atomicAdd(draws[list].instance_count, 1u)] = i;
 
   // The tail's opening as the model has it now: fully open while braking to land.
