@@ -24,10 +24,11 @@ def main(path):
         assert b["iterations"] > 0 and b["birds"] > 0
         assert b["p10"] <= b["real_time"] <= b["p90"], b["name"]
         backends.add(b["backend"])
-        # A Vulkan flock alone (headless, solo) has its passes timed on the device (lavapipe and
-        # GPUs write timestamps); without flocking it has no grid and no perception.
+        # A Vulkan flock alone (headless, solo, realtime-*) has its passes timed on the device
+        # (lavapipe and GPUs write timestamps); without flocking it has no grid and no perception.
         passes = b["device_passes_ms"]
-        if b["backend"].startswith("vulkan") and b["variant"] in ("headless", "solo"):
+        alone = b["variant"] in ("headless", "solo") or b["variant"].startswith("realtime-")
+        if b["backend"].startswith("vulkan") and alone:
             assert passes is not None, f"{b['name']}: no device passes"
             assert passes["steps"] > 0 and passes["grid"] >= 0 and passes["perception"] >= 0, b
             assert (b["variant"] == "solo") == (passes["grid"] == passes["perception"] == 0), b

@@ -416,7 +416,7 @@ Timestamps::~Timestamps() { vkDestroyQueryPool(device_.handle(), pool_, nullptr)
 void Timestamps::reset(VkCommandBuffer cmd, uint32_t n) { vkCmdResetQueryPool(cmd, pool_, 0, n); }
 
 void Timestamps::write(VkCommandBuffer cmd, uint32_t query) {
-  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, pool_, query);
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, query);
 }
 
 std::vector<double> Timestamps::read_ns(uint32_t n) const {

@@ -136,7 +136,7 @@ class Timestamps {
   uint32_t count() const { return count_; }
   // Records the reset of the first `n`, before any is written again.
   void reset(VkCommandBuffer cmd, uint32_t n);
-  // Records timestamp `query` once the commands before it have finished their compute work.
+  // Records timestamp `query` once the commands before it have finished.
   void write(VkCommandBuffer cmd, uint32_t query);
   // The first `n` in nanoseconds, from the first; the command buffer that wrote them has finished.
   std::vector<double> read_ns(uint32_t n) const;
