@@ -400,9 +400,10 @@ bool Timestamps::supported(const Device& device) {
   return timestamp_bits(device) > 0 && device.limits().timestampPeriod > 0.0f;
 }
 
-Timestamps::Timestamps(const Device& device, uint32_t count) : device_(device), count_(count) {
-  if (!supported(device)) throw Error(device.name() + " writes no timestamps on its queue");
+Timestamps::Timestamps(const Device& device, uint32_t count) : device_(device) {
   const uint32_t bits = timestamp_bits(device);
+  if (bits == 0 || device.limits().timestampPeriod <= 0.0f)
+    throw Error(device.name() + " writes no timestamps on its queue");
   mask_ = bits >= 64 ? ~uint64_t(0) : (uint64_t(1) << bits) - 1;
   ns_per_tick_ = double(device.limits().timestampPeriod);
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -420,8 +421,8 @@ void Timestamps::write(VkCommandBuffer cmd, uint32_t query) {
 }
 
 std::vector<double> Timestamps::read_ns(uint32_t n) const {
-  std::vector<uint64_t> ticks(n);
   if (n == 0) return {};
+  std::vector<uint64_t> ticks(n);
   check(vkGetQueryPoolResults(device_.handle(), pool_, 0, n, n * sizeof(uint64_t), ticks.data(),
                               sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
         "vkGetQueryPoolResults");

@@ -133,7 +133,6 @@ class Timestamps {
   Timestamps(const Timestamps&) = delete;
   Timestamps& operator=(const Timestamps&) = delete;
 
-  uint32_t count() const { return count_; }
   // Records the reset of the first `n`, before any is written again.
   void reset(VkCommandBuffer cmd, uint32_t n);
   // Records timestamp `query` once the commands before it have finished.
@@ -144,7 +143,6 @@ class Timestamps {
  private:
   const Device& device_;
   VkQueryPool pool_ = VK_NULL_HANDLE;
-  uint32_t count_;
   uint64_t mask_;       // the bits the queue writes
   double ns_per_tick_;  // timestampPeriod
 };
