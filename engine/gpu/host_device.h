@@ -181,6 +181,14 @@ struct GpuForces {
   AF_V16 vec4 torque;       // body frame
 };
 
+// A bird's wake as a neighbour sees it (engine/model/wake.h: WakeSource).
+struct GpuWakeSource {
+  AF_V16 vec4 position_phase;          // xyz its centre (cm), w its wingbeat phase (rad)
+  AF_V16 vec4 air_velocity_frequency;  // xyz its velocity through the air (cm/s), w frequency (Hz)
+  AF_V16 vec4 attitude;                // body to world, x y z w
+  AF_V16 vec4 lift_amplitude;          // x lift (dyn), y amplitude, z w unused
+};
+
 // What a bird's perception leaves for its steps (engine/model/flock.h: Perception).
 struct GpuPerception {
   AF_V16 vec3 direction;  // u(d), world; 0 when it sees no one

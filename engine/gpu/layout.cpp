@@ -18,6 +18,7 @@ static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBra
 static_assert(sizeof(GpuForces) == 11 * 16);
 static_assert(sizeof(StepConstants) == 112 && sizeof(PoseConstants) == 48);
 static_assert(sizeof(GpuPerception) == 32);
+static_assert(sizeof(GpuWakeSource) == 64);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 
 // One field each way: doubles to floats, quaternions to (x, y, z, w), enums to uint.
@@ -122,6 +123,11 @@ GpuPerception pack(const Perception& p) {
 
 Perception unpack(const GpuPerception& g) {
   return {glm::dvec3(g.direction), double(g.airspeed), g.neighbours, double(g.nearest), g.seen_key};
+}
+
+GpuWakeSource pack(const WakeSource& w) {
+  return {vec4(vec3(w.position), float(w.phase)), vec4(vec3(w.air_velocity), float(w.frequency)),
+          to_gpu(w.attitude), vec4(float(w.lift), float(w.amplitude), 0.0f, 0.0f)};
 }
 
 GpuTarget pack_target(const Target& t, const glm::dvec3& centre) {

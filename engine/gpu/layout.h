@@ -11,6 +11,7 @@
 #include "model/flock.h"
 #include "model/species.h"
 #include "model/step.h"
+#include "model/wake.h"
 #include "model/world.h"
 
 namespace aeroflock::gpu {
@@ -29,6 +30,8 @@ BirdState unpack(const GpuBird& g);
 GpuSpecies pack(const Species& s);
 StepForces unpack(const GpuForces& g);
 GpuPerception pack(const Perception& p);
+// Its position as it is (the wake's test probes it near the origin).
+GpuWakeSource pack(const WakeSource& w);
 Perception unpack(const GpuPerception& g);
 
 // The world's static tables (targets move between frames: pack_targets).

@@ -60,6 +60,10 @@ AF_REAL(kLevelGoal, 0.2)
 // Circling a goal inside its full-bank circle for this share of a turn, a bird flies on with its
 // wings level until it can turn onto it (step.cpp).
 AF_REAL(kCirclingTurn, 0.25)
+// The wake (wake.h): elliptic loading rolls the trailing vorticity up into two vortices pi / 4 of
+// the span apart; their cores are kWakeCore of the span across.
+AF_REAL(kWakeVortexSpan, 0.7853981633974483)
+AF_REAL(kWakeCore, 0.05)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
 AF_REAL(kFlareAimAbove, 0.5)
 // A braking bird sunk under its perch by kSunkPerchRadii perch radii and still sinking faster than

@@ -34,6 +34,27 @@ void feather(const Frame& f, double angle, dvec3& chord, dvec3& normal) {
   normal = s * f.x + c * f.y;
 }
 
+// The shoulder, arm and hand frames at angles `a`, and the shoulder's and wrist's places.
+struct WingFrames {
+  Frame shoulder, arm, hand;
+  dvec3 shoulder_pos, wrist;
+  double arm_length, hand_length;
+};
+WingFrames wing_frames(const Species& s, const WingbeatAngles& a) {
+  // Shoulder frame: lead-lag about body y. Arm: flapped about the shoulder frame's x axis.
+  // Hand: flapped again about the arm's x axis at the wrist.
+  const double cl = std::cos(a.leadlag), sl = std::sin(a.leadlag);
+  WingFrames w;
+  w.shoulder = {rotate_y({1, 0, 0}, cl, sl), {0, 1, 0}, rotate_y({0, 0, 1}, cl, sl)};
+  w.arm = flap(w.shoulder, a.flap_arm);
+  w.hand = flap(w.arm, a.flap_hand);
+  w.arm_length = s.arm_fraction * s.wing_length;
+  w.hand_length = s.wing_length - w.arm_length;
+  w.shoulder_pos = dvec3{s.shoulder_x, 0.0, 0.5 * s.box_c - s.wing_length};
+  w.wrist = w.shoulder_pos + w.arm.z * w.arm_length;
+  return w;
+}
+
 }  // namespace
 
 WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep,
@@ -58,18 +79,11 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
   const double flap_arm_rate = -amp * s.A_arm * std::sin(phase) * phase_rate;
   const double flap_hand_rate = -amp * s.A_hand * std::sin(hand_phase) * phase_rate;
 
-  // Shoulder frame: lead-lag about body y. Arm: flapped about the shoulder frame's x axis.
-  // Hand: flapped again about the arm's x axis at the wrist.
-  const double cl = std::cos(a.leadlag), sl = std::sin(a.leadlag);
-  const Frame shoulder{rotate_y({1, 0, 0}, cl, sl), {0, 1, 0}, rotate_y({0, 0, 1}, cl, sl)};
-  const Frame arm = flap(shoulder, a.flap_arm);
-  const Frame hand = flap(arm, a.flap_hand);
-
-  const double arm_length = s.arm_fraction * s.wing_length;
-  const double hand_length = s.wing_length - arm_length;
+  const WingFrames w = wing_frames(s, a);
+  const Frame &shoulder = w.shoulder, &arm = w.arm, &hand = w.hand;
+  const double arm_length = w.arm_length, hand_length = w.hand_length;
   const double wing_area = 0.5 * s.wing_area;
-  const dvec3 shoulder_pos{s.shoulder_x, 0.0, 0.5 * s.box_c - s.wing_length};
-  const dvec3 wrist = shoulder_pos + arm.z * arm_length;
+  const dvec3 &shoulder_pos = w.shoulder_pos, &wrist = w.wrist;
 
   WingPoint& pa = out[0];
   WingPoint& ph = out[1];
@@ -85,6 +99,11 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
   feather(hand, a.feather_arm + a.feather_hand, ph.chord, ph.normal);
   pa.area = s.arm_area_fraction * wing_area;
   ph.area = wing_area - pa.area;
+}
+
+dvec3 right_wingtip(const Species& s, double phase, double amp, double sweep) {
+  const WingFrames w = wing_frames(s, wingbeat_angles(s, phase, amp, sweep, 0.0));
+  return w.wrist + w.hand.z * w.hand_length;
 }
 
 WingPoint mirror_to_left(const WingPoint& p) {

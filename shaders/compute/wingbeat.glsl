@@ -54,6 +54,18 @@ void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, fl
   points[1].area = s.hand_area;
 }
 
+// wingbeat.cpp: right_wingtip (the frames as right_wing_points builds them).
+vec3 right_wingtip(GpuSpecies s, float phase, float amp, float sweep) {
+  WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, 0.0);
+  vec2 l = sin_cos(a.leadlag);
+  Frame shoulder = Frame(vec3(l.y, 0.0, -l.x), vec3(0.0, 1.0, 0.0), vec3(l.x, 0.0, l.y));
+  Frame arm = flap(shoulder, a.flap_arm);
+  Frame hand = flap(arm, a.flap_hand);
+  precise vec3 wrist = vec3(s.shoulder_x, 0.0, s.shoulder_z) + arm.z * s.arm_length;
+  precise vec3 tip = wrist + hand.z * s.hand_length;
+  return tip;
+}
+
 WingPoint mirror_to_left(WingPoint p) {
   vec3 m = vec3(1.0, 1.0, -1.0);
   p.position *= m;
