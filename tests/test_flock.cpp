@@ -91,7 +91,7 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
   EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, one)).seen_by(0, species, dvec3{0.0}).empty());
   std::vector<Perception> perception;
-  perceive({}, species, World{}, 0, 0.03, perception);
+  perceive({}, species, World{}, 0, 0, 0.03, perception);
   EXPECT_TRUE(perception.empty());
 }
 

@@ -83,6 +83,61 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
+// Issue 43: with the wakes on, each bird meets the same wakes on both backends (the same birds
+// ahead, their lift, wingbeat and air velocity), the forces of its next step agree within float
+// rounding, and a frame later so do the flock's states (the wakes moved on within the frame).
+TEST(GpuFlock, TheWakesMetAreTheReferences) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  Scenario scenario = flocking_scenario();
+  for (Flock& f : scenario.flocks) f.wake = true;
+  CpuSimulation flown(scenario);
+  while (flown.time() < 5.0) flown.step_frame();
+  const std::vector<BirdState> birds = flown.birds();
+  CpuSimulation cpu(scenario, birds);
+  gpu::GpuSimulation gpu(device, scenario, birds);
+  cpu.step(0, true);
+  gpu.step(0, true);
+  const std::vector<Perception>& a = *cpu.snapshot().perception;
+  const std::vector<Perception>& b = *gpu.snapshot().perception;
+  const std::vector<StepForces>& fa = *cpu.snapshot().forces;
+  const std::vector<StepForces>& fb = *gpu.snapshot().forces;
+  size_t compared = 0, with_wakes = 0;
+  double worst_force = 0.0, worst_lift = 0.0;
+  for (size_t i = 0; i < birds.size(); ++i) {
+    if (a[i].neighbours != b[i].neighbours || a[i].seen_key != b[i].seen_key) continue;
+    ++compared;
+    ASSERT_EQ(a[i].wakes, b[i].wakes) << "bird " << i;
+    with_wakes += a[i].wakes > 0;
+    for (uint32_t k = 0; k < a[i].wakes; ++k) {
+      const WakeSource &x = a[i].wake[k], &y = b[i].wake[k];
+      worst_lift = std::max(worst_lift, std::fabs(x.lift - y.lift) / x.lift);
+      EXPECT_NEAR(x.amplitude, y.amplitude, 1e-6);
+      EXPECT_NEAR(x.frequency, y.frequency, 1e-5);
+      EXPECT_NEAR(std::remainder(x.phase - y.phase, 2.0 * kPi), 0.0, 1e-5);
+      EXPECT_LT(glm::length(x.air_velocity - y.air_velocity), 1e-2);
+    }
+    const double weight = scenario.species[birds[i].species].mass * kGravity;
+    worst_force = std::max(
+        worst_force, glm::length(fa[i].total - fb[i].total) / (glm::length(fa[i].total) + weight));
+  }
+  RecordProperty("birds_meeting_wakes", std::to_string(with_wakes));
+  RecordProperty("worst_force_relative", std::to_string(worst_force));
+  EXPECT_GE(double(compared), 0.999 * double(birds.size()));
+  EXPECT_GT(with_wakes, birds.size() / 2);
+  EXPECT_LT(worst_lift, 1e-6);
+  EXPECT_LT(worst_force, 1e-5);
+  // A frame later (the wakes advanced within it, step by step).
+  cpu.step(scenario.steps_per_frame);
+  gpu.step(scenario.steps_per_frame);
+  double worst_position = 0.0;
+  for (size_t i = 0; i < birds.size(); ++i)
+    worst_position =
+        std::max(worst_position, glm::length(cpu.birds()[i].position - gpu.birds()[i].position));
+  RecordProperty("worst_position_cm_after_a_frame", std::to_string(worst_position));
+  EXPECT_LT(worst_position, 0.05);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
 // The same 1,000 km east and 300 km north: the grid's cells and the birds' places in them are
 // exact on the device (world tiles), so it finds what it finds at the origin.
 TEST(GpuFlock, SameNeighboursAndSocialGoalAThousandKilometresOut) {

@@ -215,6 +215,7 @@ const std::map<std::string, double> kStateTolerance = {
     {"circling_steps", 0},
     {"quarantined_step", 0},
     {"rest_steps", 0},
+    {"lift", 0.5},               // dyn: up to 2e6 (an eagle's), whose float ulp is 0.125
     {"landing_start", 1e-3},     // cm: placed at the bird's position
     {"landing_progress", 1e-6},  // of the curve
     {"via_point", 0.05},         // cm: the middle of a curve tens of metres long, its crossing

@@ -278,6 +278,9 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
        replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [3.0e9, 3000.0, 0.0]"),
        "bad.toml:6:11: error: targets[0].centre[0]: expected at most 2e+09 (the world's radius, "
        "20,000 km), got 3e+09"},
+      {"wake without flocking", kValid + "wake = true\n",
+       "bad.toml:17:8: error: flocks[0].wake: a bird meets the wakes of the birds it sees: wake = "
+       "true needs flocking = true"},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);

@@ -95,8 +95,9 @@ TEST(GpuWake, TheShadersFieldIsTheReferences) {
     for (uint32_t i = 0; i < n; ++i) {
       const dvec3 want = wake_velocity(s, sources[i], points[i]);
       // The largest swirl there is: a vortex's at its core's edge.
-      const double scale = wake_circulation(s, sources[i].lift, glm::length(sources[i].air_velocity)) /
-                           (4.0 * kPi * wake_core(s));
+      const double scale =
+          wake_circulation(s, sources[i].lift, glm::length(sources[i].air_velocity)) /
+          (4.0 * kPi * wake_core(s));
       const double error = glm::length(dvec3(glm::vec3(got[i])) - want) / scale;
       worst = std::max(worst, error);
       strongest = std::max(strongest, glm::length(want) / scale);

@@ -189,14 +189,23 @@ struct GpuWakeSource {
   AF_V16 vec4 lift_amplitude;          // x lift (dyn), y amplitude, z w unused
 };
 
-// What a bird's perception leaves for its steps (engine/model/flock.h: Perception).
+// The wakes a perception keeps (model/constants.h: kWakeSources).
+AF_UINT(kGpuWakeSources, 2)
+
+// What a bird's perception leaves for its steps (engine/model/flock.h: Perception). The wakes'
+// places are in the frame of the bird's world tile.
 struct GpuPerception {
   AF_V16 vec3 direction;  // u(d), world; 0 when it sees no one
   float airspeed;         // commanded, cm/s
   uint neighbours;        // how many it sees
   float nearest;          // cm to the nearest of them
   uint seen_key;          // checksum of the seen birds' indices (flock.h)
+  uint wakes;             // how many of wake[] it meets
+  uint wake_step;         // the step they were seen at (its low 32 bits)
+  int wake_tile_x;        // the world tile of the wakes' places (the bird's then)
+  int wake_tile_z;
   uint pad;
+  GpuWakeSource wake[kGpuWakeSources];
 };
 
 // Push constants of step.comp, step_forces.comp and the flocking passes (grid_*.comp,

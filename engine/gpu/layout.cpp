@@ -17,8 +17,9 @@ static_assert(sizeof(GpuSpecies) % 4 == 0);
 static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 48);
 static_assert(sizeof(GpuForces) == 11 * 16);
 static_assert(sizeof(StepConstants) == 112 && sizeof(PoseConstants) == 48);
-static_assert(sizeof(GpuPerception) == 32);
 static_assert(sizeof(GpuWakeSource) == 64);
+static_assert(sizeof(GpuPerception) == 48 + 64 * kGpuWakeSources &&
+              kGpuWakeSources == kWakeSources);
 static_assert(sizeof(Pose) == 19 * 16 && sizeof(FrameConstants) == 128);
 
 // One field each way: doubles to floats, quaternions to (x, y, z, w), enums to uint.
@@ -117,17 +118,50 @@ StepForces unpack(const GpuForces& g) {
   return f;
 }
 
-GpuPerception pack(const Perception& p) {
-  return {vec3(p.direction), float(p.airspeed), p.neighbours, float(p.nearest), p.seen_key, 0u};
-}
-
-Perception unpack(const GpuPerception& g) {
-  return {glm::dvec3(g.direction), double(g.airspeed), g.neighbours, double(g.nearest), g.seen_key};
+WakeSource unpack(const GpuWakeSource& g) {
+  WakeSource w;
+  w.position = glm::dvec3(vec3(g.position_phase));
+  w.phase = g.position_phase.w;
+  w.air_velocity = glm::dvec3(vec3(g.air_velocity_frequency));
+  w.frequency = g.air_velocity_frequency.w;
+  from_gpu(g.attitude, w.attitude);
+  w.lift = g.lift_amplitude.x;
+  w.amplitude = g.lift_amplitude.y;
+  return w;
 }
 
 GpuWakeSource pack(const WakeSource& w) {
   return {vec4(vec3(w.position), float(w.phase)), vec4(vec3(w.air_velocity), float(w.frequency)),
           to_gpu(w.attitude), vec4(float(w.lift), float(w.amplitude), 0.0f, 0.0f)};
+}
+
+GpuPerception pack(const Perception& p) {
+  GpuPerception g{vec3(p.direction),
+                  float(p.airspeed),
+                  p.neighbours,
+                  float(p.nearest),
+                  p.seen_key,
+                  p.wakes,
+                  p.wake_step,
+                  0,
+                  0,
+                  0u,
+                  {}};
+  for (uint32_t k = 0; k < kWakeSources; ++k) g.wake[k] = pack(p.wake[k]);
+  return g;
+}
+
+Perception unpack(const GpuPerception& g) {
+  Perception p{glm::dvec3(g.direction),
+               double(g.airspeed),
+               g.neighbours,
+               double(g.nearest),
+               g.seen_key,
+               g.wakes,
+               g.wake_step,
+               {}};
+  for (uint32_t k = 0; k < kWakeSources; ++k) p.wake[k] = unpack(g.wake[k]);
+  return p;
 }
 
 GpuTarget pack_target(const Target& t, const glm::dvec3& centre) {

@@ -32,6 +32,7 @@ StepForces unpack(const GpuForces& g);
 GpuPerception pack(const Perception& p);
 // Its position as it is (the wake's test probes it near the origin).
 GpuWakeSource pack(const WakeSource& w);
+WakeSource unpack(const GpuWakeSource& g);
 Perception unpack(const GpuPerception& g);
 
 // The world's static tables (targets move between frames: pack_targets).

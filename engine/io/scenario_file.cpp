@@ -49,9 +49,10 @@ constexpr std::string_view kTargetKeys[] = {"name",     "centre",    "radius",
                                             "velocity", "amplitude", "period"};
 constexpr std::string_view kBranchKeys[] = {"name", "point", "direction", "length"};
 constexpr std::string_view kRouteKeys[] = {"name", "targets", "loop", "branch", "path_control"};
-constexpr std::string_view kFlockKeys[] = {
-    "name",  "species",   "route",     "count",    "centre",       "extent",       "heading",
-    "speed", "frequency", "amplitude", "standing", "takeoff_time", "random_phase", "flocking"};
+constexpr std::string_view kFlockKeys[] = {"name",         "species",   "route",    "count",
+                                           "centre",       "extent",    "heading",  "speed",
+                                           "frequency",    "amplitude", "standing", "takeoff_time",
+                                           "random_phase", "flocking",  "wake"};
 
 // "name", "base" and every Species field.
 Keys species_keys() {
@@ -335,6 +336,10 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
       r.number("takeoff_time", f.takeoff_time, io::non_negative(kMaxDuration, "11.6 days"));
   f.random_phase = r.boolean("random_phase", f.random_phase);
   f.flocking = r.boolean("flocking", f.flocking);
+  f.wake = r.boolean("wake", f.wake);
+  if (f.wake && !f.flocking)
+    r.fail("wake",
+           "a bird meets the wakes of the birds it sees: wake = true needs flocking = true");
   // Nothing starts under the ground (validate() checks the same, unlocated): a standing flock
   // stands at its species' stand_height whatever its centre, a flying one anywhere in its box.
   const Species& sp = s.species[f.species];

@@ -46,7 +46,8 @@ dvec3 aerodynamic_force(const Species& s, const dvec3& air_velocity, const dvec3
 }
 
 WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
-                       double incidence, const dvec3& body_air, const dvec3& omega) {
+                       double incidence, const dvec3& body_air, const dvec3& omega,
+                       const dvec3* induced) {
   WingForces out{};
   WingPoint right[2];
   right_wing_points(s, phase, amp, frequency, sweep, incidence, right);
@@ -54,7 +55,8 @@ WingForces wing_forces(const Species& s, double phase, double amp, double freque
     const WingPoint points[2] = {right[i], mirror_to_left(right[i])};
     for (int side = 0; side < 2; ++side) {
       const WingPoint& p = points[side];
-      const dvec3 air = body_air - glm::cross(omega, p.position) - p.velocity;
+      dvec3 air = body_air - glm::cross(omega, p.position) - p.velocity;
+      if (induced) air += induced[2 * side + i];
       const dvec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
       out.force[2 * side + i] = force;
       out.torque += glm::cross(p.position, force);

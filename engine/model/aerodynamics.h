@@ -30,8 +30,11 @@ struct WingForces {
   glm::dvec3 force[4];
   glm::dvec3 torque;
 };
+// `induced` (may be null): air moving at each point besides (the wakes it meets, body frame, in
+// WingForces::force's order).
 WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
-                       double incidence, const glm::dvec3& body_air, const glm::dvec3& omega);
+                       double incidence, const glm::dvec3& body_air, const glm::dvec3& omega,
+                       const glm::dvec3* induced = nullptr);
 
 // Signed attack angle alpha of the same in-plane air velocity, radians (for tests and export).
 double attack_angle(const glm::dvec3& air_velocity, const glm::dvec3& chord,

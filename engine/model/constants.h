@@ -64,6 +64,13 @@ AF_REAL(kCirclingTurn, 0.25)
 // the span apart; their cores are kWakeCore of the span across.
 AF_REAL(kWakeVortexSpan, 0.7853981633974483)
 AF_REAL(kWakeCore, 0.05)
+// A bird of a flock with wakes meets the wakes of at most kWakeSources of the birds it sees, the
+// nearest ahead of it within kWakeReach spans (flock.cpp).
+AF_COUNT(kWakeSources, 2)
+AF_REAL(kWakeReach, 10.0)
+// BirdState::flocking: it sees its flock; and it meets the wakes of those it sees.
+AF_COUNT(kSeesFlock, 1)
+AF_COUNT(kFeelsWakes, 2)
 // A braking bird aims this many perch radii above the perch: it sinks as it slows (step.cpp).
 AF_REAL(kFlareAimAbove, 0.5)
 // A braking bird sunk under its perch by kSunkPerchRadii perch radii and still sinking faster than

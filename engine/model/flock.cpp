@@ -302,9 +302,32 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 }
 
 namespace {
+// The wakes bird b meets (Perception::wake): of the birds it sees, nearest first, those ahead of
+// it within kWakeReach of its spans.
+void see_wakes(const Species& s, const BirdState& b, const dvec3& wind,
+               std::span<const uint32_t> seen, const std::vector<BirdState>& birds,
+               const World& world, uint64_t step, Perception& p) {
+  const dvec3 ahead = flight_direction(b, wind);
+  p.wake_step = static_cast<uint32_t>(step);
+  for (const uint32_t j : seen) {
+    if (p.wakes == kWakeSources) break;
+    const BirdState& o = birds[j];
+    const dvec3 offset = o.position - b.position;
+    if (glm::dot(offset, ahead) <= 0.0 || glm::length(offset) > kWakeReach * s.box_c) continue;
+    WakeSource& w = p.wake[p.wakes++];
+    w.position = o.position;
+    w.air_velocity = o.velocity - wind_at(world, o.position.y);
+    w.attitude = o.attitude;
+    w.lift = o.lift;
+    w.phase = o.phase;
+    w.frequency = o.frequency;
+    w.amplitude = o.amplitude;
+  }
+}
+
 // What bird `i` of `birds` perceives now, from `grid`; its seen_key by `ids` where given.
 Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>& birds, uint32_t i,
-                        const std::vector<Species>& species, const World& world,
+                        const std::vector<Species>& species, const World& world, uint64_t step,
                         std::span<const uint32_t> ids = {}) {
   const BirdState& b = birds[i];
   const Species& s = species[b.species];
@@ -316,6 +339,7 @@ Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>&
   if (const std::optional<dvec3> on = onward_goal(route_bird, world))
     goal = *on, route_done = false;
   Perception p = social_goal(s, b, wind, goal, route_done, seen, birds);
+  if (b.flocking & kFeelsWakes) see_wakes(s, b, wind, seen, birds, world, step, p);
   if (!ids.empty()) {
     p.seen_key = 0;
     for (const uint32_t j : seen) p.seen_key += ids[j] * kSeenKeyFactor;
@@ -325,7 +349,7 @@ Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>&
 }  // namespace
 
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
-              const World& world, uint64_t frame, double frame_seconds,
+              const World& world, uint64_t frame, uint64_t step, double frame_seconds,
               std::vector<Perception>& perception) {
   perception.resize(birds.size());
   const NeighbourGrid grid(birds, grid_shape(species, birds));
@@ -335,14 +359,14 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
     const Species& s = species[birds[static_cast<size_t>(i)].species];
     if (frame % reaction_frames(s, frame_seconds) != 0) continue;
     perception[static_cast<size_t>(i)] =
-        perceive_one(grid, birds, static_cast<uint32_t>(i), species, world);
+        perceive_one(grid, birds, static_cast<uint32_t>(i), species, world, step);
   }
 }
 
 void perceive(const std::vector<BirdState>& birds, std::span<const uint32_t> ids,
               std::span<const uint32_t> perceivers, const std::vector<Species>& species,
-              const World& world, uint64_t frame, double frame_seconds, GridShape shape,
-              std::vector<Perception>& perception) {
+              const World& world, uint64_t frame, uint64_t step, double frame_seconds,
+              GridShape shape, std::vector<Perception>& perception) {
   perception.resize(perceivers.size());
   const NeighbourGrid grid(birds, shape);
   const int64_t n = static_cast<int64_t>(perceivers.size());
@@ -350,8 +374,17 @@ void perceive(const std::vector<BirdState>& birds, std::span<const uint32_t> ids
   for (int64_t k = 0; k < n; ++k) {
     const uint32_t i = perceivers[static_cast<size_t>(k)];
     if (frame % reaction_frames(species[birds[i].species], frame_seconds) != 0) continue;
-    perception[static_cast<size_t>(k)] = perceive_one(grid, birds, i, species, world, ids);
+    perception[static_cast<size_t>(k)] = perceive_one(grid, birds, i, species, world, step, ids);
   }
+}
+
+WakeSource wake_now(const WakeSource& seen, uint32_t seen_step, uint64_t step, double dt,
+                    const dvec3& wind) {
+  const double since = double(static_cast<uint32_t>(step) - seen_step) * dt;  // mod 2^32 steps
+  WakeSource w = seen;
+  w.position += (seen.air_velocity + wind) * since;
+  w.phase = seen.phase + 2.0 * kPi * seen.frequency * since;
+  return w;
 }
 
 }  // namespace aeroflock

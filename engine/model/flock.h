@@ -11,7 +11,9 @@
 #include <glm/vec4.hpp>
 
 #include "bird.h"
+#include "constants.h"
 #include "species.h"
+#include "wake.h"
 #include "world.h"
 
 namespace aeroflock {
@@ -24,7 +26,19 @@ struct Perception {
   double nearest = 0.0;       // cm to the nearest of them (0: none)
   uint32_t seen_key = 0;      // sum of the seen birds' indices times kSeenKeyFactor (mod 2^32): a
                               // checksum by which the tests compare neighbour sets across backends
+  // A bird that meets wakes (kFeelsWakes): those of the nearest it sees ahead of it within
+  // kWakeReach spans, nearest first, as they were at step `wake_step` (its low 32 bits); the steps
+  // after it advance them (wake_now).
+  uint32_t wakes = 0;
+  uint32_t wake_step = 0;
+  WakeSource wake[kWakeSources]{};
 };
+
+// A wake source seen at step `seen_step` (low 32 bits) as it is at step `step`, `dt` apart: moved
+// by its velocity over the ground (its air velocity and the `wind`), its wingbeat advanced by its
+// frequency.
+WakeSource wake_now(const WakeSource& seen, uint32_t seen_step, uint64_t step, double dt,
+                    const glm::dvec3& wind);
 
 // Whether a bird takes part in its flock now: its flock flocks and it flies (not standing, taking
 // off, landing or perched, nor on its way to a branch). Only such birds see and are seen.
@@ -149,8 +163,9 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 
 // Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
 // get a new one from the grid, due birds that do not get none, the rest keep theirs.
+// `step`: the run's step at the frame's start (the wakes' time).
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
-              const World& world, uint64_t frame, double frame_seconds,
+              const World& world, uint64_t frame, uint64_t step, double frame_seconds,
               std::vector<Perception>& perception);
 // The same for the birds `perceivers` of `birds` alone (perception[k] is perceivers[k]'s), on a
 // grid of `shape`, each bird's seen_key summed over `ids` (its global id) rather than its index:
@@ -158,7 +173,7 @@ void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& s
 // that ties between equally near birds fall as on one rank.
 void perceive(const std::vector<BirdState>& birds, std::span<const uint32_t> ids,
               std::span<const uint32_t> perceivers, const std::vector<Species>& species,
-              const World& world, uint64_t frame, double frame_seconds, GridShape shape,
-              std::vector<Perception>& perception);
+              const World& world, uint64_t frame, uint64_t step, double frame_seconds,
+              GridShape shape, std::vector<Perception>& perception);
 
 }  // namespace aeroflock

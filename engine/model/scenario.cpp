@@ -112,6 +112,8 @@ void validate(const Scenario& s) {
   }
   for (const Flock& f : s.flocks) {
     within_world(f.spawn_centre, "flock '" + f.name + "'");
+    if (f.wake && !f.flocking)
+      fail("flock '" + f.name + "': wake needs flocking (a bird meets the wakes of those it sees)");
   }
   for (const Route& r : w.routes) {
     if (r.targets.empty() && r.branch < 0) fail("route '" + r.name + "' has no targets");

@@ -31,6 +31,7 @@ struct Flock {
   double takeoff_time = 0.0;  // s
   bool random_phase = true;   // spread the wingbeat phase over the flock
   bool flocking = false;  // its birds see one another and steer by it (docs/MODEL.md "Flocking")
+  bool wake = false;      // and meet the wakes of those they see (docs/MODEL.md "The wake")
 };
 
 // How far out (x, z) a scenario may place anything: 20,000 km, in cm; no length of a scenario is

@@ -73,7 +73,7 @@ void for_each_spawned(const Scenario& s, uint32_t birds_override,
       b.species = f.species;
       b.route = f.route;
       b.flock = static_cast<uint32_t>(fi);
-      b.flocking = f.flocking ? 1u : 0u;
+      b.flocking = (f.flocking ? kSeesFlock : 0u) | (f.flocking && f.wake ? kFeelsWakes : 0u);
       b.position = f.spawn_centre + extent * dvec3{unit(rng), unit(rng), unit(rng)};
       b.attitude = heading_attitude(f.heading);
       b.frequency = std::clamp(std::isnan(f.frequency) ? 0.5 * (sp.f_min + sp.f_max) : f.frequency,
@@ -111,7 +111,7 @@ Snapshot Simulation::start_snapshot() {
   const bool flocking = any_flocking(scenario_);
   // What frame 0 perceives: the first frame's perception, from the same state.
   if (flocking)
-    perceive(*s.birds, scenario_.species, scenario_.world, 0, scenario_.frame_seconds(),
+    perceive(*s.birds, scenario_.species, scenario_.world, 0, 0, scenario_.frame_seconds(),
              start_perception_);
   next_step_forces(*s.birds, scenario_, scenario_.world, 0, flocking ? &start_perception_ : nullptr,
                    start_forces_);
@@ -152,7 +152,7 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   // The birds see their flock at the frame's start, as they were after the last frame.
   const bool flocking = any_flocking(scenario());
   if (flocking)
-    perceive(birds_, species, world, frames() - 1, scenario().frame_seconds(), perception_);
+    perceive(birds_, species, world, frames() - 1, first, scenario().frame_seconds(), perception_);
   // Each bird runs all the frame's steps before the next bird: its state stays in cache.
   // Only the birds not retired, once some are (each thread an equal share of those).
   const bool some_retired = !retired_.empty();

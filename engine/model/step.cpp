@@ -13,6 +13,8 @@
 #include "control.h"
 #include "route.h"
 #include "tail.h"
+#include "wake.h"
+#include "wingbeat.h"
 
 namespace aeroflock {
 namespace {
@@ -142,20 +144,55 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   return c;
 }
 
-// Forces at time t (eqs. 1, 2 at the five points, 11, 15, the legs) and the torque on the body.
+// The air the wakes that bird b meets (seen->wake, at step `step`) move at its four wing points
+// (WingForces::force's order) and its tail (`tail`, body frame), body frame. Its flock's birds are
+// of its species.
+struct WakeAir {
+  dvec3 wing[4];
+  dvec3 tail;
+};
+WakeAir wake_air(const BirdState& b, const Species& sp, const World& w, const Perception& seen,
+                 uint64_t step, double dt, double incidence, const dvec3& tail,
+                 const glm::dmat3& to_world, const glm::dmat3& to_body) {
+  WingPoint right[2];
+  right_wing_points(sp, b.phase, b.amplitude, b.frequency, b.sweep, incidence, right);
+  dvec3 at[5];
+  for (int i = 0; i < 2; ++i) {
+    at[i] = right[i].position;
+    at[2 + i] = mirror_to_left(right[i]).position;
+  }
+  at[4] = tail;
+  WakeAir air{};
+  dvec3* out[5] = {&air.wing[0], &air.wing[1], &air.wing[2], &air.wing[3], &air.tail};
+  for (uint32_t k = 0; k < seen.wakes; ++k) {
+    const WakeSource& was = seen.wake[k];
+    const WakeSource now = wake_now(was, seen.wake_step, step, dt, wind_at(w, was.position.y));
+    for (int p = 0; p < 5; ++p)
+      *out[p] += to_body * wake_velocity(sp, now, b.position + to_world * at[p]);
+  }
+  return air;
+}
+
+// Forces at time t (eqs. 1, 2 at the five points, 11, 15, the legs) and the torque on the body;
+// with the wakes the bird meets (seen, at step `step`) in the air at the five points.
 StepForces forces(const BirdState& b, const Species& sp, const World& w, double dt,
-                  const Commands& c) {
+                  const Commands& c, const Perception* seen, uint64_t step) {
   StepForces f;
   const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
   const glm::dmat3 to_body = glm::transpose(to_world);
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * wind_at(w, b.position.y);
-  const WingForces wings = wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence,
-                                       body_wind - body_velocity, c.omega);
+  const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
+  const bool wakes = seen && seen->wakes > 0;
+  const WakeAir wake =
+      wakes ? wake_air(b, sp, w, *seen, step, dt, c.incidence, tg.position, to_world, to_body)
+            : WakeAir{};
+  const WingForces wings =
+      wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence,
+                  body_wind - body_velocity, c.omega, wakes ? wake.wing : nullptr);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
-  const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
-  const dvec3 tail_air = body_wind - body_velocity - glm::cross(c.omega, tg.position);
+  const dvec3 tail_air = body_wind - body_velocity - glm::cross(c.omega, tg.position) + wake.tail;
   const dvec3 tail = aerodynamic_force(sp, tail_air, tg.chord, tg.normal, tail_area(sp, c.opening));
   f.tail = to_world * tail;
   f.tail_torque = glm::cross(tg.position, tail);  // eq. 11
@@ -233,8 +270,8 @@ void touch_down(BirdState& b, const Species& sp, const World& w) {
 }
 
 // One step of a bird that is not quarantined (step_bird).
-void advance(BirdState& b, const Species& sp, const World& w, double dt, StepForces* out,
-             const Perception* seen) {
+void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, double dt,
+             StepForces* out, const Perception* seen) {
   // Settling after a grip or a touch-down; on the ground its rest runs meanwhile (the clock alone
   // ends it), and it takes off once rested and settled.
   if (b.landing_stage == LandingStage::settling) {
@@ -269,10 +306,19 @@ void advance(BirdState& b, const Species& sp, const World& w, double dt, StepFor
     airspeed = seen->airspeed;
   }
   const Commands c = control(b, sp, w, dt, goal, airspeed, social);
-  const StepForces f = forces(b, sp, w, dt, c);
+  const StepForces f = forces(b, sp, w, dt, c, social ? seen : nullptr, step);
 
   // Euler integration (eqs. 6-8, 13, 14): position and attitude move with the rates at time t.
   const bool on_legs = b.mode == FlightMode::taking_off;
+  // In the air, its wings' lift (their force across its flight through the air) over about a
+  // wingbeat: what its wake carries (wake.h).
+  if (!on_legs) {
+    const dvec3 air = b.velocity - wind_at(w, b.position.y);
+    const dvec3 wing = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3];
+    const double air2 = glm::dot(air, air);
+    const dvec3 lift = air2 > 0.0 ? wing - air * (glm::dot(wing, air) / air2) : wing;
+    b.lift += (glm::length(lift) - b.lift) * std::min(b.frequency * dt, 1.0);
+  }
   b.position += b.velocity * dt;
   b.velocity += f.total / sp.mass * dt;
   b.attitude = integrate_attitude(b.attitude, c.omega, dt);
@@ -320,7 +366,7 @@ void step_bird(BirdState& b, const Species& sp, const World& w, uint64_t step, d
   if (out) *out = StepForces{};
   if (b.mode == FlightMode::quarantined) return;
   const BirdState before = b;
-  advance(b, sp, w, dt, out, seen);
+  advance(b, sp, w, step, dt, out, seen);
   if (all_finite(b)) return;
   // NaN quarantine (issue 16): the step is undone and the bird frozen at its last finite state,
   // marked with the step's start; it is never stepped again, and its flock no longer sees it

@@ -14,13 +14,13 @@ namespace aeroflock {
 
 // What a bird's wake follows from: its state when it was seen.
 struct WakeSource {
-  glm::dvec3 position{0.0};      // its centre, cm
-  glm::dvec3 air_velocity{0.0};  // its velocity through the air, cm/s
+  glm::dvec3 position{0.0};                 // its centre, cm
+  glm::dvec3 air_velocity{0.0};             // its velocity through the air, cm/s
   glm::dquat attitude{1.0, 0.0, 0.0, 0.0};  // body to world
-  double lift = 0.0;             // its wings' lift, dyn
-  double phase = 0.0;            // wingbeat phase psi now, rad
-  double frequency = 0.0;        // Hz
-  double amplitude = 0.0;        // amp
+  double lift = 0.0;                        // its wings' lift, dyn
+  double phase = 0.0;                       // wingbeat phase psi now, rad
+  double frequency = 0.0;                   // Hz
+  double amplitude = 0.0;                   // amp
 };
 
 // Elliptic loading rolls the trailing vorticity up into two vortices pi / 4 of the span apart

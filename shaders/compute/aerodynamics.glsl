@@ -32,16 +32,16 @@ struct WingForces {
   vec3 force[4];  // right arm, right hand, left arm, left hand
   vec3 torque;
 };
-WingForces wing_forces(GpuSpecies s, float phase, float amp, float frequency, float sweep,
-                       float incidence, vec3 body_air, vec3 omega) {
+// `right`: the right wing's points (right_wing_points); `induced`: aerodynamics.cpp's.
+WingForces wing_forces_at(GpuSpecies s, WingPoint right[2], vec3 body_air, vec3 omega,
+                          vec3 induced[4]) {
   WingForces w;
-  WingPoint right[2];
-  right_wing_points(s, phase, amp, frequency, sweep, incidence, right);
   precise vec3 torque = vec3(0.0);
   for (int i = 0; i < 2; ++i) {
     for (int side = 0; side < 2; ++side) {
       WingPoint p = side == 0 ? right[i] : mirror_to_left(right[i]);
       precise vec3 air = body_air - cross(omega, p.position) - p.velocity;
+      air += induced[2 * side + i];
       vec3 force = aerodynamic_force(s, air, p.chord, p.normal, p.area);
       w.force[2 * side + i] = force;
       torque += cross(p.position, force);
@@ -49,4 +49,12 @@ WingForces wing_forces(GpuSpecies s, float phase, float amp, float frequency, fl
   }
   w.torque = torque;
   return w;
+}
+
+WingForces wing_forces(GpuSpecies s, float phase, float amp, float frequency, float sweep,
+                       float incidence, vec3 body_air, vec3 omega) {
+  WingPoint right[2];
+  right_wing_points(s, phase, amp, frequency, sweep, incidence, right);
+  vec3 none[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  return wing_forces_at(s, right, body_air, omega, none);
 }

@@ -102,13 +102,51 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   return c;
 }
 
-// The step's forces as GpuForces (host_device.h): world frame, torques in the body frame. Only
-// what is read survives compilation: the stepping loop keeps the total and the torque.
-GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
+// flock.cpp: wake_now, the source in the bird's tile (`shift`).
+GpuWakeSource wake_now(GpuWakeSource seen, uint seen_step, uint step, float dt, vec3 shift) {
+  precise float since = float(step - seen_step) * dt;  // mod 2^32 steps
+  GpuWakeSource w = seen;
+  vec3 wind = wind_at(seen.position_phase.y);
+  precise vec3 position =
+      seen.position_phase.xyz + shift + (seen.air_velocity_frequency.xyz + wind) * since;
+  precise float phase = seen.position_phase.w + 2.0 * kPi * seen.air_velocity_frequency.w * since;
+  w.position_phase = vec4(position, phase);
+  return w;
+}
+
+// step.cpp: wake_air, into `wing` (the four wing points) and `tail`, body frame.
+void wake_air(GpuBird b, GpuSpecies s, GpuPerception seen, uint step, float dt, WingPoint right[2],
+              vec3 tail_position, out vec3 wing[4], out vec3 tail) {
+  vec3 at[5] = vec3[5](right[0].position, right[1].position, mirror_to_left(right[0]).position,
+                       mirror_to_left(right[1]).position, tail_position);
+  vec3 air[5] = vec3[5](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  vec3 shift = tile_shift(seen.wake_tile_x, seen.wake_tile_z, b.tile_x, b.tile_z);
+  for (uint k = 0u; k < seen.wakes; ++k) {
+    GpuWakeSource now = wake_now(seen.wake[k], seen.wake_step, step, dt, shift);
+    for (int p = 0; p < 5; ++p) {
+      precise vec3 point = b.position + rotate(b.attitude, at[p]);
+      air[p] += rotate_back(b.attitude, wake_velocity(s, now, point));
+    }
+  }
+  for (int p = 0; p < 4; ++p) wing[p] = air[p];
+  tail = air[4];
+}
+
+// The step's forces as GpuForces (host_device.h): world frame, torques in the body frame; with the
+// wakes the bird meets (seen, at step `step`). Only what is read survives compilation: the
+// stepping loop keeps the total and the torque.
+GpuForces forces(GpuBird b, GpuSpecies s, Commands c, GpuPerception seen, bool social, uint step,
+                 float dt) {
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
-  WingForces wings =
-      wing_forces(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, body_air, c.omega);
+  WingPoint right[2];
+  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right);
+  TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
+  vec3 wake_wing[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  vec3 wake_tail = vec3(0.0);
+  if (social && seen.wakes > 0u)
+    wake_air(b, s, seen, step, dt, right, tg.position, wake_wing, wake_tail);
+  WingForces wings = wing_forces_at(s, right, body_air, c.omega, wake_wing);
   for (int i = 0; i < 4; ++i) f.wing[i] = vec4(rotate(b.attitude, wings.force[i]), 0.0);
   // The aerodynamic forces are summed in the body frame, in wing_forces' order (the arms, then
   // the hands), and turned to the world once.
@@ -117,8 +155,8 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c) {
   body_force += wings.force[2];
   body_force += wings.force[1];
   body_force += wings.force[3];
-  TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   precise vec3 tail_air = body_air - cross(c.omega, tg.position);
+  tail_air += wake_tail;
   vec3 tail = aerodynamic_force(s, tail_air, tg.chord, tg.normal, tail_area(s, c.opening));
   vec3 tail_torque = cross(tg.position, tail);  // eq. 11
   f.tail = vec4(rotate(b.attitude, tail), 0.0);
@@ -229,7 +267,8 @@ void touch_down(inout GpuBird b, GpuSpecies s) {
 // a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
 // alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
 // the bird.
-GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen) {
+GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen,
+                    uint step) {
   if (b.mode == mode_quarantined) return no_forces();
   if (b.landing_stage == stage_settling) {
     settle(b, s, dt);
@@ -260,9 +299,17 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
     airspeed_command = seen.airspeed;
   }
   Commands c = control(b, s, leg.route, goal, airspeed_command, social);
-  GpuForces f = forces(b, s, c);
+  GpuForces f = forces(b, s, c, seen, social, step, dt);
 
   bool on_legs = b.mode == mode_taking_off;
+  if (!on_legs) {  // its wings' lift over about a wingbeat (step.cpp)
+    precise vec3 air = b.velocity - step_wind;
+    precise vec3 wing = f.wing[0].xyz + f.wing[1].xyz + f.wing[2].xyz + f.wing[3].xyz;
+    precise float air2 = dot(air, air);
+    precise vec3 lift = air2 > 0.0 ? wing - air * (dot(wing, air) / air2) : wing;
+    precise float lift_now = b.lift + (length(lift) - b.lift) * min(b.frequency * dt, 1.0);
+    b.lift = lift_now;
+  }
   precise vec3 position = b.position + b.velocity * dt;
   precise vec3 velocity = b.velocity + f.total.xyz / s.mass * dt;
   precise vec3 omega = c.omega + angular_acceleration(box_inertia(s), f.torque.xyz) * dt;

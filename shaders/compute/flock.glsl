@@ -147,6 +147,24 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   return blocked;
 }
 
+// flock.cpp: see_wakes. The places in the bird's tile; the step that read them at `step`.
+void see_wakes(GpuSpecies s, GpuBird b, uint step, inout GpuPerception p) {
+  vec3 ahead = flight_direction(b, step_wind);
+  p.wake_step = step;
+  p.wake_tile_x = b.tile_x;
+  p.wake_tile_z = b.tile_z;
+  for (uint e = 0u; e < near_count && p.wakes < kWakeSources; ++e) {
+    GpuBird o = birds[near_index[e]];
+    precise vec3 position = o.position + tile_shift(o.tile_x, o.tile_z, b.tile_x, b.tile_z);
+    precise vec3 offset = position - b.position;
+    if (dot(offset, ahead) <= 0.0 || length(offset) > kWakeReach * s.box_c) continue;
+    vec3 air = o.velocity - wind_at(o.position.y);
+    p.wake[p.wakes] = GpuWakeSource(vec4(position, o.phase), vec4(air, o.frequency), o.attitude,
+                                    vec4(o.lift, o.amplitude, 0.0, 0.0));
+    ++p.wakes;
+  }
+}
+
 // flock.cpp: route_direction.
 vec3 route_direction(GpuSpecies s, vec3 to_goal) {
   vec3 way = horizontal(to_goal);
@@ -180,7 +198,8 @@ float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
 
 // The social goal from the birds found (flock.cpp: social_goal).
 GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_done) {
-  GpuPerception p = GpuPerception(vec3(0.0), 0.0, near_count, 0.0, 0u, 0u);
+  GpuPerception p = no_perception();
+  p.neighbours = near_count;
   if (near_count == 0u) return p;
   vec3 wind = step_wind;
   vec3 ahead = flight_direction(b, wind);

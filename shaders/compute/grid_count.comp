@@ -51,7 +51,7 @@ void main() {
     place.x = claim_slot(i, grid_cell(b, pc.grid_cell, inside), b.flock);
     if (place.x != kNoBucket) place.y = atomicAdd(grid_counts[place.x], 1u);
   } else if (pc.frame % reaction_frames(species[b.species], pc.frame_seconds) == 0u) {
-    perception[i] = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
+    perception[i] = no_perception();
   }
   grid_place[i] = place;
 }

@@ -9,6 +9,7 @@
 #include "body.glsl"          // body.cpp
 #include "wingbeat.glsl"      // wingbeat.cpp
 #include "aerodynamics.glsl"  // aerodynamics.cpp
+#include "wake.glsl"          // wake.cpp
 #include "tail.glsl"          // tail.cpp
 #include "control.glsl"       // control.cpp
 #include "route.glsl"         // route.cpp

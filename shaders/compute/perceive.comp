@@ -59,5 +59,7 @@ void main() {
       route_done = false;
     }
   }
-  perception[i] = social_goal(s, b, goal, route_done);
+  GpuPerception p = social_goal(s, b, goal, route_done);
+  if ((b.flocking & kFeelsWakes) != 0u) see_wakes(s, b, pc.step.x, p);
+  perception[i] = p;
 }

@@ -48,7 +48,9 @@ void main() {
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   Leg leg = load_leg(b, pc.targets_base);
-  GpuPerception seen = GpuPerception(vec3(0.0), 0.0, 0u, 0.0, 0u, 0u);
+  GpuPerception seen;
+  seen.neighbours = 0u;
+  seen.wakes = 0u;
   if (pc.flocking != 0u) seen = perception[i];
   uint end = pc.first_step + pc.steps;
   // NaN quarantine (step.cpp: step_bird): a step whose result is not finite is undone, the bird
@@ -60,7 +62,7 @@ void main() {
   uint taken = 0u;  // counted apart from k, so that no compiler reads it off the loop's condition
   for (;;) {
     for (uint k = pc.first_step; k < finite_end; ++k) {
-      step_bird(b, s, leg, pc.dt, seen);
+      step_bird(b, s, leg, pc.dt, seen, pc.step.x + k);
       ++taken;
       if (!all_finite(b)) {
         finite_end = k;
@@ -88,7 +90,7 @@ void main() {
     // forces are kept.
     GpuBird next = b;
     Leg next_leg = load_leg(next, pc.targets_base + pc.next_targets);
-    GpuForces f = step_bird(next, s, next_leg, pc.dt, seen);
+    GpuForces f = step_bird(next, s, next_leg, pc.dt, seen, pc.step.x + end);
     forces_out[i] = all_finite(next) ? f : no_forces();  // a step that quarantines has none
   }
 #endif

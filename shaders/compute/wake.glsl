@@ -4,7 +4,8 @@
 float vortex_span(GpuSpecies s) { return kWakeVortexSpan * s.box_c; }
 
 float wake_circulation(GpuSpecies s, float lift, float airspeed) {
-  precise float circulation = airspeed > 0.0 ? lift / (kAirDensity * airspeed * vortex_span(s)) : 0.0;
+  precise float circulation =
+      airspeed > 0.0 ? lift / (kAirDensity * airspeed * vortex_span(s)) : 0.0;
   return circulation;
 }
 
@@ -24,8 +25,8 @@ vec3 half_line(vec3 r, vec3 along, float circulation, float core) {
   precise float on = dot(r, along);
   precise vec3 across = r - along * on;
   precise float h2 = dot(across, across);
-  precise vec3 v = cross(along, across) *
-                   (circulation / (4.0 * kPi) * (1.0 + on / len) / (h2 + core * core));
+  precise vec3 v =
+      cross(along, across) * (circulation / (4.0 * kPi) * (1.0 + on / len) / (h2 + core * core));
   return v;
 }
 
