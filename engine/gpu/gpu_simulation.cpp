@@ -118,7 +118,8 @@ const std::vector<Binding> kPerceiveBindings =
                kBindingCutShort});
 
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
-// 1), and whether each of them sees that many (kAllSeeKSeen).
+// 1), whether each of them sees that many (kAllSeeKSeen), and whether any flock meets wakes
+// (kWakes).
 std::vector<uint32_t> perceive_constants(const Scenario& scenario,
                                          const std::vector<BirdState>& birds) {
   const std::vector<bool> flocks = flocking_species(scenario.species.size(), birds);
@@ -128,7 +129,7 @@ std::vector<uint32_t> perceive_constants(const Scenario& scenario,
       most = std::max(most, static_cast<uint32_t>(scenario.species[k].neighbours));
       least = std::min(least, static_cast<uint32_t>(scenario.species[k].neighbours));
     }
-  return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u};
+  return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u, any_wake(scenario) ? 1u : 0u};
 }
 
 // The farthest a species that flocks sees: the search's order reaches it.
@@ -231,7 +232,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, capacity_, any_flocking(this->scenario()))),
       step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingCutShort}),
-            sizeof(StepConstants), 2),
+            sizeof(StepConstants), 2, {any_wake(this->scenario()) ? 1u : 0u}),
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
@@ -364,7 +365,8 @@ void GpuSimulation::prepare_forces() {
   forces_ = std::make_unique<Buffer>(device_, bytes, Memory::device_local);
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
-      world_and({kBindingPerception, kBindingForces, kBindingCutShort}), sizeof(StepConstants), 2);
+      world_and({kBindingPerception, kBindingForces, kBindingCutShort}), sizeof(StepConstants), 2,
+      std::vector<uint32_t>{any_wake(scenario()) ? 1u : 0u});
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
     slot.forces_set =

@@ -202,6 +202,12 @@ bool any_flocking(const Scenario& s) {
   return false;
 }
 
+bool any_wake(const Scenario& s) {
+  for (const Flock& f : s.flocks)
+    if (f.flocking && f.wake) return true;
+  return false;
+}
+
 std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
   std::vector<WindBeyondAirspeed> legs;
   for (size_t f = 0; f < s.flocks.size(); ++f) {

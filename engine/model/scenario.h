@@ -137,6 +137,8 @@ void make_flock_non_finite(Scenario& s, const std::string& name);
 
 // Whether any flock of the scenario flocks.
 bool any_flocking(const Scenario& s);
+// Whether any flock flocks with wakes (Flock::wake).
+bool any_wake(const Scenario& s);
 
 // A leg of a flock's route (from its spawn centre to the first target, then from target to
 // target, and round again on a loop) across which the wind blows at least as fast as the flock's

@@ -310,9 +310,9 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
 
   // Euler integration (eqs. 6-8, 13, 14): position and attitude move with the rates at time t.
   const bool on_legs = b.mode == FlightMode::taking_off;
-  // In the air, its wings' lift (their force across its flight through the air) over about a
-  // wingbeat: what its wake carries (wake.h).
-  if (!on_legs) {
+  // A bird of a flock with wakes, in the air: its wings' lift (their force across its flight
+  // through the air) over about a wingbeat, what its wake carries (wake.h).
+  if ((b.flocking & kFeelsWakes) && !on_legs) {
     const dvec3 air = b.velocity - wind_at(w, b.position.y);
     const dvec3 wing = f.wing[0] + f.wing[1] + f.wing[2] + f.wing[3];
     const double air2 = glm::dot(air, air);

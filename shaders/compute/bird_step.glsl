@@ -144,7 +144,7 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c, GpuPerception seen, bool s
   TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   vec3 wake_wing[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
   vec3 wake_tail = vec3(0.0);
-  if (social && seen.wakes > 0u)
+  if (kWakes && social && seen.wakes > 0u)
     wake_air(b, s, seen, step, dt, right, tg.position, wake_wing, wake_tail);
   WingForces wings = wing_forces_at(s, right, body_air, c.omega, wake_wing);
   for (int i = 0; i < 4; ++i) f.wing[i] = vec4(rotate(b.attitude, wings.force[i]), 0.0);
@@ -302,7 +302,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   GpuForces f = forces(b, s, c, seen, social, step, dt);
 
   bool on_legs = b.mode == mode_taking_off;
-  if (!on_legs) {  // its wings' lift over about a wingbeat (step.cpp)
+  if (kWakes && (b.flocking & kFeelsWakes) != 0u && !on_legs) {  // its lift (step.cpp)
     precise vec3 air = b.velocity - step_wind;
     precise vec3 wing = f.wing[0].xyz + f.wing[1].xyz + f.wing[2].xyz + f.wing[3].xyz;
     precise float air2 = dot(air, air);

@@ -17,3 +17,21 @@ layout(std430, set = 0, binding = kBindingRouteTargets) readonly buffer RouteTar
 layout(std430, set = 0, binding = kBindingBranches) readonly buffer Branches {
   GpuBranch branches[];
 };
+
+// A perception of no one (flock.h: Perception{}).
+GpuPerception no_perception() {
+  GpuPerception p;
+  p.direction = vec3(0.0);
+  p.airspeed = 0.0;
+  p.neighbours = 0u;
+  p.nearest = 0.0;
+  p.seen_key = 0u;
+  p.wakes = 0u;
+  p.wake_step = 0u;
+  p.wake_tile_x = 0;
+  p.wake_tile_z = 0;
+  p.pad = 0u;
+  for (uint k = 0u; k < kGpuWakeSources; ++k)
+    p.wake[k] = GpuWakeSource(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
+  return p;
+}

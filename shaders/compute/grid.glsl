@@ -37,21 +37,3 @@ uint grid_probe_step(ivec3 c, uint flock, uint slots) {
 uint reaction_frames(GpuSpecies s, float frame_seconds) {
   return uint(max(1.0, floor(s.reaction_time / frame_seconds + 0.5)));
 }
-
-// A perception of no one (flock.h: Perception{}).
-GpuPerception no_perception() {
-  GpuPerception p;
-  p.direction = vec3(0.0);
-  p.airspeed = 0.0;
-  p.neighbours = 0u;
-  p.nearest = 0.0;
-  p.seen_key = 0u;
-  p.wakes = 0u;
-  p.wake_step = 0u;
-  p.wake_tile_x = 0;
-  p.wake_tile_z = 0;
-  p.pad = 0u;
-  for (uint k = 0u; k < kGpuWakeSources; ++k)
-    p.wake[k] = GpuWakeSource(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
-  return p;
-}

@@ -2,7 +2,8 @@
 // integration statements are `precise` so that they are not contracted into FMAs: the CPU
 // reference is built with -ffp-contract=off, and the two then differ only by float-vs-double
 // rounding. The includer declares the buffers (buffers.glsl) and the push constants `pc`
-// (StepConstants). Each part uses only those before it.
+// (StepConstants), and kWakes (whether any flock meets wakes: step.glsl). Each part uses only those
+// before it.
 
 #include "bird.glsl"          // trigonometry, rotation, wing angles, tail opening (with drawing)
 #include "world.glsl"         // world.cpp

@@ -22,6 +22,9 @@ layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
 layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
 layout(set = 0, binding = kBindingGridRanges) uniform usamplerBuffer grid_ranges;
 layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
+// Whether any flock meets wakes: without, the wakes' fields are neither found nor written (and
+// model.glsl's step code carries none).
+layout(constant_id = 2) const bool kWakes = false;
 #include "model.glsl"
 // The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers;
 // and whether every flocking species sees that many (then k is known here).
@@ -60,6 +63,14 @@ void main() {
     }
   }
   GpuPerception p = social_goal(s, b, goal, route_done);
-  if ((b.flocking & kFeelsWakes) != 0u) see_wakes(s, b, pc.step.x, p);
-  perception[i] = p;
+  if (kWakes) {
+    if ((b.flocking & kFeelsWakes) != 0u) see_wakes(s, b, pc.step.x, p);
+    perception[i] = p;
+  } else {
+    perception[i].direction = p.direction;
+    perception[i].airspeed = p.airspeed;
+    perception[i].neighbours = p.neighbours;
+    perception[i].nearest = p.nearest;
+    perception[i].seen_key = p.seen_key;
+  }
 }

@@ -26,6 +26,9 @@ layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
 };
 #endif
 
+// Whether any flock meets wakes (gpu_simulation.cpp): without, the step carries none of them.
+layout(constant_id = 0) const bool kWakes = false;
+
 #include "model.glsl"
 
 // Moves the bird into the tile its position is now over, by whole tiles (exact: host_device.h),
@@ -48,10 +51,14 @@ void main() {
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
   Leg leg = load_leg(b, pc.targets_base);
-  GpuPerception seen;
-  seen.neighbours = 0u;
-  seen.wakes = 0u;
-  if (pc.flocking != 0u) seen = perception[i];
+  GpuPerception seen = no_perception();
+  if (pc.flocking != 0u && kWakes) {
+    seen = perception[i];
+  } else if (pc.flocking != 0u) {
+    seen.direction = perception[i].direction;
+    seen.airspeed = perception[i].airspeed;
+    seen.neighbours = perception[i].neighbours;
+  }
   uint end = pc.first_step + pc.steps;
   // NaN quarantine (step.cpp: step_bird): a step whose result is not finite is undone, the bird
   // frozen at its last finite state. Rather than keep a copy of the state through every step, the
