@@ -318,6 +318,20 @@ TEST(DistributedVulkan, ASmallShareGrowsAndStaysOneDevices) {
     EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
 }
 
+// Issue 43: a flock with wakes is refused over ranks, on every rank, with the reason (the ghosts do
+// not carry what a wake follows from yet), before any bird is placed.
+TEST(DistributedRun, AFlockWithWakesIsRefusedWithTheReason) {
+  Scenario s = load_scenario("default");
+  for (Flock& f : s.flocks) f.wake = f.flocking;
+  try {
+    dist::DistributedCpuSimulation flock(s, MPI_COMM_WORLD, 200);
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("wake = true runs on one process only"), std::string::npos)
+        << e.what();
+  }
+}
+
 // A rank whose step throws after the frame's exchanges (a device error, say) skips the frame's
 // observers, and so must every rank: their calls may be collective (here a barrier, as the VTK
 // pieces' count and the gathering for pictures are). Before Simulation::stepped_together the
