@@ -46,11 +46,15 @@ dvec3 aerodynamic_force(const Species& s, const dvec3& air_velocity, const dvec3
 }
 
 WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
-                       double incidence, const dvec3& body_air, const dvec3& omega,
-                       const dvec3* induced) {
-  WingForces out{};
+                       double incidence, const dvec3& body_air, const dvec3& omega) {
   WingPoint right[2];
   right_wing_points(s, phase, amp, frequency, sweep, incidence, right);
+  return wing_forces_at(s, right, body_air, omega, nullptr);
+}
+
+WingForces wing_forces_at(const Species& s, const WingPoint right[2], const dvec3& body_air,
+                          const dvec3& omega, const dvec3* induced) {
+  WingForces out{};
   for (int i = 0; i < 2; ++i) {
     const WingPoint points[2] = {right[i], mirror_to_left(right[i])};
     for (int side = 0; side < 2; ++side) {

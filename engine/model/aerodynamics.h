@@ -4,6 +4,7 @@
 #include <glm/vec3.hpp>
 
 #include "species.h"
+#include "wingbeat.h"
 
 namespace aeroflock {
 
@@ -30,11 +31,12 @@ struct WingForces {
   glm::dvec3 force[4];
   glm::dvec3 torque;
 };
-// `induced` (may be null): air moving at each point besides (the wakes it meets, body frame, in
-// WingForces::force's order).
 WingForces wing_forces(const Species& s, double phase, double amp, double frequency, double sweep,
-                       double incidence, const glm::dvec3& body_air, const glm::dvec3& omega,
-                       const glm::dvec3* induced = nullptr);
+                       double incidence, const glm::dvec3& body_air, const glm::dvec3& omega);
+// The same at the right wing's points `right` (right_wing_points), with `induced` (may be null):
+// air moving at each point besides (the wakes it meets, body frame, in WingForces::force's order).
+WingForces wing_forces_at(const Species& s, const WingPoint right[2], const glm::dvec3& body_air,
+                          const glm::dvec3& omega, const glm::dvec3* induced);
 
 // Signed attack angle alpha of the same in-plane air velocity, radians (for tests and export).
 double attack_angle(const glm::dvec3& air_velocity, const glm::dvec3& chord,

@@ -152,10 +152,8 @@ struct WakeAir {
   dvec3 tail;
 };
 WakeAir wake_air(const BirdState& b, const Species& sp, const World& w, const Perception& seen,
-                 uint64_t step, double dt, double incidence, const dvec3& tail,
+                 uint64_t step, double dt, const WingPoint right[2], const dvec3& tail,
                  const glm::dmat3& to_world, const glm::dmat3& to_body) {
-  WingPoint right[2];
-  right_wing_points(sp, b.phase, b.amplitude, b.frequency, b.sweep, incidence, right);
   dvec3 at[5];
   for (int i = 0; i < 2; ++i) {
     at[i] = right[i].position;
@@ -183,13 +181,14 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, double 
   const dvec3 body_velocity = to_body * b.velocity;
   const dvec3 body_wind = to_body * wind_at(w, b.position.y);
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
+  WingPoint right[2];
+  right_wing_points(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right);
   const bool wakes = seen && seen->wakes > 0;
   const WakeAir wake =
-      wakes ? wake_air(b, sp, w, *seen, step, dt, c.incidence, tg.position, to_world, to_body)
+      wakes ? wake_air(b, sp, w, *seen, step, dt, right, tg.position, to_world, to_body)
             : WakeAir{};
   const WingForces wings =
-      wing_forces(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence,
-                  body_wind - body_velocity, c.omega, wakes ? wake.wing : nullptr);
+      wing_forces_at(sp, right, body_wind - body_velocity, c.omega, wakes ? wake.wing : nullptr);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
   const dvec3 tail_air = body_wind - body_velocity - glm::cross(c.omega, tg.position) + wake.tail;
