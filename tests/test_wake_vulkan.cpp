@@ -15,6 +15,7 @@
 #include "gpu/device.h"
 #include "gpu/layout.h"
 #include "gpu/shaders.h"
+#include "gpu_test_device.h"
 #include "model/constants.h"
 #include "model/wake.h"
 
@@ -31,12 +32,7 @@ std::span<const std::byte> bytes(const std::vector<T>& v) {
 // Sources flying every way, banked and pitched, flapping or not, and points from beside them to
 // 20 spans behind, across both vortices and through their cores.
 TEST(GpuWake, TheShadersFieldIsTheReferences) {
-  try {
-    if (gpu::Device::list_devices().empty()) GTEST_SKIP() << "no Vulkan device on this machine";
-  } catch (const gpu::Error& e) {
-    GTEST_SKIP() << "no Vulkan on this machine: " << e.what();
-  }
-  gpu::Device device(gpu::headless(-1, true));
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
   for (const Species& s : species_presets()) {
     std::mt19937 random(7);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);

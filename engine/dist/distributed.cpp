@@ -76,8 +76,9 @@ CellCounts count_cells(const Slabs& slabs, const std::vector<BirdState>& birds) 
 }  // namespace
 
 namespace {
-// The ghosts do not carry what a wake follows from (their lift, attitude and wingbeat) yet.
-Scenario without_wakes(Scenario scenario) {
+// The scenario, refused if a flock meets wakes: the ghosts do not carry what a wake follows from
+// (their lift, attitude and wingbeat) yet.
+Scenario refusing_wakes(Scenario scenario) {
   for (const Flock& f : scenario.flocks)
     if (f.wake)
       throw std::invalid_argument("flock '" + f.name +
@@ -88,7 +89,7 @@ Scenario without_wakes(Scenario scenario) {
 }  // namespace
 
 DistributedSimulation::DistributedSimulation(Scenario scenario, MPI_Comm comm)
-    : Simulation(without_wakes(std::move(scenario))), comm_(comm) {}
+    : Simulation(refusing_wakes(std::move(scenario))), comm_(comm) {}
 
 // Every rank places every bird as one rank would (the same seed), cuts the world the same way and
 // keeps its own: no communication, the ids are the one-rank indices, and no rank holds more than
