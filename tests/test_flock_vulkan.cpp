@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "flock_run.h"
+#include "formation_run.h"
 #include "gpu/gpu_simulation.h"
 #include "gpu_test_device.h"
 #include "io/scenario_file.h"
@@ -135,6 +136,55 @@ TEST(GpuFlock, TheWakesMetAreTheReferences) {
         std::max(worst_position, glm::length(cpu.birds()[i].position - gpu.birds()[i].position));
   RecordProperty("worst_position_cm_after_a_frame", std::to_string(worst_position));
   EXPECT_LT(worst_position, 0.05);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// Issue 43: formation flying on both backends. A loose group of seven formation eagles after 40 s
+// (followers in and around V places): each bird's formation (its heading, airspeed and wingbeat's
+// phase rate, from the upwash it predicts at probes around it) agrees within float rounding, and a
+// second later so do the birds' places.
+TEST(GpuFlock, FormationFlyingIsTheReferences) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = testing::formation_scenario(7, true);
+  CpuSimulation flown(scenario);
+  while (flown.time() < 40.0) flown.step_frame();
+  const std::vector<BirdState> birds = flown.birds();
+  CpuSimulation cpu(scenario, birds);
+  gpu::GpuSimulation gpu(device, scenario, birds);
+  cpu.step(0, true);
+  gpu.step(0, true);
+  const std::vector<Perception>& a = *cpu.snapshot().perception;
+  const std::vector<Perception>& b = *gpu.snapshot().perception;
+  size_t in_formation = 0;
+  double worst_direction = 0.0, worst_airspeed = 0.0, worst_phase_rate = 0.0;
+  for (size_t i = 0; i < birds.size(); ++i) {
+    ASSERT_EQ(a[i].seen_key, b[i].seen_key) << "bird " << i;
+    ASSERT_EQ(a[i].wakes, b[i].wakes) << "bird " << i;
+    in_formation += a[i].phase_rate != 0.0;
+    worst_direction = std::max(worst_direction, glm::length(a[i].direction - b[i].direction));
+    worst_airspeed = std::max(worst_airspeed, std::fabs(a[i].airspeed - b[i].airspeed));
+    worst_phase_rate = std::max(worst_phase_rate, std::fabs(a[i].phase_rate - b[i].phase_rate));
+  }
+  std::printf(
+      "%zu of %zu birds in formation; worst direction %.2g, airspeed %.2g cm/s, phase rate "
+      "%.2g rad/s\n",
+      in_formation, birds.size(), worst_direction, worst_airspeed, worst_phase_rate);
+  RecordProperty("birds_in_formation", std::to_string(in_formation));
+  EXPECT_GE(in_formation, 2u);
+  EXPECT_LT(worst_direction, 1e-3);
+  EXPECT_LT(worst_airspeed, 0.5);     // cm/s of ~1000
+  EXPECT_LT(worst_phase_rate, 1e-3);  // rad/s of up to kPhaseReach / formation_time
+  const uint32_t second = static_cast<uint32_t>(std::lround(1.0 / scenario.frame_seconds()));
+  for (uint32_t k = 0; k < second; ++k) {
+    cpu.step_frame();
+    gpu.step_frame();
+  }
+  double worst_position = 0.0;
+  for (size_t i = 0; i < birds.size(); ++i)
+    worst_position =
+        std::max(worst_position, glm::length(cpu.birds()[i].position - gpu.birds()[i].position));
+  RecordProperty("worst_position_cm_after_a_second", std::to_string(worst_position));
+  EXPECT_LT(worst_position, 1.0);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -204,7 +204,7 @@ struct GpuPerception {
   uint wake_step;         // the step they were seen at (its low 32 bits)
   int wake_tile_x;        // the world tile of the wakes' places (the bird's then)
   int wake_tile_z;
-  uint pad;
+  float phase_rate;  // formation flying: its wingbeat's phase runs this much faster, rad/s
   GpuWakeSource wake[kGpuWakeSources];
 };
 

@@ -145,7 +145,7 @@ GpuPerception pack(const Perception& p) {
                   p.wake_step,
                   0,
                   0,
-                  0u,
+                  float(p.phase_rate),
                   {}};
   for (uint32_t k = 0; k < kWakeSources; ++k) g.wake[k] = pack(p.wake[k]);
   return g;
@@ -161,6 +161,7 @@ Perception unpack(const GpuPerception& g) {
                g.wake_step,
                {}};
   for (uint32_t k = 0; k < kWakeSources; ++k) p.wake[k] = unpack(g.wake[k]);
+  p.phase_rate = g.phase_rate;
   return p;
 }
 

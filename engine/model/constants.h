@@ -68,6 +68,16 @@ AF_REAL(kWakeCore, 0.05)
 // nearest ahead of it within kWakeReach spans (flock.cpp).
 AF_COUNT(kWakeSources, 2)
 AF_REAL(kWakeReach, 10.0)
+// Formation flying (flock.cpp: formation): a bird predicts the upwash it would meet over
+// kBeatSamples points of its wingbeat kFormationProbe spans to either side and above and below,
+// and kPhaseProbe rad ahead and behind in its wingbeat; it seeks the best within kFormationReach
+// spans and kPhaseReach rad, behind a bird at least kFormationBehind spans ahead of it.
+AF_COUNT(kBeatSamples, 4)
+AF_REAL(kFormationProbe, 0.1)
+AF_REAL(kFormationReach, 0.5)
+AF_REAL(kPhaseProbe, 0.7853981633974483)
+AF_REAL(kPhaseReach, 1.5707963267948966)
+AF_REAL(kFormationBehind, 0.25)
 // BirdState::flocking: it sees its flock; and it meets the wakes of those it sees.
 AF_COUNT(kSeesFlock, 1)
 AF_COUNT(kFeelsWakes, 2)

@@ -12,6 +12,7 @@
 #include "constants.h"
 #include "control.h"
 #include "route.h"
+#include "wingbeat.h"
 
 namespace aeroflock {
 
@@ -114,7 +115,7 @@ double cohesion_pull(const Species& s, const dvec3& cohesion, const dvec3& ahead
 
 Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
                        const dvec3& route_goal, bool route_done, std::span<const uint32_t> seen,
-                       const std::vector<BirdState>& birds) {
+                       const std::vector<BirdState>& birds, const Formation& formation) {
   Perception p;
   p.neighbours = static_cast<uint32_t>(seen.size());
   if (seen.empty()) return p;
@@ -149,14 +150,102 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   p.airspeed =
       std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                  s.min_speed, s.max_speed);
+  if (formation.heading != dvec3{0.0})
+    p.airspeed = formation.airspeed;
+  else
+    p.airspeed = std::max(p.airspeed - formation.fall_back, s.min_speed);
   const dvec3 route = route_done ? dvec3{0.0}
                                  : route_heading(s, route_goal - b.position, wind,
                                                  glm::length(horizontal(b.velocity - wind)));
-  const dvec3 d = s.w_route * route + s.w_separation * separation +
-                  s.w_alignment * unit_or_zero(heading_sum) +
-                  s.w_cohesion * unit_or_zero(cohesion_sum);
+  const dvec3 d = formation.heading != dvec3{0.0}
+                      ? s.w_separation * separation + s.w_formation * formation.heading
+                      : s.w_route * route + s.w_separation * separation +
+                            s.w_alignment * unit_or_zero(heading_sum) +
+                            s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   return p;
+}
+
+double upwash_met(const Species& s, const BirdState& b, const Perception& p, const dvec3& up,
+                  const dvec3& offset, double shift) {
+  if (!(b.frequency > 0.0)) return 0.0;
+  const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
+  const dvec3 centre = b.position + offset;
+  double sum = 0.0;
+  for (uint32_t k = 0; k < kBeatSamples; ++k) {
+    const double beat = 2.0 * kPi * double(k) / double(kBeatSamples);  // of its own wingbeat
+    WingPoint right[2];
+    right_wing_points(s, b.phase + shift + beat, b.amplitude, b.frequency, b.sweep, 0.0, right);
+    const dvec3 at[4] = {right[0].position, right[1].position, mirror_to_left(right[0]).position,
+                         mirror_to_left(right[1]).position};
+    for (uint32_t m = 0; m < p.wakes; ++m) {
+      WakeSource w = p.wake[m];
+      w.phase += beat * w.frequency / b.frequency;  // the same time on, at its own frequency
+      for (const dvec3& point : at)
+        sum += glm::dot(wake_velocity(s, w, centre + to_world * point), up);
+    }
+  }
+  return sum / (4.0 * kBeatSamples);
+}
+
+namespace {
+// Where a parabola through (-step, below), (0, here), (step, above) peaks, within `most` of 0; its
+// rising side's end at `most` where it has no peak.
+double parabola_peak(double below, double here, double above, double step, double most) {
+  const double slope = 0.5 * (above - below), curvature = above - 2.0 * here + below;
+  if (curvature < 0.0) return std::clamp(-slope / curvature * step, -most, most);
+  return slope > 0.0 ? most : slope < 0.0 ? -most : 0.0;
+}
+}  // namespace
+
+Formation formation(const Species& s, const BirdState& b, const dvec3& wind, const Perception& p) {
+  Formation f;
+  if (s.w_formation <= 0.0) return f;
+  // It flies in formation on the nearest bird ahead whose wake it meets, once at least
+  // kFormationBehind spans behind it. Nearer abreast it only drops back to where the upwash is
+  // better (a wake's upwash grows behind the bird that sheds it): two birds abreast, each a little
+  // ahead of the other by turns, would otherwise follow each other and neither fly the route.
+  if (p.wakes == 0) return f;
+  const WakeSource& lead = p.wake[0];
+  const double speed = glm::length(lead.air_velocity);
+  if (!(speed > 0.0)) return f;
+  const dvec3 ahead = lead.air_velocity / speed;
+  // Across the flight: `side` level, `up` the vertical's part square to the flight.
+  dvec3 side = glm::cross(ahead, dvec3{0.0, 1.0, 0.0});
+  if (glm::length(side) < 1e-6) return f;
+  side = glm::normalize(side);
+  const dvec3 up = glm::cross(side, ahead);
+  auto met = [&](const dvec3& offset, double shift) {
+    return upwash_met(s, b, p, up, offset, shift);
+  };
+  const double here = met(dvec3{0.0}, 0.0);
+  const double step = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
+  const dvec3 across_air = (b.velocity - wind) - lead.air_velocity;
+  if (glm::dot(lead.position - b.position, ahead) < kFormationBehind * s.box_c) {
+    const double back =
+        parabola_peak(met(step * ahead, 0.0), here, met(-step * ahead, 0.0), step, most);
+    f.fall_back = std::max(back, 0.0) / s.formation_time;
+    return f;
+  }
+  const double across =
+      parabola_peak(met(-step * side, 0.0), here, met(step * side, 0.0), step, most);
+  const double above = parabola_peak(met(-step * up, 0.0), here, met(step * up, 0.0), step, most);
+  const double shift = parabola_peak(met(dvec3{0.0}, -kPhaseProbe), here,
+                                     met(dvec3{0.0}, kPhaseProbe), kPhaseProbe, kPhaseReach);
+  // Closing on that place over formation_time, less how fast it already moves there.
+  const double closing_side = across / s.formation_time - glm::dot(across_air, side);
+  const double closing_up = above / s.formation_time - glm::dot(across_air, up);
+  f.heading = glm::normalize(ahead + (side * closing_side + up * closing_up) / speed);
+  // Along the flight it keeps separation_radius from its leader, as social_goal's airspeed keeps
+  // it from the flock.
+  const dvec3 offset = lead.position - b.position;
+  const double distance = glm::length(offset);
+  const double along = glm::dot(offset, ahead) * (1.0 - s.separation_radius / distance);
+  f.airspeed =
+      std::clamp(speed + s.speed_gain * along - s.speed_match * glm::dot(across_air, ahead),
+                 s.min_speed, s.max_speed);
+  f.phase_rate = shift / s.formation_time;
+  return f;
 }
 
 std::vector<bool> flocking_species(size_t species, const std::vector<BirdState>& birds) {
@@ -338,8 +427,14 @@ Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>&
   bool route_done = route_over(route_bird, world);
   if (const std::optional<dvec3> on = onward_goal(route_bird, world))
     goal = *on, route_done = false;
-  Perception p = social_goal(s, b, wind, goal, route_done, seen, birds);
-  if (b.flocking & kFeelsWakes) see_wakes(s, b, wind, seen, birds, world, step, p);
+  Perception wakes;
+  if (b.flocking & kFeelsWakes) see_wakes(s, b, wind, seen, birds, world, step, wakes);
+  const Formation f = formation(s, b, wind, wakes);
+  Perception p = social_goal(s, b, wind, goal, route_done, seen, birds, f);
+  p.wakes = wakes.wakes;
+  p.wake_step = wakes.wake_step;
+  std::copy(std::begin(wakes.wake), std::end(wakes.wake), std::begin(p.wake));
+  p.phase_rate = f.phase_rate;
   if (!ids.empty()) {
     p.seen_key = 0;
     for (const uint32_t j : seen) p.seen_key += ids[j] * kSeenKeyFactor;

@@ -32,7 +32,35 @@ struct Perception {
   uint32_t wakes = 0;
   uint32_t wake_step = 0;
   WakeSource wake[kWakeSources]{};
+  // Formation flying (w_formation > 0): how much faster than its frequency its wingbeat's phase
+  // runs until the next perception, rad/s, to meet the wakes' upwash best (formation()).
+  double phase_rate = 0.0;
 };
+
+// Formation flying (issue 43; docs/MODEL.md "Formation flying"): what a bird that meets the wakes
+// `p.wake` seeks. It predicts the upwash its wings would meet over one of its wingbeats
+// (upwash_met) a little to either side of where it is, above and below, and with its wingbeat a
+// little ahead and behind, and takes the best of each from a parabola through the three: no place
+// and no phase is prescribed, both come from the wakes. `heading`: through the air, unit, along
+// the nearest wake's bird, turned to close on that place over formation_time as the bird moves
+// across relative to it; `phase_rate` to close on that phase.
+struct Formation {
+  glm::dvec3 heading{0.0};
+  double airspeed = 0.0;  // cm/s: the leader's, and faster or slower to keep separation_radius
+                          // from it (as social_goal's airspeed does from the flock)
+  double phase_rate = 0.0;
+  double fall_back = 0.0;  // cm/s slower than the flock's airspeed: nearly abreast of the bird
+                           // ahead, it drops back into that bird's wake
+};
+Formation formation(const Species& s, const BirdState& b, const glm::dvec3& wind,
+                    const Perception& p);
+
+// The upwash (cm/s) that bird b's wings meet from the wakes `p.wake` (as seen now), on average
+// over its four wing points and one of its wingbeats, were it `offset` (cm) from where it is and
+// its wingbeat `shift` (rad) ahead of its own: the wakes' air along `up` (across its flight).
+// Over the beat both birds keep their places; their wingbeats run on at their frequencies.
+double upwash_met(const Species& s, const BirdState& b, const Perception& p, const glm::dvec3& up,
+                  const glm::dvec3& offset, double shift);
 
 // A wake source seen at step `seen_step` (low 32 bits) as it is at step `step`, `dt` apart: moved
 // by its velocity over the ground (its air velocity and the `wind`), its wingbeat advanced by its
@@ -99,9 +127,13 @@ double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec
 // (cohesion_pull); within [min_speed, max_speed].
 // `route_done`: its route is over and has no leg to fly on along (route.h: onward_goal): it flies
 // on with its flock, without the route's share of d.
+// `formation`: a bird flying in formation (its heading not 0) steers by the separation and the
+// formation alone, at the formation's airspeed: the bird ahead whose wake it rides flies the route
+// for it.
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& wind,
                        const glm::dvec3& route_goal, bool route_done,
-                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds);
+                       std::span<const uint32_t> seen, const std::vector<BirdState>& birds,
+                       const Formation& formation = {});
 
 // The uniform grid that finds neighbours (FLAME GPU's spatial messaging): cells of `cell` cm,
 // hashed into `buckets` (a power of two) so that memory grows with the birds, not with the world;

@@ -171,6 +171,12 @@ WakeAir wake_air(const BirdState& b, const Species& sp, const World& w, const Pe
   return air;
 }
 
+// The frequency at which bird b's wingbeat runs: its own, and faster or slower as formation
+// flying shifts its phase (seen->phase_rate).
+double beat_frequency(const BirdState& b, const Perception* seen) {
+  return b.frequency + (seen ? seen->phase_rate / (2.0 * kPi) : 0.0);
+}
+
 // Forces at time t (eqs. 1, 2 at the five points, 11, 15, the legs) and the torque on the body;
 // with the wakes the bird meets (seen, at step `step`) in the air at the five points.
 StepForces forces(const BirdState& b, const Species& sp, const World& w, double dt,
@@ -182,7 +188,7 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, double 
   const dvec3 body_wind = to_body * wind_at(w, b.position.y);
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
   WingPoint right[2];
-  right_wing_points(sp, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right);
+  right_wing_points(sp, b.phase, b.amplitude, beat_frequency(b, seen), b.sweep, c.incidence, right);
   const bool wakes = seen && seen->wakes > 0;
   const WakeAir wake =
       wakes ? wake_air(b, sp, w, *seen, step, dt, right, tg.position, to_world, to_body)
@@ -325,7 +331,8 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   if (on_legs) stand_on_legs(b, sp, w, dt);
 
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
-  b.phase = std::fmod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.phase =
+      std::fmod(b.phase + 2.0 * kPi * beat_frequency(b, social ? seen : nullptr) * dt, 2.0 * kPi);
   b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
   // The pitch trim integrates the energy balance.

@@ -132,6 +132,12 @@ void wake_air(GpuBird b, GpuSpecies s, GpuPerception seen, uint step, float dt, 
   tail = air[4];
 }
 
+// step.cpp: beat_frequency (formation flying shifts the phase only where wakes are met).
+float beat_frequency(GpuBird b, GpuPerception seen, bool social) {
+  precise float f = b.frequency + (kWakes && social ? seen.phase_rate / (2.0 * kPi) : 0.0);
+  return f;
+}
+
 // The step's forces as GpuForces (host_device.h): world frame, torques in the body frame; with the
 // wakes the bird meets (seen, at step `step`). Only what is read survives compilation: the
 // stepping loop keeps the total and the torque.
@@ -140,7 +146,8 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c, GpuPerception seen, bool s
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
   WingPoint right[2];
-  right_wing_points(s, b.phase, b.amplitude, b.frequency, b.sweep, c.incidence, right);
+  right_wing_points(s, b.phase, b.amplitude, beat_frequency(b, seen, social), b.sweep, c.incidence,
+                    right);
   TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   vec3 wake_wing[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
   vec3 wake_tail = vec3(0.0);
@@ -319,7 +326,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   b.omega = omega;
   if (on_legs) stand_on_legs(b, s, dt);
 
-  b.phase = mod(b.phase + 2.0 * kPi * b.frequency * dt, 2.0 * kPi);
+  b.phase = mod(b.phase + 2.0 * kPi * beat_frequency(b, seen, social) * dt, 2.0 * kPi);
   b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
   if (!on_legs)

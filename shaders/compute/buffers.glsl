@@ -30,7 +30,7 @@ GpuPerception no_perception() {
   p.wake_step = 0u;
   p.wake_tile_x = 0;
   p.wake_tile_z = 0;
-  p.pad = 0u;
+  p.phase_rate = 0.0;
   for (uint k = 0u; k < kGpuWakeSources; ++k)
     p.wake[k] = GpuWakeSource(vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
   return p;

@@ -165,6 +165,86 @@ void see_wakes(GpuSpecies s, GpuBird b, uint step, inout GpuPerception p) {
   }
 }
 
+// flock.cpp: upwash_met.
+float upwash_met(GpuSpecies s, GpuBird b, GpuPerception p, vec3 up, vec3 offset, float shift) {
+  if (!(b.frequency > 0.0)) return 0.0;
+  precise vec3 centre = b.position + offset;
+  precise float sum = 0.0;
+  for (uint k = 0u; k < kBeatSamples; ++k) {
+    precise float beat = 2.0 * kPi * float(k) / float(kBeatSamples);
+    WingPoint right[2];
+    right_wing_points(s, b.phase + shift + beat, b.amplitude, b.frequency, b.sweep, 0.0, right);
+    vec3 at[4] = vec3[4](right[0].position, right[1].position, mirror_to_left(right[0]).position,
+                         mirror_to_left(right[1]).position);
+    for (uint m = 0u; m < p.wakes; ++m) {
+      GpuWakeSource w = p.wake[m];
+      precise float phase = w.position_phase.w + beat * w.air_velocity_frequency.w / b.frequency;
+      w.position_phase.w = phase;
+      for (int q = 0; q < 4; ++q)
+        sum += dot(wake_velocity(s, w, centre + rotate(b.attitude, at[q])), up);
+    }
+  }
+  precise float mean = sum / (4.0 * float(kBeatSamples));
+  return mean;
+}
+
+// flock.cpp: parabola_peak.
+float parabola_peak(float below, float here, float above, float step, float most) {
+  precise float slope = 0.5 * (above - below);
+  precise float curvature = above - 2.0 * here + below;
+  if (curvature < 0.0) return clamp(-slope / curvature * step, -most, most);
+  return slope > 0.0 ? most : slope < 0.0 ? -most : 0.0;
+}
+
+// flock.cpp: Formation.
+struct Formation {
+  vec3 heading;
+  float airspeed;
+  float phase_rate;
+  float fall_back;
+};
+
+// flock.cpp: formation.
+Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
+  Formation f = Formation(vec3(0.0), 0.0, 0.0, 0.0);
+  if (s.w_formation <= 0.0 || p.wakes == 0u) return f;
+  GpuWakeSource lead = p.wake[0];
+  vec3 lead_air = lead.air_velocity_frequency.xyz;
+  float speed = length(lead_air);
+  if (!(speed > 0.0)) return f;
+  vec3 ahead = lead_air / speed;
+  vec3 side = cross(ahead, vec3(0.0, 1.0, 0.0));
+  if (length(side) < 1e-6) return f;
+  side = normalize(side);
+  vec3 up = cross(side, ahead);
+  float here = upwash_met(s, b, p, up, vec3(0.0), 0.0);
+  float probe = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
+  precise vec3 across_air = (b.velocity - wind) - lead_air;
+  vec3 to_lead = lead.position_phase.xyz - b.position;
+  if (dot(to_lead, ahead) < kFormationBehind * s.box_c) {
+    float back = parabola_peak(upwash_met(s, b, p, up, probe * ahead, 0.0), here,
+                               upwash_met(s, b, p, up, -probe * ahead, 0.0), probe, most);
+    f.fall_back = max(back, 0.0) / s.formation_time;
+    return f;
+  }
+  float across = parabola_peak(upwash_met(s, b, p, up, -probe * side, 0.0), here,
+                               upwash_met(s, b, p, up, probe * side, 0.0), probe, most);
+  float above = parabola_peak(upwash_met(s, b, p, up, -probe * up, 0.0), here,
+                              upwash_met(s, b, p, up, probe * up, 0.0), probe, most);
+  float shift =
+      parabola_peak(upwash_met(s, b, p, up, vec3(0.0), -kPhaseProbe), here,
+                    upwash_met(s, b, p, up, vec3(0.0), kPhaseProbe), kPhaseProbe, kPhaseReach);
+  precise float closing_side = across / s.formation_time - dot(across_air, side);
+  precise float closing_up = above / s.formation_time - dot(across_air, up);
+  f.heading = normalize(ahead + (side * closing_side + up * closing_up) / speed);
+  float distance = length(to_lead);
+  precise float along = dot(to_lead, ahead) * (1.0 - s.separation_radius / distance);
+  f.airspeed = clamp(speed + s.speed_gain * along - s.speed_match * dot(across_air, ahead),
+                     s.min_speed, s.max_speed);
+  f.phase_rate = shift / s.formation_time;
+  return f;
+}
+
 // flock.cpp: route_direction.
 vec3 route_direction(GpuSpecies s, vec3 to_goal) {
   vec3 way = horizontal(to_goal);
@@ -197,7 +277,8 @@ float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
 }
 
 // The social goal from the birds found (flock.cpp: social_goal).
-GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_done) {
+GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_done,
+                          Formation formation) {
   GpuPerception p = no_perception();
   p.neighbours = near_count;
   if (near_count == 0u) return p;
@@ -234,11 +315,16 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
   p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                      s.min_speed, s.max_speed);
+  bool in_formation = formation.heading != vec3(0.0);
+  p.airspeed =
+      in_formation ? formation.airspeed : max(p.airspeed - formation.fall_back, s.min_speed);
   vec3 route = route_done ? vec3(0.0)
                           : route_heading(s, route_goal - b.position, wind,
                                           length(horizontal(b.velocity - wind)));
-  vec3 d = s.w_route * route + s.w_separation * separation +
-           s.w_alignment * unit_or_zero(heading_sum) + s.w_cohesion * unit_or_zero(cohesion_sum);
+  vec3 d = in_formation ? s.w_separation * separation + s.w_formation * formation.heading
+                        : s.w_route * route + s.w_separation * separation +
+                              s.w_alignment * unit_or_zero(heading_sum) +
+                              s.w_cohesion * unit_or_zero(cohesion_sum);
   p.direction = unit_or_zero(d);
   return p;
 }

@@ -62,9 +62,20 @@ void main() {
       route_done = false;
     }
   }
-  GpuPerception p = social_goal(s, b, goal, route_done);
+  GpuPerception wakes = no_perception();
+  Formation f = Formation(vec3(0.0), 0.0, 0.0, 0.0);
+  if (kWakes && (b.flocking & kFeelsWakes) != 0u) {
+    see_wakes(s, b, pc.step.x, wakes);
+    f = formation(s, b, step_wind, wakes);
+  }
+  GpuPerception p = social_goal(s, b, goal, route_done, f);
   if (kWakes) {
-    if ((b.flocking & kFeelsWakes) != 0u) see_wakes(s, b, pc.step.x, p);
+    p.wakes = wakes.wakes;
+    p.wake_step = wakes.wake_step;
+    p.wake_tile_x = wakes.wake_tile_x;
+    p.wake_tile_z = wakes.wake_tile_z;
+    p.wake = wakes.wake;
+    p.phase_rate = f.phase_rate;
     perception[i] = p;
   } else {
     perception[i].direction = p.direction;
