@@ -23,12 +23,12 @@ inline Scenario formation_scenario(uint32_t count, bool wake, uint32_t seed = 3)
   const std::string text = R"([simulation]
 fidelity = "fast"
 duration = 300.0
-seed = )" + std::to_string(seed) + R"(
+seed = )" + std::to_string(seed) +
+                           R"(
 [[species]]
 name = "formation-eagle"
 base = "eagle"
 w_formation = 8.0
-formation_time = 1.0
 separation_radius = 264.0
 w_separation = 2.0
 [[targets]]
@@ -41,11 +41,13 @@ targets = ["end"]
 [[flocks]]
 species = "formation-eagle"
 route = "leg"
-count = )" + std::to_string(count) + R"(
+count = )" + std::to_string(count) +
+                           R"(
 centre = [0.0, 6000.0, 0.0]
 extent = [3000.0, 100.0, 3000.0]
 flocking = true
-wake = )" + (wake ? "true" : "false") + "\n";
+wake = )" + (wake ? "true" : "false") +
+                           "\n";
   return parse_scenario(text, "formation.toml");
 }
 

@@ -116,9 +116,10 @@ TEST(Formation, AFollowerRidesTheUpwashInTheLeadersWingtipPath) {
   for (int k = 0; k < 4; ++k) {
     const double phase = 0.5 * kPi * k;
     const PairFlight on = fly_pair(true, phase), off = fly_pair(false, phase);
-    std::printf("released %.0f deg behind: with the wake %.2f of %zu frames in a V place, %.2f of "
-                "those in spatial phase; without %.2f, %.2f\n",
-                degrees(phase), on.in_v, on.samples, on.in_phase, off.in_v, off.in_phase);
+    std::printf(
+        "released %.0f deg behind: with the wake %.2f of %zu frames in a V place, %.2f of "
+        "those in spatial phase; without %.2f, %.2f\n",
+        degrees(phase), on.in_v, on.samples, on.in_phase, off.in_v, off.in_phase);
     RecordProperty("in_v_" + std::to_string(k), std::to_string(on.in_v));
     RecordProperty("in_phase_" + std::to_string(k), std::to_string(on.in_phase));
     EXPECT_GE(on.in_v, 0.7) << degrees(phase);

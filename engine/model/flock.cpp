@@ -201,14 +201,26 @@ double parabola_peak(double below, double here, double above, double step, doubl
 Formation formation(const Species& s, const BirdState& b, const dvec3& wind, const Perception& p) {
   Formation f;
   if (s.w_formation <= 0.0) return f;
-  // It flies in formation on the nearest bird ahead whose wake it meets, once at least
-  // kFormationBehind spans behind it. Nearer abreast it only drops back to where the upwash is
-  // better (a wake's upwash grows behind the bird that sheds it): two birds abreast, each a little
-  // ahead of the other by turns, would otherwise follow each other and neither fly the route.
-  if (p.wakes == 0) return f;
-  const WakeSource& lead = p.wake[0];
+  // It flies in formation on the nearest bird whose wake it meets at least kFormationBehind spans
+  // ahead of it. One nearer abreast it drops back from, to where the upwash is better (a wake's
+  // upwash grows behind the bird that sheds it): two birds abreast, each a little ahead of the
+  // other by turns, would otherwise follow each other and neither fly the route, and birds abreast
+  // behind one leader would crowd the same place.
+  const WakeSource* leader = nullptr;
+  bool abreast = false;
+  for (uint32_t m = 0; m < p.wakes; ++m) {
+    const double speed = glm::length(p.wake[m].air_velocity);
+    if (!(speed > 0.0)) continue;
+    const double ahead_by =
+        glm::dot(p.wake[m].position - b.position, p.wake[m].air_velocity) / speed;
+    if (ahead_by < kFormationBehind * s.box_c)
+      abreast = true;
+    else if (!leader)
+      leader = &p.wake[m];
+  }
+  if (!leader && !abreast) return f;
+  const WakeSource& lead = leader ? *leader : p.wake[0];
   const double speed = glm::length(lead.air_velocity);
-  if (!(speed > 0.0)) return f;
   const dvec3 ahead = lead.air_velocity / speed;
   // Across the flight: `side` level, `up` the vertical's part square to the flight.
   dvec3 side = glm::cross(ahead, dvec3{0.0, 1.0, 0.0});
@@ -221,12 +233,12 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   const double here = met(dvec3{0.0}, 0.0);
   const double step = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
   const dvec3 across_air = (b.velocity - wind) - lead.air_velocity;
-  if (glm::dot(lead.position - b.position, ahead) < kFormationBehind * s.box_c) {
+  if (abreast) {
     const double back =
         parabola_peak(met(step * ahead, 0.0), here, met(-step * ahead, 0.0), step, most);
     f.fall_back = std::max(back, 0.0) / s.formation_time;
-    return f;
   }
+  if (!leader) return f;
   const double across =
       parabola_peak(met(-step * side, 0.0), here, met(step * side, 0.0), step, most);
   const double above = parabola_peak(met(-step * up, 0.0), here, met(step * up, 0.0), step, most);
@@ -236,14 +248,16 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   const double closing_side = across / s.formation_time - glm::dot(across_air, side);
   const double closing_up = above / s.formation_time - glm::dot(across_air, up);
   f.heading = glm::normalize(ahead + (side * closing_side + up * closing_up) / speed);
-  // Along the flight it keeps separation_radius from its leader, as social_goal's airspeed keeps
-  // it from the flock.
+  // Along the flight it keeps separation_radius from its leader: it flies as far behind it as that
+  // leaves at its offset across. (social_goal's law, by the distance along the flight alone, would
+  // leave a bird abreast where it is: a line abreast, not a V.)
   const dvec3 offset = lead.position - b.position;
-  const double distance = glm::length(offset);
-  const double along = glm::dot(offset, ahead) * (1.0 - s.separation_radius / distance);
-  f.airspeed =
-      std::clamp(speed + s.speed_gain * along - s.speed_match * glm::dot(across_air, ahead),
-                 s.min_speed, s.max_speed);
+  const double behind = glm::dot(offset, ahead);
+  const double across2 = std::max(glm::dot(offset, offset) - behind * behind, 0.0);
+  const double keep = std::sqrt(std::max(s.separation_radius * s.separation_radius - across2, 0.0));
+  f.airspeed = std::clamp(speed + s.speed_gain * (behind - keep) -
+                              s.speed_match * glm::dot(across_air, ahead) - f.fall_back,
+                          s.min_speed, s.max_speed);
   f.phase_rate = shift / s.formation_time;
   return f;
 }

@@ -207,11 +207,23 @@ struct Formation {
 // flock.cpp: formation.
 Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   Formation f = Formation(vec3(0.0), 0.0, 0.0, 0.0);
-  if (s.w_formation <= 0.0 || p.wakes == 0u) return f;
-  GpuWakeSource lead = p.wake[0];
+  if (s.w_formation <= 0.0) return f;
+  int leader = -1;
+  bool abreast = false;
+  for (uint m = 0u; m < p.wakes; ++m) {
+    vec3 air = p.wake[m].air_velocity_frequency.xyz;
+    float speed = length(air);
+    if (!(speed > 0.0)) continue;
+    precise float ahead_by = dot(p.wake[m].position_phase.xyz - b.position, air) / speed;
+    if (ahead_by < kFormationBehind * s.box_c)
+      abreast = true;
+    else if (leader < 0)
+      leader = int(m);
+  }
+  if (leader < 0 && !abreast) return f;
+  GpuWakeSource lead = p.wake[leader >= 0 ? uint(leader) : 0u];
   vec3 lead_air = lead.air_velocity_frequency.xyz;
   float speed = length(lead_air);
-  if (!(speed > 0.0)) return f;
   vec3 ahead = lead_air / speed;
   vec3 side = cross(ahead, vec3(0.0, 1.0, 0.0));
   if (length(side) < 1e-6) return f;
@@ -220,13 +232,12 @@ Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   float here = upwash_met(s, b, p, up, vec3(0.0), 0.0);
   float probe = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
   precise vec3 across_air = (b.velocity - wind) - lead_air;
-  vec3 to_lead = lead.position_phase.xyz - b.position;
-  if (dot(to_lead, ahead) < kFormationBehind * s.box_c) {
+  if (abreast) {
     float back = parabola_peak(upwash_met(s, b, p, up, probe * ahead, 0.0), here,
                                upwash_met(s, b, p, up, -probe * ahead, 0.0), probe, most);
     f.fall_back = max(back, 0.0) / s.formation_time;
-    return f;
   }
+  if (leader < 0) return f;
   float across = parabola_peak(upwash_met(s, b, p, up, -probe * side, 0.0), here,
                                upwash_met(s, b, p, up, probe * side, 0.0), probe, most);
   float above = parabola_peak(upwash_met(s, b, p, up, -probe * up, 0.0), here,
@@ -237,10 +248,13 @@ Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   precise float closing_side = across / s.formation_time - dot(across_air, side);
   precise float closing_up = above / s.formation_time - dot(across_air, up);
   f.heading = normalize(ahead + (side * closing_side + up * closing_up) / speed);
-  float distance = length(to_lead);
-  precise float along = dot(to_lead, ahead) * (1.0 - s.separation_radius / distance);
-  f.airspeed = clamp(speed + s.speed_gain * along - s.speed_match * dot(across_air, ahead),
-                     s.min_speed, s.max_speed);
+  precise vec3 offset = lead.position_phase.xyz - b.position;
+  precise float behind = dot(offset, ahead);
+  precise float across2 = max(dot(offset, offset) - behind * behind, 0.0);
+  precise float keep = sqrt(max(s.separation_radius * s.separation_radius - across2, 0.0));
+  precise float airspeed =
+      speed + s.speed_gain * (behind - keep) - s.speed_match * dot(across_air, ahead) - f.fall_back;
+  f.airspeed = clamp(airspeed, s.min_speed, s.max_speed);
   f.phase_rate = shift / s.formation_time;
   return f;
 }
