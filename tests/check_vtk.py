@@ -34,6 +34,7 @@ FRAME_ARRAYS = {
     "bird_id": 1, "species": 1, "time": 1, "velocity": 3, "speed": 1, "attitude": 4,
     "heading_pitch_bank": 3, "wingbeat_phase": 1, "frequency": 1, "amplitude": 1,
     "tail_bend": 1, "tail_twist": 1, "tail_opening": 1, "aero_force": 3, "tail_force": 3,
+    "wingbeat_power": 1, "wake_air": 3,
     "flight_state": 1, "target": 1, "neighbours": 1, "nearest_neighbour": 1, "social_direction": 3,
 }
 # Arrays that are not Float32 (the reals are, by default).

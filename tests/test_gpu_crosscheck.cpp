@@ -360,7 +360,7 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
 
       World world = scenario.world;
       world.move_targets(0.0);
-      double worst_force = 0, worst_torque = 0;
+      double worst_force = 0, worst_torque = 0, worst_power = 0;
       std::map<std::string, double> worst_state;
       std::map<std::string, bool> changed;  // by the step, for some bird: the test covers the field
       for (size_t i = 0; i < birds.size(); ++i) {
@@ -387,6 +387,9 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
         for (const auto& [gpu, ref] :
              {std::pair{g.torque, f.torque}, {g.tail_torque, f.tail_torque}})
           worst_torque = std::max(worst_torque, max_abs(gpu - ref) / torque_scale);
+        // The wingbeat's power, relative to itself plus the weight carried at 1 m/s.
+        worst_power = std::max(
+            worst_power, std::fabs(g.power - f.power) / (std::fabs(f.power) + weight * 100.0));
         const BirdState& after = gpu_after[i];
 #define AF_BIRD_FIELD(gpu_type, cpp_type, name, initial)                           \
   worst_state[#name] =                                                             \
@@ -419,6 +422,8 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
       // Float rounding: measured 1e-6 (with the shader's precise trigonometry).
       EXPECT_LT(worst_force, 1e-5) << "wing, tail, ground, legs, gravity or total force";
       EXPECT_LT(worst_torque, 1e-5) << "torque or tail torque";
+      RecordProperty(in + "worst_power_relative", figure(worst_power));
+      EXPECT_LT(worst_power, 1e-5) << "the wingbeat's power";
       for (const auto& [name, worst] : worst_state) {
         RecordProperty(in + "worst_" + name, figure(worst));
         const auto tolerance = kStateTolerance.find(name);

@@ -177,8 +177,9 @@ struct GpuForces {
   AF_V16 vec4 legs;
   AF_V16 vec4 gravity;
   AF_V16 vec4 total;
-  AF_V16 vec4 tail_torque;  // body frame
-  AF_V16 vec4 torque;       // body frame
+  AF_V16 vec4 tail_torque;     // body frame
+  AF_V16 vec4 torque;          // body frame
+  AF_V16 vec4 wake_air_power;  // xyz the wakes' air at the wing points, mean, world; w the power
 };
 
 // A bird's wake as a neighbour sees it (engine/model/wake.h: WakeSource).

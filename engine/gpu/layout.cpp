@@ -15,7 +15,7 @@ namespace {
 static_assert(sizeof(GpuBird) % 16 == 0);
 static_assert(sizeof(GpuSpecies) % 4 == 0);
 static_assert(sizeof(GpuTarget) == 48 && sizeof(GpuRoute) == 16 && sizeof(GpuBranch) == 48);
-static_assert(sizeof(GpuForces) == 11 * 16);
+static_assert(sizeof(GpuForces) == 12 * 16);
 static_assert(sizeof(StepConstants) == 112 && sizeof(PoseConstants) == 48);
 static_assert(sizeof(GpuWakeSource) == 64);
 static_assert(sizeof(GpuPerception) == 48 + 64 * kGpuWakeSources &&
@@ -115,6 +115,8 @@ StepForces unpack(const GpuForces& g) {
   f.total = v(g.total);
   f.tail_torque = v(g.tail_torque);
   f.torque = v(g.torque);
+  f.wake_air = v(g.wake_air_power);
+  f.power = g.wake_air_power.w;
   return f;
 }
 

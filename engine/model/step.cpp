@@ -197,6 +197,10 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, double 
       wing_forces_at(sp, right, body_wind - body_velocity, c.omega, wakes ? wake.wing : nullptr);
   for (int i = 0; i < 4; ++i) f.wing[i] = to_world * wings.force[i];
   f.torque = wings.torque;
+  const WingPoint at[4] = {right[0], right[1], mirror_to_left(right[0]), mirror_to_left(right[1])};
+  for (int i = 0; i < 4; ++i) f.power -= glm::dot(wings.force[i], at[i].velocity);
+  if (wakes)
+    f.wake_air = to_world * ((wake.wing[0] + wake.wing[1] + wake.wing[2] + wake.wing[3]) / 4.0);
   const dvec3 tail_air = body_wind - body_velocity - glm::cross(c.omega, tg.position) + wake.tail;
   const dvec3 tail = aerodynamic_force(sp, tail_air, tg.chord, tg.normal, tail_area(sp, c.opening));
   f.tail = to_world * tail;

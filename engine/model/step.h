@@ -20,6 +20,9 @@ struct StepForces {
   glm::dvec3 total{0.0};
   glm::dvec3 tail_torque{0.0};  // the tail's r x F_t, body frame, eq. 11
   glm::dvec3 torque{0.0};       // all five points' r x F, body frame: what turns the body
+  glm::dvec3 wake_air{0.0};  // the air the wakes it meets move at its four wing points, mean, world
+  double power = 0.0;        // erg/s: the wings' forces against their own motion (the wingbeat's
+                             // aerodynamic power: what flapping costs the bird)
 };
 
 // Advances `bird` by dt: the run's step number `step` (its start is step x dt). `seen`: the

@@ -167,6 +167,13 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c, GpuPerception seen, bool s
   vec3 tail = aerodynamic_force(s, tail_air, tg.chord, tg.normal, tail_area(s, c.opening));
   vec3 tail_torque = cross(tg.position, tail);  // eq. 11
   f.tail = vec4(rotate(b.attitude, tail), 0.0);
+  // The wingbeat's aerodynamic power and the wakes' air at the wing points (step.cpp).
+  WingPoint at[4] =
+      WingPoint[4](right[0], right[1], mirror_to_left(right[0]), mirror_to_left(right[1]));
+  precise float power = 0.0;
+  for (int i = 0; i < 4; ++i) power -= dot(wings.force[i], at[i].velocity);
+  precise vec3 wake_mean = (wake_wing[0] + wake_wing[1] + wake_wing[2] + wake_wing[3]) / 4.0;
+  f.wake_air_power = vec4(rotate(b.attitude, wake_mean), power);
   f.tail_torque = vec4(tail_torque, 0.0);
   f.torque = vec4(wings.torque + tail_torque, 0.0);
   f.gravity = vec4(0.0, -s.mass * kGravity, 0.0, 0.0);
@@ -211,6 +218,7 @@ GpuForces no_forces() {
   GpuForces f;
   f.wing[0] = f.wing[1] = f.wing[2] = f.wing[3] = vec4(0.0);
   f.tail = f.ground = f.legs = f.gravity = f.total = f.tail_torque = f.torque = vec4(0.0);
+  f.wake_air_power = vec4(0.0);
   return f;
 }
 
