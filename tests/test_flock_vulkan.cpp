@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -84,6 +85,24 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
+// The scenario's birds flown `seconds` on the CPU reference, then on each backend from that state,
+// each having perceived and recorded the forces of its next step (a frame of no steps).
+struct BothBackends {
+  std::vector<BirdState> birds;
+  std::unique_ptr<CpuSimulation> cpu;
+  std::unique_ptr<gpu::GpuSimulation> gpu;
+};
+BothBackends from_one_state(gpu::Device& device, const Scenario& scenario, double seconds) {
+  CpuSimulation flown(scenario);
+  while (flown.time() < seconds) flown.step_frame();
+  BothBackends both{flown.birds(), nullptr, nullptr};
+  both.cpu = std::make_unique<CpuSimulation>(scenario, both.birds);
+  both.gpu = std::make_unique<gpu::GpuSimulation>(device, scenario, both.birds);
+  both.cpu->step(0, true);
+  both.gpu->step(0, true);
+  return both;
+}
+
 // Issue 43: with the wakes on, each bird meets the same wakes on both backends (the same birds
 // ahead, their lift, wingbeat and air velocity), the forces of its next step agree within float
 // rounding, and a frame later so do the flock's states (the wakes moved on within the frame).
@@ -91,13 +110,10 @@ TEST(GpuFlock, TheWakesMetAreTheReferences) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   Scenario scenario = flocking_scenario();
   for (Flock& f : scenario.flocks) f.wake = true;
-  CpuSimulation flown(scenario);
-  while (flown.time() < 5.0) flown.step_frame();
-  const std::vector<BirdState> birds = flown.birds();
-  CpuSimulation cpu(scenario, birds);
-  gpu::GpuSimulation gpu(device, scenario, birds);
-  cpu.step(0, true);
-  gpu.step(0, true);
+  BothBackends both = from_one_state(device, scenario, 5.0);
+  const std::vector<BirdState>& birds = both.birds;
+  CpuSimulation& cpu = *both.cpu;
+  gpu::GpuSimulation& gpu = *both.gpu;
   const std::vector<Perception>& a = *cpu.snapshot().perception;
   const std::vector<Perception>& b = *gpu.snapshot().perception;
   const std::vector<StepForces>& fa = *cpu.snapshot().forces;
@@ -146,13 +162,10 @@ TEST(GpuFlock, TheWakesMetAreTheReferences) {
 TEST(GpuFlock, FormationFlyingIsTheReferences) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   const Scenario scenario = testing::formation_scenario(7, true);
-  CpuSimulation flown(scenario);
-  while (flown.time() < 40.0) flown.step_frame();
-  const std::vector<BirdState> birds = flown.birds();
-  CpuSimulation cpu(scenario, birds);
-  gpu::GpuSimulation gpu(device, scenario, birds);
-  cpu.step(0, true);
-  gpu.step(0, true);
+  BothBackends both = from_one_state(device, scenario, 40.0);
+  const std::vector<BirdState>& birds = both.birds;
+  CpuSimulation& cpu = *both.cpu;
+  gpu::GpuSimulation& gpu = *both.gpu;
   const std::vector<Perception>& a = *cpu.snapshot().perception;
   const std::vector<Perception>& b = *gpu.snapshot().perception;
   size_t in_formation = 0;
