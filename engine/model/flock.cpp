@@ -206,20 +206,20 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   // upwash grows behind the bird that sheds it): two birds abreast, each a little ahead of the
   // other by turns, would otherwise follow each other and neither fly the route, and birds abreast
   // behind one leader would crowd the same place.
-  const WakeSource* leader = nullptr;
-  bool abreast = false;
+  const WakeSource *leader = nullptr, *abreast = nullptr;
   for (uint32_t m = 0; m < p.wakes; ++m) {
     const double speed = glm::length(p.wake[m].air_velocity);
     if (!(speed > 0.0)) continue;
     const double ahead_by =
         glm::dot(p.wake[m].position - b.position, p.wake[m].air_velocity) / speed;
-    if (ahead_by < kFormationBehind * s.box_c)
-      abreast = true;
-    else if (!leader)
+    if (ahead_by < kFormationBehind * s.box_c) {
+      if (!abreast) abreast = &p.wake[m];
+    } else if (!leader) {
       leader = &p.wake[m];
+    }
   }
   if (!leader && !abreast) return f;
-  const WakeSource& lead = leader ? *leader : p.wake[0];
+  const WakeSource& lead = leader ? *leader : *abreast;
   const double speed = glm::length(lead.air_velocity);
   const dvec3 ahead = lead.air_velocity / speed;
   // Across the flight: `side` level, `up` the vertical's part square to the flight.

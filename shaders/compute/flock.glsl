@@ -208,20 +208,20 @@ struct Formation {
 Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   Formation f = Formation(vec3(0.0), 0.0, 0.0, 0.0);
   if (s.w_formation <= 0.0) return f;
-  int leader = -1;
-  bool abreast = false;
+  int leader = -1, abreast = -1;
   for (uint m = 0u; m < p.wakes; ++m) {
     vec3 air = p.wake[m].air_velocity_frequency.xyz;
     float speed = length(air);
     if (!(speed > 0.0)) continue;
     precise float ahead_by = dot(p.wake[m].position_phase.xyz - b.position, air) / speed;
-    if (ahead_by < kFormationBehind * s.box_c)
-      abreast = true;
-    else if (leader < 0)
+    if (ahead_by < kFormationBehind * s.box_c) {
+      if (abreast < 0) abreast = int(m);
+    } else if (leader < 0) {
       leader = int(m);
+    }
   }
-  if (leader < 0 && !abreast) return f;
-  GpuWakeSource lead = p.wake[leader >= 0 ? uint(leader) : 0u];
+  if (leader < 0 && abreast < 0) return f;
+  GpuWakeSource lead = p.wake[uint(leader >= 0 ? leader : abreast)];
   vec3 lead_air = lead.air_velocity_frequency.xyz;
   float speed = length(lead_air);
   vec3 ahead = lead_air / speed;
@@ -232,7 +232,7 @@ Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   float here = upwash_met(s, b, p, up, vec3(0.0), 0.0);
   float probe = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
   precise vec3 across_air = (b.velocity - wind) - lead_air;
-  if (abreast) {
+  if (abreast >= 0) {
     float back = parabola_peak(upwash_met(s, b, p, up, probe * ahead, 0.0), here,
                                upwash_met(s, b, p, up, -probe * ahead, 0.0), probe, most);
     f.fall_back = max(back, 0.0) / s.formation_time;
