@@ -58,9 +58,12 @@ bool finite(const BirdState& b) {
          std::isfinite(b.attitude.x) && std::isfinite(b.attitude.y) && std::isfinite(b.attitude.z);
 }
 
-// One bird of `species` at (0, 30 m, 0) flying along +x at 10 m/s towards a target `ahead` cm
-// ahead and `above` cm higher.
+// One bird of the preset `species` at (0, 30 m, 0) flying along +x at its cruise_speed (10 m/s
+// for the paper's) towards a target `ahead` cm ahead and `above` cm higher.
 Scenario straight_flight(const std::string& species, double ahead, double above) {
+  double cruise = 0.0;
+  for (const Species& s : species_presets())
+    if (s.name == species) cruise = s.cruise_speed;
   const std::string toml = R"(
 [simulation]
 duration = 30.0
@@ -77,7 +80,8 @@ name = "f"
 species = ")" + species + R"("
 route = "r"
 centre = [0.0, 3000.0, 0.0]
-speed = 1000.0
+speed = )" + std::to_string(cruise) +
+                           R"(
 random_phase = false
 )";
   return parse_scenario(toml, "straight.toml");
@@ -1169,7 +1173,7 @@ std::string name_of(const ::testing::TestParamInfo<std::string>& info) {
   return n;
 }
 
-INSTANTIATE_TEST_SUITE_P(Species, Cruise, ::testing::Values("starling", "eagle"), name_of);
+INSTANTIATE_TEST_SUITE_P(Species, Cruise, ::testing::Values("starling", "eagle", "ibis"), name_of);
 INSTANTIATE_TEST_SUITE_P(
     Species, ClimbDescent,
     ::testing::Values(VerticalCase{"starling", 1000}, VerticalCase{"starling", -1000},

@@ -231,6 +231,9 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
       {"separation zone shorter ahead", kValid + species + "separation_front = 0.5\n",
        "bad.toml:21:20: error: species[0].separation_front: species 'x': separation_front must be "
        ">= 1, got 0.5"},
+      {"perches neither 0 nor 1", kValid + species + "perches = 0.5\n",
+       "bad.toml:21:11: error: species[0].perches: species 'x': perches must be 0 (ground) or 1 "
+       "(branches), got 0.5"},
       {"negative mass", kValid + species + "mass = -5.0\n",
        "bad.toml:21:8: error: species[0].mass: species 'x': mass must be > 0, got -5"},
       {"unknown route", replace(kValid, "route = \"r\"", "route = \"q\""),
@@ -542,8 +545,9 @@ TEST(ScenarioLimits, NothingStartsUnderTheGround) {
        "the ground at 0 cm"},
       {"branch under the ground",
        kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, -500.0, 0.0]\n",
-       "bad.toml:19:9: error: branches[0].point: a branch's point, y = -500 cm, must be above the "
-       "ground at 0 cm"},
+       "bad.toml:19:9: error: branches[0].point: a branch's point, y = -500 cm, must be on or "
+       "above "
+       "the ground at 0 cm"},
       {"standing at stand_height 0",
        kValid + "[[species]]\nname = \"legless\"\nbase = \"starling\"\nstand_height = 0.0\n" +
            "[[flocks]]\nspecies = \"legless\"\nroute = \"r\"\nstanding = true\n",
@@ -555,8 +559,10 @@ TEST(ScenarioLimits, NothingStartsUnderTheGround) {
     const std::string message = error_of(c.text);
     EXPECT_EQ(message.substr(0, c.message.size()), c.message) << message;
   }
-  // A target on the ground (Fig. 17), a standing flock whose centre is on it (its birds stand at
-  // stand_height), a box just clear of it.
+  // A target on the ground (Fig. 17), a branch on it (a landing site on the ground), a standing
+  // flock whose centre is on it (its birds stand at stand_height), a box just clear of it.
+  EXPECT_NO_THROW(
+      parse_scenario(kValid + "[[branches]]\nname = \"b\"\npoint = [0.0, 0.0, 0.0]\n", "ok.toml"));
   EXPECT_NO_THROW(parse_scenario(
       replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = [0.0, 0.0, 10000.0]"),
       "ok.toml"));

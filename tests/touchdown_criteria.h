@@ -11,6 +11,13 @@
 
 namespace aeroflock {
 
+// A species that lands on the ground (perches = 0, the ibis) is held to it in its flights and
+// take-offs; its landings' touch-downs short of the site are hard (issue 43's closing note) and
+// only measured.
+inline bool ground_landing(const EnvelopeResult& r, const Species& species) {
+  return r.c.kind == EnvelopeCase::Kind::landing && species.perches == 0.0;
+}
+
 inline void expect_smooth_touchdown(const EnvelopeResult& r) {
   if (!r.touchdown) return;
   const Touchdown& d = *r.touchdown;

@@ -27,7 +27,7 @@ Species species_named(const std::string& name) {
   for (const Species& s : species_presets())
     if (s.name == name) return s;
   throw std::runtime_error("--species: no preset named \"" + name +
-                           "\" (eagle, starling, or a FILE.toml)");
+                           "\" (eagle, starling, ibis, or a FILE.toml)");
 }
 
 // One row of a table: how many of the cases with this value of a dimension succeed.
@@ -51,10 +51,10 @@ std::string kind_name(EnvelopeCase::Kind k) {
                                             : "landing";
 }
 
-// The touch-downs of the cases (issue 40's measures, model/touchdown.h), on the branch or on the
-// ground: how many, the largest jump into the grip, mean speed before it, speed fall and body turn
-// after it, and the go-rounds of the landings.
-void print_touchdowns(const std::vector<EnvelopeResult>& results) {
+// The touch-downs of the cases (issue 40's measures, model/touchdown.h), on the branch (a ground
+// lander's site) or on the ground: how many, the largest jump into the grip, mean speed before it,
+// speed fall and body turn after it, and the go-rounds of the landings.
+void print_touchdowns(const std::vector<EnvelopeResult>& results, const Species& species) {
   for (const bool branch : {true, false}) {
     int n = 0;
     Touchdown worst;
@@ -74,8 +74,9 @@ void print_touchdowns(const std::vector<EnvelopeResult>& results) {
     std::printf(
         "  %-22s %5d  jump <= %.1f cm (body %.1f deg), mean speed before <= %.2f m/s, "
         "speed falls <= %.0f m/s2, body turns <= %.0f deg/s",
-        branch ? "on the branch" : "on the ground", n, worst.jump, degrees(worst.turn_jump),
-        worst.mean_speed / 100, worst.speed_fall / 100, degrees(worst.turn_rate));
+        branch ? (species.perches != 0.0 ? "on the branch" : "at the site") : "on the ground", n,
+        worst.jump, degrees(worst.turn_jump), worst.mean_speed / 100, worst.speed_fall / 100,
+        degrees(worst.turn_rate));
     if (branch) std::printf(", feet <= %.1f cm from the branch point", worst.reach);
     if (branch) std::printf(", %zu go-rounds", go_rounds);
     std::printf("\n");
@@ -157,7 +158,7 @@ int run_envelope(const EnvelopeOptions& options) {
   print_table("target bearing (flights)", by_bearing);
   print_table("target distance (flights)", by_distance);
   std::printf("\ntouch-downs (30 ms frames):\n");
-  print_touchdowns(results);
+  print_touchdowns(results, species);
   int shown = 0;
   for (const EnvelopeResult& r : results)
     if (r.outcome != Outcome::reached && shown++ < 10)
@@ -198,7 +199,7 @@ Command add_envelope_command(CLI::App& app, EnvelopeOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "envelope", "Fly a species through a grid of starts, targets, winds, take-offs and landings");
   cmd->add_option("--species", o.species,
-                  "A preset (eagle, starling) or FILE.toml (its last [[species]])")
+                  "A preset (eagle, starling, ibis) or FILE.toml (its last [[species]])")
       ->capture_default_str();
   add_backend_option(cmd, o.backend);
   add_device_option(cmd, o.device);

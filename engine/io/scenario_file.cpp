@@ -282,7 +282,8 @@ Branch read_branch(const TableReader& r, const Lengths& L, const World& world, i
   b.name = unique_name(r, names);
   r.require("point");
   b.point = L.vec3(r, "point", b.point, kPosition);
-  check_above_ground(r, "point", "a branch's point", b.point.y, world, L);
+  // One on the ground is a landing site there (the feet meet the ground at the point).
+  check_above_ground(r, "point", "a branch's point", b.point.y, world, L, true);
   const glm::dvec3 d = r.vec3("direction", b.direction, kAnyFinite);
   const double horizontal = std::hypot(d.x, d.z);
   // Horizontal-ish: at most about 6 degrees out of the horizontal plane.
@@ -336,7 +337,9 @@ Flock read_flock(const TableReader& r, size_t index, const Scenario& s, const Le
       r.number("takeoff_time", f.takeoff_time, io::non_negative(kMaxDuration, "11.6 days"));
   f.random_phase = r.boolean("random_phase", f.random_phase);
   f.flocking = r.boolean("flocking", f.flocking);
-  f.wake = r.boolean("wake", f.wake);
+  // A flock of a species that flies in formation (w_formation > 0, the migrants) meets the wakes
+  // unless told not to; the others only when told (docs/MODEL.md "The wake").
+  f.wake = r.boolean("wake", f.flocking && s.species[f.species].w_formation > 0.0);
   if (f.wake && !f.flocking)
     r.fail("wake",
            "a bird meets the wakes of the birds it sees: wake = true needs flocking = true");

@@ -17,8 +17,9 @@ namespace {
 using glm::dvec3;
 
 constexpr double kStartHeight =
-    20000.0;                             // cm: flights start 200 m up, 50 m above the lowest target
-constexpr double kBranchHeight = 500.0;  // cm
+    20000.0;  // cm: flights start 200 m up, 50 m above the lowest target
+constexpr double kBranchHeight =
+    500.0;  // cm; a species that does not perch lands on the ground under it
 constexpr double kTargetRadius = 300.0;  // cm
 constexpr double kCruise = 1000.0;       // cm/s: the time limits allow 1.5 times the path at it
 constexpr double kJudgeEvery = 0.006;    // s: the flights are judged every 6 ms (or every step)
@@ -167,10 +168,15 @@ EnvelopeFlight envelope_flight(const Species& species, const std::vector<Envelop
     r.name = "case" + std::to_string(i);
     if (c.kind == EnvelopeCase::Kind::landing) {
       const double start = kBranchHeight - c.rise;
+      const double site = species.perches != 0.0 ? kBranchHeight : s.world.ground_height;
       Branch br;
       br.name = r.name;
       br.point = goal(c, start);
-      br.point.y = kBranchHeight;
+      br.point.y = site;
+      // A site on the ground has no branch to come in across: it lies across the line from the
+      // start, so that the bird comes straight in.
+      if (species.perches == 0.0)
+        br.direction = dvec3{-std::sin(c.bearing), 0.0, std::cos(c.bearing)};
       r.branch = static_cast<int32_t>(s.world.branches.size());
       s.world.branches.push_back(br);
       b.position = dvec3{0.0, start, 0.0};

@@ -69,7 +69,8 @@ struct EnvelopeResult {
 
 // The grid: every combination of start speed 5-20 m/s, pitch -30..30 and bank -60..60 degrees,
 // target 50 m above to 150 m below, 0 to 180 degrees off the heading, 50 m to 2 km away (crosswind
-// 0, 5, 8 m/s in turn), then take-offs and branch landings from several directions and winds.
+// 0, 5, 8 m/s in turn), then take-offs and branch landings from several directions and winds (a
+// species that does not perch lands on the ground under the branch, from the same start).
 // `quick`: a subset of short flights (tests).
 std::vector<EnvelopeCase> envelope_cases(bool quick = false);
 

@@ -108,7 +108,8 @@ void validate(const Scenario& s) {
   }
   for (const Branch& b : w.branches) {
     within_world(b.point, "branch '" + b.name + "'");
-    require_above_ground(b.point, "branch '" + b.name + "'");
+    require_above_ground(b.point, "branch '" + b.name + "'",
+                         true);  // one on the ground is a landing site there
   }
   for (const Flock& f : s.flocks) {
     within_world(f.spawn_centre, "flock '" + f.name + "'");
