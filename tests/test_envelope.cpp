@@ -203,15 +203,16 @@ INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid,
                                            GridPart{eagle, 500.0}, GridPart{eagle, 800.0}),
                          grid_part_name);
 // Issue 13: the whole grid at the fast fidelity's step too (docs/convergence.md). Issue 43: the
-// ibis's at the fast step (its landings on the ground, ground_landing); at the paper's it succeeds
-// in the same cases (`aeroflock envelope --species ibis`, docs/VALIDATION.md).
+// migrants' at the fast step, at which their flocks fly (their landings on the ground,
+// ground_landing); at the paper's, docs/VALIDATION.md.
 INSTANTIATE_TEST_SUITE_P(
     FastEnvelope, WholeGrid,
     ::testing::Values(GridPart{starling, 0.0, kFastDt}, GridPart{starling, 500.0, kFastDt},
                       GridPart{starling, 800.0, kFastDt}, GridPart{eagle, 0.0, kFastDt},
                       GridPart{eagle, 500.0, kFastDt}, GridPart{eagle, 800.0, kFastDt},
                       GridPart{ibis, 0.0, kFastDt}, GridPart{ibis, 500.0, kFastDt},
-                      GridPart{ibis, 800.0, kFastDt}),
+                      GridPart{ibis, 800.0, kFastDt}, GridPart{goose, 0.0, kFastDt},
+                      GridPart{goose, 500.0, kFastDt}, GridPart{goose, 800.0, kFastDt}),
     grid_part_name);
 
 // Issue 10: the envelope does not rest on single calibrated values. Every fifth flight of the

@@ -20,8 +20,6 @@ namespace aeroflock {
 namespace {
 
 using glm::dvec3;
-using testing::best_lateral_offset;
-using testing::formation_sample;
 using testing::formation_scenario;
 
 // Outboard of the leader's wake (at the best lateral offset), at 0.5 to 3 spans behind: of 72
@@ -96,7 +94,7 @@ PairFlight fly_pair(bool wake, double phase) {
       f.upright = f.upright && (b.attitude * dvec3{0.0, 1.0, 0.0}).y > 0.0;
     }
     if (sim.time() < 30.0) continue;
-    const testing::FormationSample x = formation_sample(sim.birds(), s, optimum);
+    const FormationFigures x = formation_figures(sim.birds(), s, optimum);
     ++f.samples;
     in_v += x.in_v;
     in_phase += x.in_phase;

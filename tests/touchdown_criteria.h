@@ -11,7 +11,7 @@
 
 namespace aeroflock {
 
-// A species that lands on the ground (perches = 0, the ibis) is held to it in its flights and
+// A species that lands on the ground (perches = 0, the migrants) is held to it in its flights and
 // take-offs; its landings' touch-downs short of the site are hard (issue 43's closing note) and
 // only measured.
 inline bool ground_landing(const EnvelopeResult& r, const Species& species) {

@@ -95,6 +95,13 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
   nlohmann::ordered_json structure = nlohmann::ordered_json::array();
   for (const FlockStructureSummary& f : r.structure) {
     const StructureFigures& m = f.structure.mean;
+    nlohmann::ordered_json formation;  // null: a flock without wakes
+    if (f.formation)
+      formation = {{"optimum_lateral", f.formation->optimum},
+                   {"samples", f.formation->samples},
+                   {"followers", f.formation->followers()},
+                   {"in_v", f.formation->in_v()},
+                   {"in_phase", f.formation->in_phase()}};
     structure.push_back(
         nlohmann::ordered_json{{"flock", f.flock},
                                {"species", f.species},
@@ -121,7 +128,8 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                                {"border_fraction", m.border_fraction},
                                {"border_over_interior_nearest", m.border_over_interior},
                                {"anisotropy", m.anisotropy},
-                               {"nearest_along_motion", m.nearest_along_motion}});
+                               {"nearest_along_motion", m.nearest_along_motion},
+                               {"formation", formation}});
   }
   nlohmann::ordered_json quarantined = nlohmann::ordered_json::array();
   for (const QuarantinedBird& q : r.quarantined) {
@@ -173,6 +181,15 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"structure.anisotropy", "gamma(n) for n = 1.., 1/3 isotropic"},
       {"structure.nearest_along_motion",
        "mean squared cosine of the nearest neighbour's direction with the motion, 1/3 isotropic"},
+      {"structure.formation.optimum_lateral",
+       "cm: the lateral offset of centres where a follower one span behind meets the most upwash"},
+      {"structure.formation.followers",
+       "mean birds a snapshot with another ahead within 10 spans (the nearest: the one followed)"},
+      {"structure.formation.in_v",
+       "fraction of the followers 30-60 degrees behind its wing, lateral within 10 % of the "
+       "optimum"},
+      {"structure.formation.in_phase",
+       "fraction of those in V whose phase lag is within pi/4 of 2 pi f dx / U"},
       {"quarantined.time", "s"},
       {"quarantined.position", "cm"},
       {"quarantined.velocity", "cm/s"},

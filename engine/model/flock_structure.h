@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include "model/bird.h"
+#include "model/formation_figures.h"
 #include "model/scenario.h"
 
 namespace aeroflock {
@@ -135,6 +136,8 @@ struct FlockStructureSummary {
   // s: the window asked for, a snapshot at the first frame at or after each from + k every
   double from = 0.0, to = 0.0, every = 0.0;
   StructureMean structure;
+  // A flock that meets the wakes: its formation at the same snapshots (formation_figures.h).
+  std::optional<FormationMean> formation;
 };
 
 }  // namespace aeroflock

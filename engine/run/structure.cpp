@@ -13,7 +13,10 @@ void StructureObserver::start(Simulation& sim) {
       flocking_.push_back(f);
       const Species& s = sc.species[sc.flocks[f].species];
       flocks_.push_back(
-          {sc.flocks[f].name, s.name, s.box_c, window_.from, window_.to, window_.every, {}});
+          {sc.flocks[f].name, s.name, s.box_c, window_.from, window_.to, window_.every, {}, {}});
+      // The optimum a follower one span behind its leader flies at (formation_figures.h).
+      if (sc.flocks[f].wake)
+        flocks_.back().formation = FormationMean{best_lateral_offset(s, s.box_c)};
     }
 }
 
@@ -27,9 +30,12 @@ void StructureObserver::frame(Simulation& sim, uint64_t) {
   const double t = sim.time();
   if (!due(t)) return;
   const std::vector<BirdState>& birds = sim.birds();
-  for (size_t k = 0; k < flocking_.size(); ++k)
+  for (size_t k = 0; k < flocking_.size(); ++k) {
     if (const auto figures = measure_structure(sim.scenario(), birds, flocking_[k]))
       flocks_[k].structure.add(*figures, t);
+    if (auto& formation = flocks_[k].formation)
+      formation->add(measure_formation(sim.scenario(), birds, flocking_[k], formation->optimum));
+  }
   // The next sampling time after t, counted from the window's start (no drift, no loop).
   next_ =
       window_.from + (std::floor((t - window_.from) / window_.every + 1e-9) + 1.0) * window_.every;
