@@ -15,36 +15,16 @@ otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
 """
 import json
 import math
-import os
 import sys
-import xml.etree.ElementTree as ET
 
-try:
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-except ImportError as e:
-    print(f"SKIPPED: cannot import VTK's Python modules (vtkmodules): {e}")
-    sys.exit(77)
+from vtk_snapshots import dot, read, snapshots, sub
 
 
 def frame(path):
-    reader = vtkXMLPolyDataReader()
-    reader.SetFileName(path)
-    reader.Update()
-    data = reader.GetOutput()
-    arrays = data.GetPointData()
-    n = data.GetNumberOfPoints()
-    return [{"p": data.GetPoints().GetPoint(i),
-             "v": arrays.GetArray("velocity").GetTuple3(i),
-             "phase": arrays.GetArray("wingbeat_phase").GetTuple1(i),
-             "f": arrays.GetArray("frequency").GetTuple1(i)} for i in range(n)]
-
-
-def dot(a, b):
-    return sum(a[k] * b[k] for k in range(3))
-
-
-def sub(a, b):
-    return [a[k] - b[k] for k in range(3)]
+    points, arrays = read(path, ["velocity", "wingbeat_phase", "frequency"])
+    return [{"p": p, "v": v, "phase": phase[0], "f": f[0]}
+            for p, v, phase, f in zip(points, arrays["velocity"], arrays["wingbeat_phase"],
+                                      arrays["frequency"])]
 
 
 def norm(a):
@@ -91,16 +71,13 @@ def main():
         print("FAILED: expected one flocking flock with formation figures in the summary")
         return 1
     s, v = flocks[0], flocks[0]["formation"]
-    collection = ET.parse(os.path.join(vtk_dir, "flock.pvd")).getroot().find("Collection")
-    frames = sorted((float(d.get("timestep")), os.path.join(vtk_dir, d.get("file")))
-                    for d in collection.findall("DataSet"))
+    try:
+        paths = snapshots(vtk_dir, s)
+    except LookupError as e:
+        print(f"FAILED: {e}")
+        return 1
     total = [0, 0, 0]
-    for k in range(v["samples"]):
-        t = s["from"] + k * s["every"]
-        path = next((f for time, f in frames if time >= t - 1e-9), None)
-        if path is None:
-            print(f"FAILED: no exported frame at or after {t} s, the summary's snapshot {k}")
-            return 1
+    for path in paths:
         total = [a + b for a, b in zip(total, figures(frame(path), s["wingspan"],
                                                       v["optimum_lateral"]))]
     mine = {"followers": total[0] / v["samples"],

@@ -14,34 +14,14 @@ and gamma(n) are left to tests/test_flock_structure.cpp's brute force.
 """
 import json
 import math
-import os
 import sys
-import xml.etree.ElementTree as ET
 
-try:
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
-except ImportError as e:
-    print(f"SKIPPED: cannot import VTK's Python modules (vtkmodules): {e}")
-    sys.exit(77)
+from vtk_snapshots import dot, read, snapshots, sub
 
 
 def frame(path):
-    reader = vtkXMLPolyDataReader()
-    reader.SetFileName(path)
-    reader.Update()
-    data = reader.GetOutput()
-    points = data.GetPoints()
-    velocity = data.GetPointData().GetArray("velocity")
-    n = data.GetNumberOfPoints()
-    return ([points.GetPoint(i) for i in range(n)], [velocity.GetTuple3(i) for i in range(n)])
-
-
-def sub(a, b):
-    return [a[k] - b[k] for k in range(3)]
-
-
-def dot(a, b):
-    return sum(a[k] * b[k] for k in range(3))
+    points, arrays = read(path, ["velocity"])
+    return points, arrays["velocity"]
 
 
 def cross(a, b):
@@ -115,16 +95,13 @@ def main():
         print(f"FAILED: expected one flocking flock in the summary, found {len(flocks)}")
         return 1
     s = flocks[0]
-    collection = ET.parse(os.path.join(vtk_dir, "flock.pvd")).getroot().find("Collection")
-    frames = sorted((float(d.get("timestep")), os.path.join(vtk_dir, d.get("file")))
-                    for d in collection.findall("DataSet"))
+    try:
+        paths = snapshots(vtk_dir, s)
+    except LookupError as e:
+        print(f"FAILED: {e}")
+        return 1
     sums, count = {}, 0
-    for k in range(s["samples"]):
-        t = s["from"] + k * s["every"]
-        path = next((f for time, f in frames if time >= t - 1e-9), None)
-        if path is None:
-            print(f"FAILED: no exported frame at or after {t} s, the summary's snapshot {k}")
-            return 1
+    for path in paths:
         for key, value in figures(*frame(path)).items():
             if isinstance(value, list):
                 sums[key] = [a + b for a, b in zip(sums.get(key, [0.0] * 3), value)]
