@@ -16,10 +16,10 @@ namespace {
 
 using glm::dvec3;
 
-constexpr double kStartHeight =
-    20000.0;  // cm: flights start 200 m up, 50 m above the lowest target
-constexpr double kBranchHeight =
-    500.0;  // cm; a species that does not perch lands on the ground under it
+// cm: flights start 200 m up, 50 m above the lowest target; landings 2 m above a branch 5 m up
+// (a species that does not perch lands on the ground under it).
+constexpr double kStartHeight = 20000.0;
+constexpr double kBranchHeight = 500.0;
 constexpr double kTargetRadius = 300.0;  // cm
 constexpr double kCruise = 1000.0;       // cm/s: the time limits allow 1.5 times the path at it
 constexpr double kJudgeEvery = 0.006;    // s: the flights are judged every 6 ms (or every step)

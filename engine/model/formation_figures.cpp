@@ -32,8 +32,8 @@ double best_lateral_offset(const Species& s, double behind) {
     b.position = dvec3{-behind, 0.0, lateral};
     double most = -std::numeric_limits<double>::infinity();  // over its phase
     for (int m = 0; m < 24; ++m)
-      most = std::max(most, upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0},
-                                       2.0 * kPi * m / 24.0));
+      most = std::max(most,
+                      upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0}, 2.0 * kPi * m / 24.0));
     if (most > best) best = most, at = lateral;
   }
   return at;

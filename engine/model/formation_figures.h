@@ -1,6 +1,7 @@
-// The figures of a formation as Portugal et al. 2014 measured the ibises' V (issue 43; docs/MODEL.md
-// "Formation flying"): where each follower flies behind the bird it follows, and whether it flaps
-// in that bird's wingtip path. The tests and `aeroflock run --structure-from` measure them so.
+// The figures of a formation as Portugal et al. 2014 measured the ibises' V (issue 43;
+// docs/MODEL.md "Formation flying"): where each follower flies behind the bird it follows, and
+// whether it flaps in that bird's wingtip path. The tests and `aeroflock run --structure-from`
+// measure them so.
 #pragma once
 
 #include <cstddef>
@@ -24,8 +25,10 @@ double best_lateral_offset(const Species& s, double behind);
 // frame (its flight, level across) it is measured.
 struct FormationFigures {
   size_t followers = 0;
-  size_t in_v = 0;      // at a bearing of 30-60 degrees behind the wing, lateral within 10 % of `optimum`
-  size_t in_phase = 0;  // of those in V: phase lag within pi / 4 of 2 pi f dx / U (the wingtip path)
+  size_t in_v =
+      0;  // at a bearing of 30-60 degrees behind the wing, lateral within 10 % of `optimum`
+  size_t in_phase =
+      0;  // of those in V: phase lag within pi / 4 of 2 pi f dx / U (the wingtip path)
 };
 FormationFigures formation_figures(std::span<const BirdState> birds, const Species& s,
                                    double optimum);
