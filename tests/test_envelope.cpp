@@ -7,7 +7,11 @@
 #include <ostream>
 #include <string>
 
+#include <glm/geometric.hpp>
+
+#include "model/body.h"
 #include "model/constants.h"
+#include "model/flock_geometry.h"
 #include "run/fly_envelope.h"
 #include "touchdown_criteria.h"
 
@@ -44,6 +48,38 @@ TEST(Envelope, GridCoversTheIssuesRanges) {
   EXPECT_EQ(max_distance, 200000.0);
   EXPECT_GT(takeoffs, 0);
   EXPECT_GT(landings, 0);
+}
+
+// Issue 43: a species that does not perch lands on a site on the ground (a branch at the ground's
+// height): the ibis, straight in across an 8 m/s wind, perches at the site in its first pass and
+// then stands there, its feet on the ground (its centre stand_height up), never under it.
+TEST(Envelope, AGroundLanderStandsOnTheSite) {
+  EnvelopeCase c;
+  c.kind = EnvelopeCase::Kind::landing;
+  c.rise = -200.0;
+  c.distance = 3000.0;
+  c.crosswind = 800.0;
+  const Species s = ibis();
+  EnvelopeFlight flight = envelope_flight(s, {c}, kFastDt);
+  const Branch& site = flight.scenario.world.branches.at(0);
+  EXPECT_EQ(site.point.y, flight.scenario.world.ground_height);
+  CpuSimulation sim(flight.scenario, flight.birds);
+  double lowest = 1e9, perched_at = -1.0;
+  while (sim.time() < 15.0) {
+    sim.step(flight.scenario.steps_per_frame);
+    const BirdState& b = sim.state()[0];
+    ASSERT_TRUE(is_finite(b));
+    lowest = std::min(lowest, b.position.y);
+    if (perched_at < 0.0 && b.mode == FlightMode::perched) perched_at = sim.time();
+  }
+  const BirdState& b = sim.state()[0];
+  RecordProperty("perched_at_s", std::to_string(perched_at));
+  EXPECT_GT(perched_at, 0.0) << "it perches within 15 s";
+  EXPECT_LT(perched_at, 10.0) << "in its first pass (4.9 s)";
+  EXPECT_EQ(b.mode, FlightMode::perched);
+  EXPECT_NEAR(b.position.y, site.point.y + s.stand_height, 1.0) << "its feet on the ground";
+  EXPECT_LE(glm::length(horizontal(b.position - site.point)), s.perch_radius);
+  EXPECT_GE(lowest, site.point.y + s.stand_height - s.crouch_depth) << "never under the ground";
 }
 
 TEST(Envelope, JudgesAReachedTargetAndASpeciesThatCannotFly) {
