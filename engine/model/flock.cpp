@@ -278,8 +278,13 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
       perception = std::max(perception, species[k].perception_radius);
     }
   GridShape g;
-  g.cell = std::max(0.6 * separation, perception / 12.0);
-  g.cell = std::clamp(std::exp2(std::round(std::log2(g.cell))), kMinGridCell, kMaxGridCell);
+  const double least = perception / 12.0;
+  g.cell = std::exp2(std::round(std::log2(std::max(0.6 * separation, least))));
+  // Never below a twelfth of the perception: a bird alone searches at most 12 rings. Rounded down
+  // to 16 (the migrants', 1.2-span separation), a lone goose's search outran lavapipe's budget of
+  // loop turns (issue 43).
+  if (g.cell < least) g.cell *= 2.0;
+  g.cell = std::clamp(g.cell, kMinGridCell, kMaxGridCell);
   g.buckets = grid_buckets(birds.size());
   return g;
 }

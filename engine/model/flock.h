@@ -144,16 +144,16 @@ struct GridShape {
 };
 // The shape for these birds: cells of 0.6 the smallest separation_radius of the species whose
 // birds flock (at least a twelfth of their largest perception_radius), to the nearest power of
-// two of cm within [kMinGridCell, kMaxGridCell] (so that a whole number of cells fills the
-// device's world tile, gpu/host_device.h, and a cell and a bird's place in it are exact there: a
-// bird alone searches at most 17 rings, and grid_search_order lists at most about 26,000 cells a
-// part), about four buckets a bird (a power of two, at least 1,024; the device's table of cells
-// has as many slots, and the more it has, the larger a flock whose cells never share one:
-// grid.glsl). The cell is
-// about the distance to a bird's nearest: larger cells hold more birds that are not the nearest,
-// smaller ones cost more cells to search. Measured on lavapipe (10,000 starlings of `murmuration`,
-// the ring search): cells of 0.45, 0.6, 0.8 and 1 separation_radius cost 2.9, 2.8, 3.2 and 3.7 s
-// for 1.5 s flown. It sets only how fast the search is, never what it finds.
+// two of cm, but not below that twelfth, within [kMinGridCell, kMaxGridCell] (so that a whole
+// number of cells fills the device's world tile, gpu/host_device.h, and a cell and a bird's place
+// in it are exact there: a bird alone searches at most 12 rings, and grid_search_order lists at
+// most about 15,600 cells a part), about four buckets a bird (a power of two, at least 1,024; the
+// device's table of cells has as many slots, and the more it has, the larger a flock whose cells
+// never share one: grid.glsl). The cell is about the distance to a bird's nearest: larger cells
+// hold more birds that are not the nearest, smaller ones cost more cells to search. Measured on
+// lavapipe (10,000 starlings of `murmuration`, the ring search): cells of 0.45, 0.6, 0.8 and 1
+// separation_radius cost 2.9, 2.8, 3.2 and 3.7 s for 1.5 s flown. It sets only how fast the search
+// is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
 // The buckets of a grid of `birds` birds (grid_shape's).
