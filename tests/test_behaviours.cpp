@@ -1175,7 +1175,9 @@ std::string name_of(const ::testing::TestParamInfo<std::string>& info) {
   return n;
 }
 
-INSTANTIATE_TEST_SUITE_P(Species, Cruise, ::testing::Values("starling", "eagle", "ibis", "goose"),
+INSTANTIATE_TEST_SUITE_P(Species, Cruise,
+                         ::testing::Values("starling", "eagle", "ibis", "goose",
+                                           "european_starling"),
                          name_of);
 INSTANTIATE_TEST_SUITE_P(
     Species, ClimbDescent,

@@ -240,7 +240,8 @@ INSTANTIATE_TEST_SUITE_P(Envelope, WholeGrid,
                          grid_part_name);
 // Issue 13: the whole grid at the fast fidelity's step too (docs/convergence.md). Issue 43: the
 // migrants' at the fast step, at which their flocks fly (their landings on the ground,
-// ground_landing); at the paper's, docs/VALIDATION.md.
+// ground_landing); at the paper's, docs/VALIDATION.md. Issue 41: the real starling's, at the step
+// its murmuration flies.
 INSTANTIATE_TEST_SUITE_P(
     FastEnvelope, WholeGrid,
     ::testing::Values(GridPart{starling, 0.0, kFastDt}, GridPart{starling, 500.0, kFastDt},
@@ -248,7 +249,10 @@ INSTANTIATE_TEST_SUITE_P(
                       GridPart{eagle, 500.0, kFastDt}, GridPart{eagle, 800.0, kFastDt},
                       GridPart{ibis, 0.0, kFastDt}, GridPart{ibis, 500.0, kFastDt},
                       GridPart{ibis, 800.0, kFastDt}, GridPart{goose, 0.0, kFastDt},
-                      GridPart{goose, 500.0, kFastDt}, GridPart{goose, 800.0, kFastDt}),
+                      GridPart{goose, 500.0, kFastDt}, GridPart{goose, 800.0, kFastDt},
+                      GridPart{european_starling, 0.0, kFastDt},
+                      GridPart{european_starling, 500.0, kFastDt},
+                      GridPart{european_starling, 800.0, kFastDt}),
     grid_part_name);
 
 // Issue 10: the envelope does not rest on single calibrated values. Every fifth flight of the

@@ -353,6 +353,29 @@ TEST(FlockCriteria, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute
   testing::expect_structure_criteria(run);
 }
 
+// Issue 41: the murmuration's real starlings (`european_starling`; 1,000 of its 10,000, at the
+// scenario's density) after 30 s of flight: the flock criteria, and the field's spacing in metres
+// (docs/FIELD.md).
+TEST(FlockCriteria, TheMurmurationsEuropeanStarlingsKeepTheFieldsSpacingInMetres) {
+  const Scenario scenario = load_scenario("murmuration");
+  CpuSimulation sim(scenario, 1000);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 30.0, 60.0);
+  testing::expect_flock_criteria(run, scenario, 0, {.straight_legs = false, .too_close = false});
+  testing::expect_murmuration_structure(run);
+}
+
+// Not met (issue 41): in the murmuration of real starlings 1.0-1.6 % of the birds come nearer than
+// half a wingspan (19.5 cm) in the worst frame (0.3 % on average): a bird overtaking another at
+// 2-3 m/s has 0.5 s to slow or step aside inside a separation zone of 1.75 m, where the paper
+// starling's 3.8 m gave it 1.5 s (0.4 % in the same scenario).
+TEST(FlockCriteria, DISABLED_TheMurmurationsEuropeanStarlingsKeepHalfAWingspan) {
+  const Scenario scenario = load_scenario("murmuration");
+  CpuSimulation sim(scenario, 1000);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 30.0, 60.0);
+  EXPECT_LT(run.worst_too_close, 0.005);
+  EXPECT_LT(run.structure.mean.border_over_interior, 1.0);
+}
+
 // Not met (issue 41): real starlings are packed more tightly at their flock's border than in its
 // centre (Ballerini et al. 2008a: border r1 / interior r1 0.65-0.82); ours are not (1.1-1.2, a
 // random cloud's 1.05-1.2), whichever of the rules in docs/MODEL.md "Held against the field" we

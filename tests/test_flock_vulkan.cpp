@@ -416,6 +416,18 @@ TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
+// Issue 41: the murmuration's real starlings, as FlockCriteria.TheMurmurationsEuropeanStarlings...
+// on the CPU reference.
+TEST(GpuFlock, TheMurmurationsEuropeanStarlingsKeepTheFieldsSpacingInMetres) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  const Scenario scenario = load_scenario("murmuration");
+  gpu::GpuSimulation sim(device, scenario, 1000);
+  const testing::FlockRun run = testing::fly_flock(sim, 0, 30.0, 60.0);
+  testing::expect_flock_criteria(run, scenario, 0, {.straight_legs = false, .too_close = false});
+  testing::expect_murmuration_structure(run);
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
 // Issue 39: a migrating flock stays short along its flight and whole. Before the cohesion pulled
 // along the flight (cohesion_pull), these 300 starlings of `migration` stretched into a column, 63
 // m long at 120 s and 172 m at 600 s, and broke at 660 s; with it, 10-19 m long, one cluster to the

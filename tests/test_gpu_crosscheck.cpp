@@ -496,7 +496,8 @@ INSTANTIATE_TEST_SUITE_P(
     Presets, GpuEnvelope,
     ::testing::Values(EnvelopeRun{starling, kPaperDt}, EnvelopeRun{eagle, kPaperDt},
                       EnvelopeRun{starling, kFastDt}, EnvelopeRun{eagle, kFastDt},
-                      EnvelopeRun{ibis, kFastDt}, EnvelopeRun{goose, kFastDt}),
+                      EnvelopeRun{ibis, kFastDt}, EnvelopeRun{goose, kFastDt},
+                      EnvelopeRun{european_starling, kFastDt}),
     [](const auto& info) {
       return info.param.preset().name + (info.param.dt == kFastDt ? "_fast" : "");
     });

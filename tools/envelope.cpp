@@ -19,6 +19,13 @@
 namespace aeroflock {
 namespace {
 
+// "eagle, starling, ...": the presets' names, for the help and the error.
+std::string preset_names() {
+  std::string names;
+  for (const Species& s : species_presets()) names += (names.empty() ? "" : ", ") + s.name;
+  return names;
+}
+
 Species species_named(const std::string& name) {
   if (name.size() > 5 && name.ends_with(".toml")) {
     const Scenario s = read_scenario_file(name);
@@ -26,8 +33,8 @@ Species species_named(const std::string& name) {
   }
   for (const Species& s : species_presets())
     if (s.name == name) return s;
-  throw std::runtime_error("--species: no preset named \"" + name +
-                           "\" (eagle, starling, ibis, goose, or a FILE.toml)");
+  throw std::runtime_error("--species: no preset named \"" + name + "\" (" + preset_names() +
+                           ", or a FILE.toml)");
 }
 
 // One row of a table: how many of the cases with this value of a dimension succeed.
@@ -199,7 +206,7 @@ Command add_envelope_command(CLI::App& app, EnvelopeOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "envelope", "Fly a species through a grid of starts, targets, winds, take-offs and landings");
   cmd->add_option("--species", o.species,
-                  "A preset (eagle, starling, ibis, goose) or FILE.toml (its last [[species]])")
+                  "A preset (" + preset_names() + ") or FILE.toml (its last [[species]])")
       ->capture_default_str();
   add_backend_option(cmd, o.backend);
   add_device_option(cmd, o.device);

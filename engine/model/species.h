@@ -28,10 +28,11 @@ struct Species {
 #undef AF_SPECIES_PARAM
 };
 
-Species eagle();     // Table 1, Fig. 16 column, plus calibrated parameters
-Species starling();  // Table 1, Figs. 17-21 column, plus calibrated parameters
-Species ibis();      // the northern bald ibis, a formation migrant (beyond the paper)
-Species goose();     // the greylag goose, a formation migrant (beyond the paper)
+Species eagle();              // Table 1, Fig. 16 column, plus calibrated parameters
+Species starling();           // Table 1, Figs. 17-21 column, plus calibrated parameters
+Species ibis();               // the northern bald ibis, a formation migrant (beyond the paper)
+Species goose();              // the greylag goose, a formation migrant (beyond the paper)
+Species european_starling();  // the real European starling of the field (beyond the paper)
 std::vector<Species> species_presets();
 // Throws std::invalid_argument naming the first bad parameter, e.g. "f_min > f_max".
 void validate(const Species& s);
