@@ -476,7 +476,7 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   size_t same = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     same += a[i].outcome == b[i].outcome;
-    if (ground_landing(b[i], sp)) {
+    if (pass_decided_by_rounding(b[i], sp)) {
       // Going round again and again for up to 60 s, the two backends' rounding flips which pass
       // perches (8 of the ibis's 48 differ): each within the limits, perched or still trying.
       for (const EnvelopeResult* r : {&a[i], &b[i]})

@@ -18,6 +18,17 @@ inline bool ground_landing(const EnvelopeResult& r, const Species& species) {
   return r.c.kind == EnvelopeCase::Kind::landing && species.perches == 0.0;
 }
 
+// Landings that go round and round, so that which pass perches within the 60 s is a matter of
+// rounding between the backends: the migrants' on the ground, and the real starling's on a branch
+// in calm air (issue 41: on Vulkan at the fast step 2 of its 16 were still going round at 60 s
+// where the CPU perched; docs/MODEL.md "The European starling"). Each is held to the limits,
+// perched or still trying.
+inline bool pass_decided_by_rounding(const EnvelopeResult& r, const Species& species) {
+  return ground_landing(r, species) ||
+         (r.c.kind == EnvelopeCase::Kind::landing && species.name == "european_starling" &&
+          r.c.crosswind == 0.0);
+}
+
 inline void expect_smooth_touchdown(const EnvelopeResult& r) {
   if (!r.touchdown) return;
   const Touchdown& d = *r.touchdown;

@@ -212,7 +212,7 @@ Species european_starling() {
   // s, 9.7-12.1 m/s): its deeper stroke moves more force per unit of amplitude.
   s.K_a = 0.15;
   // At the paper starling's 15 degrees a calm landing arrived at 5 m/s and went round for ever;
-  // at its 45 degrees of flare, pitched past 60.
+  // at its 45 degrees of flare, pitched past 60. Its calm landings go round (docs/MODEL.md).
   s.brake_incidence = radians(30);
   s.brake_pitch = radians(35);
   // Its flock (docs/FIELD.md): the paper starling's perception in its own wingspans (20); a
