@@ -122,8 +122,8 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
 }
 
 // What a flight lets expect_flock_criteria hold: a murmuration laps its roost without a straight
-// leg, and its real starlings do not keep the spacing's "too close" bound (issue 41; held by
-// FlockCriteria.DISABLED_TheMurmurationsEuropeanStarlingsKeepHalfAWingspan).
+// leg, and its real starlings do not keep the spacing's "too close" bound (issue 41, not met:
+// FlockCriteria.DISABLED_TheMurmurationsEuropeanStarlingsKeepHalfAWingspan...).
 struct FlockCriteriaHeld {
   bool straight_legs = true;
   bool too_close = true;
@@ -188,9 +188,10 @@ inline void expect_structure_criteria(const FlockRun& run) {
 
 // Issue 41's criteria for the murmuration of real starlings (fly_flock from 30 s), the field's
 // (docs/FIELD.md) in metres: r1 within 0.68-1.51 m; thin (its smallest size under half its
-// largest); its thinnest axis within 20 degrees of vertical; the first neighbours at the sides
-// (gamma(1) well above 1/3) and gamma near 1/3 by the 7th. A murmuration turns all the time (its
-// route laps a 60 m circle), so the axis is taken over every snapshot, not only straight ones.
+// largest, the issue's bound); its thinnest axis within 20 degrees of vertical; the first
+// neighbours at the sides (gamma(1) well above 1/3) and gamma near 1/3 by the 7th. A murmuration
+// turns all the time (its route laps a 60 m circle), so the axis is taken over every snapshot, not
+// only straight ones.
 inline void expect_murmuration_structure(const FlockRun& run) {
   const StructureFigures& m = run.structure.mean;
   ASSERT_GT(run.structure.samples, 10u);

@@ -180,7 +180,7 @@ Species european_starling() {
   // Beyond the paper: the real European starling (Sturnus vulgaris) of the field's murmurations
   // (Ballerini et al. 2008), from published morphometrics (docs/MODEL.md "The presets" gives the
   // sources), with the paper starling's controller; what differs from it was calibrated on the
-  // envelope. The paper's `starling` is five times heavier and 2.6 times wider.
+  // envelope. The paper's `starling` is six times heavier and 2.6 times wider.
   Species s = starling();
   s.name = "european_starling";
   s.mass = 80;        // 75-90 g
