@@ -10,7 +10,8 @@ With the environment OpenMPI needs as root and oversubscribed (tests/CMakeLists.
   1. `default` for 3 s (on Vulkan a device a rank), alone and on 2, 3 and 4 ranks:
      every figure of the summaries equal (the flock is the same bird for bird) but the device, the
      times and `ranks`; `ranks` has one entry per rank, their birds sum to the flock, ghosts were
-     sent.
+     sent. Then `ibis-v` (wakes, formation flying) for 10 s alone and on 3 ranks: the same, its
+     formation figures included.
   2. a command that runs on one process (envelope) and a mistake in the options are refused:
      exit 2, said once.
   3. an unknown scenario: exit 2, said once.
@@ -83,6 +84,25 @@ for backend in (BACKEND,):
         check(f"on {n} MPI ranks" in many["device"],
               f"{backend}, {n} ranks: device says {many['device']}")
         check(many["backend"] == backend, f"{n} ranks: backend {many['backend']}")
+
+# 1b. Flocks that meet each other's wakes (issue 43): `ibis-v`'s formation over 3 ranks, the same
+# summary and formation figures as on one process.
+command = ["run", "ibis-v", "--backend", BACKEND, "--seconds", "10", "--threads", "1",
+           "--structure-from", "5"]
+summaries = []
+for n in (0, 3):
+    path = os.path.join(WORK, f"ibis-v-{n}-{BACKEND}.json")
+    r = run(n, command + ["--summary", path])
+    check(r.returncode == 0, f"ibis-v, {n or 1} ranks: exit {r.returncode}: {r.stderr}")
+    summaries.append(json.load(open(path)) if r.returncode == 0 else {})
+if all(summaries):
+    one, many = summaries
+    for key in one:
+        if key not in UNEQUAL and one[key] != many[key]:
+            failures.append(f"ibis-v, 3 ranks: {key} differs: {many[key]} against {one[key]}")
+    check(any(f.get("formation") for f in one.get("structure") or []),
+          "ibis-v: no formation figures in the summary")
+    check(sum(s["ghosts_sent"] for s in many["ranks"] or []) > 0, "ibis-v, 3 ranks: no ghost sent")
 
 if BACKEND == "cpu":
     # 2, 3. Refusals and a scenario error, said once.

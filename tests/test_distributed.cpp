@@ -233,6 +233,21 @@ TEST_P(Distributed, TheStartAndTheRecordedForcesAreOneRanks) {
   compare(many.snapshot(), "frame 30");
 }
 
+// Issue 43: flocks that meet each other's wakes, the ghosts carrying what a wake follows from
+// (attitude, lift, wingbeat): the default flock with wakes, and the ibises' formation flying.
+TEST_P(Distributed, AFlockThatMeetsTheWakesIsTheSameBirdForBird) {
+  Scenario s = load_scenario("default");
+  for (Flock& f : s.flocks) f.wake = f.flocking;
+  ASSERT_TRUE(any_wake(s));
+  expect_same_as_one_rank(GetParam(), s, 300, 100);
+}
+
+TEST_P(Distributed, TheIbisesFormationIsTheSameBirdForBird) {
+  const Scenario s = load_scenario("ibis-v");
+  ASSERT_TRUE(any_wake(s));
+  expect_same_as_one_rank(GetParam(), s, 0, 300, false);
+}
+
 // The migrating flock flies its route through several slabs with its turns; the cuts follow it.
 TEST_P(Distributed, TheMigratingFlockThroughItsSlabs) {
   Scenario s = load_scenario("migration-flock");
@@ -316,20 +331,6 @@ TEST(DistributedVulkan, ASmallShareGrowsAndStaysOneDevices) {
   ASSERT_EQ(gathered.size(), one->bird_count());
   for (size_t i = 0; i < gathered.size(); ++i)
     EXPECT_TRUE(same_state(gathered[i], one->birds()[i])) << "bird " << i;
-}
-
-// Issue 43: a flock with wakes is refused over ranks, on every rank, with the reason (the ghosts do
-// not carry what a wake follows from yet), before any bird is placed.
-TEST(DistributedRun, AFlockWithWakesIsRefusedWithTheReason) {
-  Scenario s = load_scenario("default");
-  for (Flock& f : s.flocks) f.wake = f.flocking;
-  try {
-    dist::DistributedCpuSimulation flock(s, MPI_COMM_WORLD, 200);
-    ADD_FAILURE() << "no error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("wake = true runs on one process only"), std::string::npos)
-        << e.what();
-  }
 }
 
 // A rank whose step throws after the frame's exchanges (a device error, say) skips the frame's

@@ -44,7 +44,24 @@ struct Ghost {
     return b;
   }
 };
-static_assert(std::is_trivially_copyable_v<Ghost> && std::is_trivially_copyable_v<Numbered>);
+// A ghost in a run whose flocks meet wakes: also what a neighbour's wake follows from (flock.cpp
+// see_wakes: its attitude, lift and wingbeat), 136 bytes.
+struct WakeGhost : Ghost {
+  glm::dquat attitude;
+  double lift, phase, frequency, amplitude;
+
+  static WakeGhost of(uint32_t id, const BirdState& b) {
+    return {Ghost::of(id, b), b.attitude, b.lift, b.phase, b.frequency, b.amplitude};
+  }
+  BirdState bird() const {
+    BirdState b = Ghost::bird();
+    b.attitude = attitude, b.lift = lift;
+    b.phase = phase, b.frequency = frequency, b.amplitude = amplitude;
+    return b;
+  }
+};
+static_assert(sizeof(Ghost) == 72 && sizeof(WakeGhost) == 136, "no padding sent unset");
+static_assert(std::is_trivially_copyable_v<WakeGhost> && std::is_trivially_copyable_v<Numbered>);
 
 // A cut moves at most this many halos per balance check: a bounded number of birds changes owner
 // at once.
@@ -75,21 +92,8 @@ CellCounts count_cells(const Slabs& slabs, const std::vector<BirdState>& birds) 
 
 }  // namespace
 
-namespace {
-// The scenario, refused if a flock meets wakes: the ghosts do not carry what a wake follows from
-// (their lift, attitude and wingbeat) yet.
-Scenario refusing_wakes(Scenario scenario) {
-  for (const Flock& f : scenario.flocks)
-    if (f.wake)
-      throw std::invalid_argument("flock '" + f.name +
-                                  "': wake = true runs on one process only for now (over MPI "
-                                  "ranks the ghosts do not carry the wakes' fields)");
-  return scenario;
-}
-}  // namespace
-
 DistributedSimulation::DistributedSimulation(Scenario scenario, MPI_Comm comm)
-    : Simulation(refusing_wakes(std::move(scenario))), comm_(comm) {}
+    : Simulation(std::move(scenario)), comm_(comm) {}
 
 // Every rank places every bird as one rank would (the same seed), cuts the world the same way and
 // keeps its own: no communication, the ids are the one-rank indices, and no rank holds more than
@@ -123,6 +127,7 @@ void DistributedSimulation::place(const Birds& all) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &ranks_);
   flocking_ = any_flocking(scenario());
+  wakes_ = any_wake(scenario());
   // First pass: how many, how far they spread, and one bird of each species' flocking kind (the
   // grid's cell follows from which species flock, not from how many birds).
   total_ = 0;
@@ -239,8 +244,21 @@ DistributedSimulation::Reach DistributedSimulation::reach_past_cuts(uint64_t fra
 
 void DistributedSimulation::perceive_with_ghosts(uint64_t frame,
                                                  std::vector<Perception>& perception) {
-  const std::vector<Ghost> ghosts =
-      exchange_ghosts<Ghost>(frame, [this](size_t k) { return Ghost::of(ids_[k], birds_[k]); });
+  if (wakes_)
+    perceive_among(frame,
+                   exchange_ghosts<WakeGhost>(
+                       frame, [this](size_t k) { return WakeGhost::of(ids_[k], birds_[k]); }),
+                   perception);
+  else
+    perceive_among(
+        frame,
+        exchange_ghosts<Ghost>(frame, [this](size_t k) { return Ghost::of(ids_[k], birds_[k]); }),
+        perception);
+}
+
+template <class Ghosts>
+void DistributedSimulation::perceive_among(uint64_t frame, const Ghosts& ghosts,
+                                           std::vector<Perception>& perception) {
   // This rank's birds and the ghosts, merged by id.
   std::vector<BirdState> seen;
   std::vector<uint32_t> seen_ids, mine;

@@ -96,6 +96,7 @@ class DistributedSimulation : public Simulation {
   std::vector<Ghost> exchange_ghosts(uint64_t frame, const Make& make);
   // The CPU reference's perception of this rank's birds due at `frame` among the ghosts, into
   // `perception` (one per bird of this rank; the others' entries stay as they were). Collective.
+  // In a run whose flocks meet wakes (any_wake) the ghosts carry what a wake follows from too.
   void perceive_with_ghosts(uint64_t frame, std::vector<Perception>& perception);
   // The blind sector a rank assumes when it says how deep past its cuts its birds may see, wider
   // than the species' by this (radians): a backend that perceives in float may see a bird at its
@@ -113,8 +114,12 @@ class DistributedSimulation : public Simulation {
   std::vector<StepForces> forces_;      // of the next step, when the last frame recorded them
   bool forces_current_ = false;
   bool flocking_ = false;
+  bool wakes_ = false;  // some flock meets the wakes (any_wake): its ghosts carry them
 
  private:
+  // perceive_with_ghosts among these ghosts (a vector of a Ghost type, ordered by id).
+  template <class Ghosts>
+  void perceive_among(uint64_t frame, const Ghosts& ghosts, std::vector<Perception>& perception);
   // How far past its cuts this rank's birds due at `frame` may find one of their nearest.
   Reach reach_past_cuts(uint64_t frame) const;
 

@@ -50,7 +50,29 @@ struct DeviceGhost {
     return b;
   }
 };
-static_assert(std::is_trivially_copyable_v<DeviceGhost> &&
+// A ghost in a run whose flocks meet wakes: also what a neighbour's wake follows from (flock.glsl
+// see_wakes: its attitude, lift and wingbeat), 88 bytes.
+struct DeviceWakeGhost : DeviceGhost {
+  float attitude[4];  // x, y, z, w
+  float lift, phase, frequency, amplitude;
+
+  static DeviceWakeGhost of(uint32_t id, const GpuBird& b) {
+    return {DeviceGhost::of(id, b),
+            {b.attitude.x, b.attitude.y, b.attitude.z, b.attitude.w},
+            b.lift,
+            b.phase,
+            b.frequency,
+            b.amplitude};
+  }
+  GpuBird bird() const {
+    GpuBird b = DeviceGhost::bird();
+    b.attitude = {attitude[0], attitude[1], attitude[2], attitude[3]};
+    b.lift = lift, b.phase = phase, b.frequency = frequency, b.amplitude = amplitude;
+    return b;
+  }
+};
+static_assert(sizeof(DeviceGhost) == 56 && sizeof(DeviceWakeGhost) == 88, "no padding sent unset");
+static_assert(std::is_trivially_copyable_v<DeviceWakeGhost> &&
               std::is_trivially_copyable_v<DistributedGpuSimulation::OnDevice>);
 
 // The device sees in float what the reference sees in double: a bird at the edge of the blind
@@ -133,38 +155,21 @@ void DistributedGpuSimulation::step(uint32_t steps, bool record_forces) {
   rebalance_if_due();
   migrate(on_device_);
   perception_.resize(birds_.size());  // set again from the device below
-  std::vector<DeviceGhost> ghosts;
-  if (flocking_)
-    ghosts = exchange_ghosts<DeviceGhost>(
-        frame, [this](size_t k) { return DeviceGhost::of(ids_[k], on_device_[k].bird); });
-  // This rank's birds and its ghosts, by id: ties among neighbours go by buffer index on the
-  // device, so that is by global id, as on one device.
-  std::vector<GpuBird> birds;
-  std::vector<GpuPerception> perception;
-  std::vector<uint32_t> ids, mine;
-  const size_t n = birds_.size() + ghosts.size();
-  birds.reserve(n), perception.reserve(flocking_ ? n : 0), ids.reserve(n), mine.reserve(n);
-  const GpuPerception none = gpu::pack(Perception{});
-  merge_by_id(
-      ids_, ghosts,
-      [&](size_t k) {
-        mine.push_back(static_cast<uint32_t>(birds.size()));
-        birds.push_back(on_device_[k].bird), ids.push_back(ids_[k]);
-        if (flocking_) perception.push_back(on_device_[k].perception);
-      },
-      [&](size_t g) {
-        birds.push_back(ghosts[g].bird()), ids.push_back(ghosts[g].id | gpu::kGhostBird);
-        if (flocking_) perception.push_back(none);
-      });
-  if (n > engine_->capacity()) make_engine(room_for(n));
-  engine_->load(birds, perception, ids);
+  if (!flocking_)
+    load_among(std::vector<DeviceGhost>{});
+  else if (wakes_)
+    load_among(exchange_ghosts<DeviceWakeGhost>(
+        frame, [this](size_t k) { return DeviceWakeGhost::of(ids_[k], on_device_[k].bird); }));
+  else
+    load_among(exchange_ghosts<DeviceGhost>(
+        frame, [this](size_t k) { return DeviceGhost::of(ids_[k], on_device_[k].bird); }));
 
   begin_frame();
   engine_->step(steps, record_forces);
   const gpu::GpuSimulation::Raw after = engine_->raw();
   forces_.resize(record_forces ? birds_.size() : 0);
   for (size_t k = 0; k < birds_.size(); ++k) {
-    const uint32_t at = mine[k];
+    const uint32_t at = mine_[k];
     on_device_[k].bird = after.birds[at];
     birds_[k] = gpu::unpack(after.birds[at]);
     if (flocking_) {
@@ -175,6 +180,32 @@ void DistributedGpuSimulation::step(uint32_t steps, bool record_forces) {
   }
   forces_current_ = record_forces;
   end_frame(steps);
+}
+
+template <class Ghosts>
+void DistributedGpuSimulation::load_among(const Ghosts& ghosts) {
+  // This rank's birds and its ghosts, by id: ties among neighbours go by buffer index on the
+  // device, so that is by global id, as on one device.
+  std::vector<GpuBird> birds;
+  std::vector<GpuPerception> perception;
+  std::vector<uint32_t> ids;
+  mine_.clear();
+  const size_t n = birds_.size() + ghosts.size();
+  birds.reserve(n), perception.reserve(flocking_ ? n : 0), ids.reserve(n), mine_.reserve(n);
+  const GpuPerception none = gpu::pack(Perception{});
+  merge_by_id(
+      ids_, ghosts,
+      [&](size_t k) {
+        mine_.push_back(static_cast<uint32_t>(birds.size()));
+        birds.push_back(on_device_[k].bird), ids.push_back(ids_[k]);
+        if (flocking_) perception.push_back(on_device_[k].perception);
+      },
+      [&](size_t g) {
+        birds.push_back(ghosts[g].bird()), ids.push_back(ghosts[g].id | gpu::kGhostBird);
+        if (flocking_) perception.push_back(none);
+      });
+  if (n > engine_->capacity()) make_engine(room_for(n));
+  engine_->load(birds, perception, ids);
 }
 
 std::unique_ptr<gpu::Device> rank_device(MPI_Comm comm, int index) {
