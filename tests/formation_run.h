@@ -3,6 +3,8 @@
 // the most upwash and the figures of Portugal et al. 2014 are model/formation_figures.h's.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "io/scenario_file.h"
@@ -44,6 +46,33 @@ flocking = true
 wake = )" + (wake ? "true" : "false") +
                            "\n";
   return parse_scenario(text, "formation.toml");
+}
+
+// How far a flock's mean height strays from its route's height `route` (cm) from `from` to
+// `until` seconds, a frame at a time (the worst frame, and the mean), and whether every bird
+// stayed finite.
+struct HeightHeld {
+  double worst = 0.0;  // cm
+  double mean = 0.0;   // cm: its mean over those frames (above the route > 0)
+  bool finite = true;
+};
+inline HeightHeld height_held(Simulation& sim, double route, double from, double until) {
+  HeightHeld h;
+  size_t frames = 0;
+  while (sim.time() < until - 1e-9) {
+    sim.step_frame();
+    double mean = 0.0;
+    for (const BirdState& b : sim.birds()) {
+      h.finite = h.finite && all_finite(b);
+      mean += b.position.y / double(sim.birds().size());
+    }
+    if (sim.time() >= from) {
+      h.worst = std::max(h.worst, std::fabs(mean - route));
+      h.mean += mean - route, ++frames;
+    }
+  }
+  if (frames > 0) h.mean /= double(frames);
+  return h;
 }
 
 }  // namespace aeroflock::testing

@@ -158,7 +158,9 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
                                  : route_heading(s, route_goal - b.position, wind,
                                                  glm::length(horizontal(b.velocity - wind)));
   const dvec3 d = formation.heading != dvec3{0.0}
-                      ? s.w_separation * separation + s.w_formation * formation.heading
+                      ? s.w_separation * separation +
+                            s.w_formation * (formation.heading +
+                                             kFormationRouteHeight * dvec3{0.0, route.y, 0.0})
                       : s.w_route * route + s.w_separation * separation +
                             s.w_alignment * unit_or_zero(heading_sum) +
                             s.w_cohesion * unit_or_zero(cohesion_sum);

@@ -335,7 +335,9 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   vec3 route = route_done ? vec3(0.0)
                           : route_heading(s, route_goal - b.position, wind,
                                           length(horizontal(b.velocity - wind)));
-  vec3 d = in_formation ? s.w_separation * separation + s.w_formation * formation.heading
+  vec3 d = in_formation ? s.w_separation * separation +
+                              s.w_formation * (formation.heading +
+                                               kFormationRouteHeight * vec3(0.0, route.y, 0.0))
                         : s.w_route * route + s.w_separation * separation +
                               s.w_alignment * unit_or_zero(heading_sum) +
                               s.w_cohesion * unit_or_zero(cohesion_sum);
