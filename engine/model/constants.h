@@ -80,7 +80,7 @@ AF_REAL(kPhaseReach, 1.5707963267948966)
 AF_REAL(kFormationBehind, 0.25)
 // A bird in formation heads for its route's height too, the route's climb or descent at this
 // many times the formation's weight (flock.cpp: social_goal): without it a loose group, nearly
-// every bird following another, had none that held the route's height, and drifted 20-60 m above.
+// every bird following another, had none that held the route's height, and drifted 20-50 m above.
 AF_REAL(kFormationRouteHeight, 2.0)
 // BirdState::flocking: it sees its flock; and it meets the wakes of those it sees.
 AF_COUNT(kSeesFlock, 1)
