@@ -155,21 +155,21 @@ void DistributedGpuSimulation::step(uint32_t steps, bool record_forces) {
   rebalance_if_due();
   migrate(on_device_);
   perception_.resize(birds_.size());  // set again from the device below
-  if (!flocking_)
-    load_among(std::vector<DeviceGhost>{});
-  else if (wakes_)
-    load_among(exchange_ghosts<DeviceWakeGhost>(
-        frame, [this](size_t k) { return DeviceWakeGhost::of(ids_[k], on_device_[k].bird); }));
-  else
-    load_among(exchange_ghosts<DeviceGhost>(
-        frame, [this](size_t k) { return DeviceGhost::of(ids_[k], on_device_[k].bird); }));
+  const std::vector<uint32_t> mine =
+      !flocking_ ? load_among(std::vector<DeviceGhost>{})
+      : wakes_   ? load_among(exchange_ghosts<DeviceWakeGhost>(
+                     frame,
+                     [this](size_t k) { return DeviceWakeGhost::of(ids_[k], on_device_[k].bird); }))
+                 : load_among(exchange_ghosts<DeviceGhost>(frame, [this](size_t k) {
+                   return DeviceGhost::of(ids_[k], on_device_[k].bird);
+                 }));
 
   begin_frame();
   engine_->step(steps, record_forces);
   const gpu::GpuSimulation::Raw after = engine_->raw();
   forces_.resize(record_forces ? birds_.size() : 0);
   for (size_t k = 0; k < birds_.size(); ++k) {
-    const uint32_t at = mine_[k];
+    const uint32_t at = mine[k];
     on_device_[k].bird = after.birds[at];
     birds_[k] = gpu::unpack(after.birds[at]);
     if (flocking_) {
@@ -183,20 +183,19 @@ void DistributedGpuSimulation::step(uint32_t steps, bool record_forces) {
 }
 
 template <class Ghosts>
-void DistributedGpuSimulation::load_among(const Ghosts& ghosts) {
+std::vector<uint32_t> DistributedGpuSimulation::load_among(const Ghosts& ghosts) {
   // This rank's birds and its ghosts, by id: ties among neighbours go by buffer index on the
   // device, so that is by global id, as on one device.
   std::vector<GpuBird> birds;
   std::vector<GpuPerception> perception;
-  std::vector<uint32_t> ids;
-  mine_.clear();
+  std::vector<uint32_t> ids, mine;
   const size_t n = birds_.size() + ghosts.size();
-  birds.reserve(n), perception.reserve(flocking_ ? n : 0), ids.reserve(n), mine_.reserve(n);
+  birds.reserve(n), perception.reserve(flocking_ ? n : 0), ids.reserve(n), mine.reserve(n);
   const GpuPerception none = gpu::pack(Perception{});
   merge_by_id(
       ids_, ghosts,
       [&](size_t k) {
-        mine_.push_back(static_cast<uint32_t>(birds.size()));
+        mine.push_back(static_cast<uint32_t>(birds.size()));
         birds.push_back(on_device_[k].bird), ids.push_back(ids_[k]);
         if (flocking_) perception.push_back(on_device_[k].perception);
       },
@@ -206,6 +205,7 @@ void DistributedGpuSimulation::load_among(const Ghosts& ghosts) {
       });
   if (n > engine_->capacity()) make_engine(room_for(n));
   engine_->load(birds, perception, ids);
+  return mine;
 }
 
 std::unique_ptr<gpu::Device> rank_device(MPI_Comm comm, int index) {

@@ -63,9 +63,9 @@ class DistributedGpuSimulation final : public DistributedSimulation {
   // last one stays when it cannot be made.
   void make_engine(uint32_t capacity);
   // Loads this rank's birds and `ghosts` (a vector of a ghost type, ordered by id) on the device,
-  // merged by id; mine_ says where each of this rank's birds went.
+  // merged by id; returns where each of this rank's birds went in its buffer.
   template <class Ghosts>
-  void load_among(const Ghosts& ghosts);
+  std::vector<uint32_t> load_among(const Ghosts& ghosts);
 
   std::unique_ptr<gpu::Device> device_;
   std::unique_ptr<gpu::GpuSimulation> engine_;
@@ -73,7 +73,6 @@ class DistributedGpuSimulation final : public DistributedSimulation {
   uint32_t least_capacity_;
   uint32_t growths_ = 0;
   std::vector<OnDevice> on_device_;  // one per bird of this rank, in order
-  std::vector<uint32_t> mine_;       // where each of them is in the device's buffer this frame
 };
 
 // The Vulkan device of this rank of `comm` (collective): device `index` where it is >= 0, else the
