@@ -94,10 +94,6 @@ Buffer grid_buffer(const Device& device, size_t words, const char* what) {
   return Buffer(device, std::max<size_t>(words, 1) * sizeof(uint32_t), Memory::device_local);
 }
 
-// Workgroups a dispatch's row may hold on every device (maxComputeWorkGroupCount[0] >= 65,535):
-// a pass over the grid's slots takes several a workgroup beyond (grid_ranges.comp).
-constexpr uint32_t kMaxRowGroups = 65535;
-
 // The bindings of every pass that flies or sees birds: the birds, their species and their world
 // (GpuSimulation::world_buffers), and then the pass's own.
 std::vector<Binding> world_and(std::initializer_list<Binding> more) {
@@ -113,8 +109,9 @@ const std::vector<Binding> kPerceiveBindings =
     world_and({kBindingPerception,
                {kBindingGridPoints, VK_FORMAT_R32G32B32A32_SFLOAT},
                {kBindingGridKeys, VK_FORMAT_R32G32B32A32_SINT},
-               {kBindingGridRanges, VK_FORMAT_R32G32_UINT},
+               {kBindingGridCells, VK_FORMAT_R32G32B32A32_UINT},
                {kBindingGridSearch, VK_FORMAT_R32G32B32A32_SINT},
+               {kBindingGridSeen, VK_FORMAT_R32G32B32A32_SFLOAT},
                kBindingCutShort});
 
 // perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
@@ -159,7 +156,8 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                          "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
-      ranges(grid_buffer(device, 2 * size_t{shape.buckets}, "grid slots")),
+      cells(grid_buffer(device, 4 * (size_t{shape.buckets} + 1), "grid slots")),
+      seen(grid_buffer(device, 8 * std::max<size_t>(capacity, 1), "birds in the grid")),
       search(search_buffer(device, shape, farthest_seen(scenario, kinds))),
       count(device, shader_spirv("grid_count"),
             world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners,
@@ -171,12 +169,14 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
       scan_totals(device, shader_spirv("grid_scan_totals"),
                   {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks},
                   sizeof(StepConstants), 1),
-      ranges_pass(device, shader_spirv("grid_ranges"),
-                  {kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks, kBindingGridRanges},
-                  sizeof(StepConstants), 1),
       scatter(device, shader_spirv("grid_scatter"),
-              {kBindingBirds, kBindingGridPlace, kBindingGridRanges, kBindingGridPoints},
+              {kBindingBirds, kBindingGridPlace, kBindingGridStarts, kBindingGridBlocks,
+               kBindingGridPoints, kBindingGridSeen},
               sizeof(StepConstants), 1),
+      cells_pass(device, shader_spirv("grid_cells"),
+                 {kBindingGridPlace, kBindingGridCounts, kBindingGridStarts, kBindingGridBlocks,
+                  kBindingGridPoints, kBindingGridCells},
+                 sizeof(StepConstants), 1),
       perceive(device, shader_spirv("perceive"), kPerceiveBindings, sizeof(StepConstants), 2,
                perceive_constants(scenario, kinds)) {
   scan_blocks.set_buffers({{kBindingGridCounts, &counts},
@@ -185,10 +185,12 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
   scan_totals.set_buffers({{kBindingGridCounts, &counts},
                            {kBindingGridStarts, &starts},
                            {kBindingGridBlocks, &blocks}});
-  ranges_pass.set_buffers({{kBindingGridCounts, &counts},
-                           {kBindingGridStarts, &starts},
-                           {kBindingGridBlocks, &blocks},
-                           {kBindingGridRanges, &ranges}});
+  cells_pass.set_buffers({{kBindingGridPlace, &place},
+                          {kBindingGridCounts, &counts},
+                          {kBindingGridStarts, &starts},
+                          {kBindingGridBlocks, &blocks},
+                          {kBindingGridPoints, &points},
+                          {kBindingGridCells, &cells}});
 
   perceive.check_groups(group_count(capacity, kWorkgroupSize));
   scan_blocks.check_groups(shape.buckets / kScanBlock);
@@ -257,8 +259,9 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
         f.perceive.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
                                                          {kBindingGridPoints, &f.points},
                                                          {kBindingGridKeys, &f.keys},
-                                                         {kBindingGridRanges, &f.ranges},
+                                                         {kBindingGridCells, &f.cells},
                                                          {kBindingGridSearch, &f.search},
+                                                         {kBindingGridSeen, &f.seen},
                                                          {kBindingCutShort, &slot.cut_short}}));
   }
   if (flocking_) {  // the count pass reads no target: either slot's buffer will do
@@ -270,14 +273,16 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
                                                           {kBindingPerception, &perception_}}));
     f.scatter.set_buffers({{kBindingBirds, &birds_},
                            {kBindingGridPlace, &f.place},
-                           {kBindingGridRanges, &f.ranges},
-                           {kBindingGridPoints, &f.points}});
+                           {kBindingGridStarts, &f.starts},
+                           {kBindingGridBlocks, &f.blocks},
+                           {kBindingGridPoints, &f.points},
+                           {kBindingGridSeen, &f.seen}});
   }
 }
 
 // The birds see their flock (the frame's start): the grid is built (each bird's cell's slot and a
-// counting sort: count, prefix sum in two levels, ranges, scatter), then each due bird searches
-// it; a barrier between each.
+// counting sort: count, prefix sum in two levels, scatter; each slot's range and bounds), then each
+// due bird searches it; a barrier between each.
 void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c,
                                       Timestamps* timestamps, uint32_t first) {
   Flocking& f = *flocking_;
@@ -295,10 +300,9 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   barrier_to_compute(cmd);
   f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
   barrier_to_compute(cmd);
-  f.ranges_pass.dispatch(cmd, std::min(group_count(f.shape.buckets, kWorkgroupSize), kMaxRowGroups),
-                         &c, sizeof c);
-  barrier_to_compute(cmd);
   f.scatter.dispatch(cmd, groups, &c, sizeof c);
+  barrier_to_compute(cmd);
+  f.cells_pass.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);
   if (timestamps) timestamps->write(cmd, first + 1);
   f.perceive.dispatch(cmd, slot.perceive_set, groups, &c, sizeof c);

@@ -65,8 +65,8 @@ class GpuSimulation final : public Simulation {
   // The frames step_frames() records in one command buffer (at most kFramesPerSubmission).
   uint32_t frames_per_submission() const { return frames_per_submission_; }
   // Device time of a frame's passes (time_passes): the neighbour grid's (its clearing, count,
-  // prefix sum, ranges and scatter), the perception's and the steps'. Without flocking the grid
-  // and perception take none.
+  // prefix sum, scatter, ranges and bounds), the perception's and the steps'. Without flocking the
+  // grid and perception take none.
   struct PassTimes {
     uint64_t frame = 0;  // the frame's number, from 1 (Simulation::frames() after it)
     double grid_ms = 0.0, perception_ms = 0.0, steps_ms = 0.0;
@@ -124,8 +124,8 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    Buffer place, counts, starts, blocks, points, keys, owners, ranges, search;
-    ComputePipeline count, scan_blocks, scan_totals, ranges_pass, scatter, perceive;
+    Buffer place, counts, starts, blocks, points, keys, owners, cells, seen, search;
+    ComputePipeline count, scan_blocks, scan_totals, scatter, cells_pass, perceive;
     // For up to `capacity` birds of the kinds of `kinds`.
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& kinds,
              uint32_t capacity);

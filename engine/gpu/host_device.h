@@ -82,9 +82,17 @@ AF_UINT(kBindingGridPoints,
         18)  // the birds in slot order: places in their cells (xyz), indices (w, as bits)
 AF_UINT(kBindingGridKeys, 19)    // each slot's cell (xyz) and flock (w; kNoFlock: an empty slot)
 AF_UINT(kBindingGridOwners, 20)  // the bird that claimed each slot (kNoBird: none)
-AF_UINT(kBindingGridRanges, 21)  // each slot's first and end in the sorted birds
+// Each slot's first and end in the sorted birds and the bounds of its birds' places in their cell
+// (low, high: kBoundSteps to the cell's side, 10 bits an axis), for the search (grid_cells.comp).
+AF_UINT(kBindingGridCells, 21)
+AF_UINT(kBoundSteps, 1024)
 AF_UINT(kBindingGridSearch,
         22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
+// What the social goal reads of each bird of the grid, by bird index, two texels each
+// (grid_scatter.comp; flock.glsl: social_goal): its position (xyz) and tile_x (w), its velocity
+// (xyz) and tile_z (w). A tile is a whole number far inside a float's exact range; its bits would
+// not do (a negative tile's are a NaN, which a device may change).
+AF_UINT(kBindingGridSeen, 26)
 // What a driver's limit on a shader's loops cut short, counted (two uints): the birds whose steps
 // a dispatch ended short of its steps (step.glsl), and the birds whose search of the neighbour
 // grid ended before it was done (flock.glsl: search).

@@ -2,6 +2,8 @@
 // search of the neighbour grid's cells nearest first, and its social goal. The includer declares
 // the grid's texel buffers, the ids and kSeen, and includes model.glsl first (perceive.comp).
 
+float square(float x) { return x * x; }  // std::pow(x, 2.0), exactly; GLSL's pow is not
+
 vec3 unit_or_zero(vec3 v) {
   float l = length(v);
   return l > 0.0 ? v / l : vec3(0.0);
@@ -33,16 +35,19 @@ bool nearer(float d2, uint j, float than_d2, uint than_j) {
   return d2 < than_d2 || (d2 == than_d2 && j < than_j);
 }
 
-// The range of the sorted birds in cell c of a flock, empty when no bird of it is there. Its
-// search in the table starts at its slot (grid.glsl): a slot holding the cell, or an empty one,
-// ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
+// grid_cells.comp's lattice steps of a place, from their word.
+uvec3 unpack_steps(uint w) { return uvec3(w, w >> 10u, w >> 20u) & 1023u; }
+
+// The range of the sorted birds in cell c of a flock (xy), empty when no bird of it is there, and
+// the bounds of their places (zw, grid_cells.comp). Its search in the table starts at its slot
+// (grid.glsl): a slot holding the cell, or an empty one, ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
 // `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would
 // run the probing loop's body for every cell, though a compact flock never needs it).
 bool holds_another(ivec4 key, ivec3 c, uint flock) {
   return key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
 }
 
-uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
+uvec4 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   uint slot = grid_slot(c, flock, pc.buckets);
   ivec4 key = texelFetch(grid_keys, int(slot));
   bool other = holds_another(key, c, flock);
@@ -57,7 +62,7 @@ uvec2 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   } else if (other) {
     blocked = true;
   }
-  return key.w == kNoFlock || other ? uvec2(0u) : texelFetch(grid_ranges, int(slot)).xy;
+  return key.w == kNoFlock || other ? uvec4(0u) : texelFetch(grid_cells, int(slot));
 }
 
 // Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by finds the same),
@@ -109,8 +114,16 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
     vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
     float gap2 = dot(gap, gap);
     if (gap2 > radius2 || gap2 > worst_d2) continue;
-    uvec2 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
-    uint e = range.x;
+    uvec4 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
+    // The box of its birds' places: a cell whose birds are all out of sight or farther than the
+    // k-th kept is passed without looking at them (exact: the box's corners are whole steps of a
+    // power of two, and a bird's offset rounds no nearer than the box's).
+    float lattice = cell / float(kBoundSteps);
+    vec3 box_low = low + vec3(unpack_steps(range.z)) * lattice;
+    vec3 box_high = low + vec3(unpack_steps(range.w) + 1u) * lattice;
+    gap = max(max(box_low - inside, inside - box_high), vec3(0.0));
+    gap2 = dot(gap, gap);
+    uint e = gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x;
     for (; e < range.y; ++e) {
       vec4 point = texelFetch(grid_points, int(e));
       uint j = floatBitsToUint(point.w);
@@ -302,15 +315,17 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   uint beyond = 0u;
   for (uint e = 0u; e < near_count; ++e) {
-    GpuBird o = birds[near_index[e]];
-    vec3 offset = o.position + tile_shift(o.tile_x, o.tile_z, b.tile_x, b.tile_z) - b.position;
+    vec4 place = texelFetch(grid_seen, int(2u * near_index[e]));
+    vec4 motion = texelFetch(grid_seen, int(2u * near_index[e] + 1u));
+    vec3 offset =
+        place.xyz + tile_shift(int(place.w), int(motion.w), b.tile_x, b.tile_z) - b.position;
     float distance = length(offset);
     float zone = zone_distance(s, offset, ahead);
     if (zone < s.separation_radius)
-      separation -= unit_or_zero(offset) * pow(1.0 - zone / s.separation_radius, 2.0);
+      separation -= unit_or_zero(offset) * square(1.0 - zone / s.separation_radius);
     if (distance >= s.separation_radius) cohesion_sum += offset;
-    heading_sum += unit_or_zero(o.velocity - wind);
-    faster_sum += dot(o.velocity - b.velocity, ahead);
+    heading_sum += unit_or_zero(motion.xyz - wind);
+    faster_sum += dot(motion.xyz - b.velocity, ahead);
     if (distance > 0.0) {
       float along = dot(offset, ahead) * (1.0 - s.separation_radius / distance);
       if (distance < s.separation_radius) {

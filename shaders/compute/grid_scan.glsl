@@ -1,7 +1,8 @@
 // The neighbour grid, 2 and 3 of 5: the exclusive prefix sum of the slots' counts in two
 // levels. grid_scan_blocks.comp: each workgroup scans kScanBlock slots into grid_starts (within
 // its block) and writes the block's total; grid_scan_totals.comp (one workgroup) scans the totals
-// in place. A slot k starts at grid_starts[k] + grid_blocks[k / kScanBlock] (grid_ranges.comp).
+// in place. A slot k starts at grid_starts[k] + grid_blocks[k / kScanBlock] (grid_scatter.comp,
+// grid_cells.comp).
 #include "gpu/host_device.h"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };

@@ -20,8 +20,9 @@ layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
 layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
-layout(set = 0, binding = kBindingGridRanges) uniform usamplerBuffer grid_ranges;
+layout(set = 0, binding = kBindingGridCells) uniform usamplerBuffer grid_cells;
 layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
+layout(set = 0, binding = kBindingGridSeen) uniform samplerBuffer grid_seen;
 // Whether any flock meets wakes: without, the wakes' fields are neither found nor written (and
 // model.glsl's step code carries none).
 layout(constant_id = 2) const bool kWakes = false;
@@ -36,7 +37,7 @@ layout(constant_id = 1) const bool kAllSeeKSeen = false;
 void main() {
   // One bird of the grid each, in slot order: neighbouring invocations search the same cells.
   uint t = gl_GlobalInvocationID.x;
-  if (t >= texelFetch(grid_ranges, int(pc.buckets - 1u)).y) return;
+  if (t >= texelFetch(grid_cells, int(pc.buckets)).x) return;
   uint i = floatBitsToUint(texelFetch(grid_points, int(t)).w);
   if ((ids[i] & kGhostBird) != 0u) return;  // seen here, perceiving on its own rank
   GpuBird b = birds[i];
