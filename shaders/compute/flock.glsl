@@ -40,9 +40,10 @@ uvec3 unpack_steps(uint w) { return uvec3(w, w >> 10u, w >> 20u) & 1023u; }
 
 // The range of the sorted birds in cell c of a flock (xy), empty when no bird of it is there, and
 // the bounds of their places (zw, grid_cells.comp). Its search in the table starts at its slot
-// (grid.glsl): a slot holding the cell, or an empty one, ends it. A slot holding another cell means the cell, if it is anywhere, is further on: with
-// `probing` the search goes on (grid_probe_step), without it `blocked` is set (a CPU device would
-// run the probing loop's body for every cell, though a compact flock never needs it).
+// (grid.glsl): a slot holding the cell, or an empty one, ends it. A slot holding another cell means
+// the cell, if it is anywhere, is further on: with `probing` the search goes on (grid_probe_step),
+// without it `blocked` is set (a CPU device would run the probing loop's body for every cell,
+// though a compact flock never needs it).
 bool holds_another(ivec4 key, ivec3 c, uint flock) {
   return key.w != kNoFlock && (key.w != int(flock) || key.xyz != c);
 }
