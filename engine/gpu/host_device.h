@@ -90,8 +90,8 @@ AF_UINT(kBindingGridSearch,
         22)  // cell offsets (xyz) and least distances (w, parts^2), nearest first
 // What the social goal reads of each bird of the grid, by bird index, two texels each
 // (grid_scatter.comp; flock.glsl: social_goal): its position (xyz) and tile_x (w), its velocity
-// (xyz) and tile_z (w). A tile is a whole number far inside a float's exact range; its bits would
-// not do (a negative tile's are a NaN, which a device may change).
+// (xyz) and tile_z (w). A tile is a whole number far inside a float's exact range; its bits did
+// not do (a negative tile's are a NaN, which a device may change; WorldScale failed).
 AF_UINT(kBindingGridSeen, 26)
 // What a driver's limit on a shader's loops cut short, counted (two uints): the birds whose steps
 // a dispatch ended short of its steps (step.glsl), and the birds whose search of the neighbour
