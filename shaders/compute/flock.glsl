@@ -102,30 +102,16 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
                    parts - 1);  // exact: cell / parts is a power of two
   int first = cells * (part.x + parts * (part.y + parts * part.z));
   float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
-  bool blocked = false, ended = false;
+  bool blocked = false, done = false;
   int n = 0;
-  for (; n < cells && !blocked; ++n) {
-    ivec4 around = texelFetch(grid_search, first + n);
-    float least2 = float(around.w) * part2;  // exact
-    if (least2 > radius2 || least2 > worst_d2) {
-      ended = true;  // nor can any cell after it
-      break;
-    }
-    vec3 low = vec3(around.xyz) * cell;  // the cell's low corner
-    vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
-    float gap2 = dot(gap, gap);
-    if (gap2 > radius2 || gap2 > worst_d2) continue;
-    uvec4 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
-    // The box of its birds' places: a cell whose birds are all out of sight or farther than the
-    // k-th kept is passed without looking at them (exact: the box's corners are whole steps of a
-    // power of two, and a bird's offset rounds no nearer than the box's).
-    float lattice = cell / float(kBoundSteps);
-    vec3 box_low = low + vec3(unpack_steps(range.z)) * lattice;
-    vec3 box_high = low + vec3(unpack_steps(range.w) + 1u) * lattice;
-    gap = max(max(box_low - inside, inside - box_high), vec3(0.0));
-    gap2 = dot(gap, gap);
-    uint e = gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x;
-    for (; e < range.y; ++e) {
+  uint e = 0u, end = 0u;
+  vec3 low = vec3(0.0);
+  // One loop over the cells and their birds, a lane taking its next bird or else its next cell
+  // each turn: 8 lanes turn as often as the one with the most cells and birds, not as often as
+  // the fullest of their cells at each cell (roofline.md).
+  // (The turns' bound, never reached, keeps a compiler from taking `done` as true after the loop.)
+  for (uint turn = 0u; !done && turn < 0x40000000u; ++turn) {
+    if (e < end) {
       vec4 point = texelFetch(grid_points, int(e));
       uint j = floatBitsToUint(point.w);
       vec3 offset = low + point.xyz - inside;
@@ -148,10 +134,36 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
           worst = kept[m];
         }
       }
+      ++e;
+    } else if (n >= cells || blocked) {
+      done = true;
+    } else {
+      ivec4 around = texelFetch(grid_search, first + n);
+      ++n;
+      float least2 = float(around.w) * part2;  // exact
+      if (least2 > radius2 || least2 > worst_d2) {
+        done = true;  // nor can any cell after it hold a bird nearer
+      } else {
+        low = vec3(around.xyz) * cell;  // the cell's low corner
+        vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
+        float gap2 = dot(gap, gap);
+        if (!(gap2 > radius2 || gap2 > worst_d2)) {
+          uvec4 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
+          // The box of its birds' places: a cell whose birds are all out of sight or farther than
+          // the k-th kept is passed without looking at them (exact: the box's corners are whole
+          // steps of a power of two, and a bird's offset rounds no nearer than the box's).
+          float lattice = cell / float(kBoundSteps);
+          vec3 box_low = low + vec3(unpack_steps(range.z)) * lattice;
+          vec3 box_high = low + vec3(unpack_steps(range.w) + 1u) * lattice;
+          gap = max(max(box_low - inside, inside - box_high), vec3(0.0));
+          gap2 = dot(gap, gap);
+          e = gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x;
+          end = range.y;
+        }
+      }
     }
-    if (e < range.y) search_cut = true;
   }
-  if (!ended && !blocked && n < cells) search_cut = true;
+  if (!done) search_cut = true;
   near_count = 0u;
   [[unroll]] for (uint n = 0u; n < kSeen; ++n) {
     near_index[n] = kept[n];
