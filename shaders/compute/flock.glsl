@@ -38,6 +38,12 @@ bool nearer(float d2, uint j, float than_d2, uint than_j) {
 // grid_cells.comp's lattice steps of a place, from their word.
 uvec3 unpack_steps(uint w) { return uvec3(w, w >> 10u, w >> 20u) & 1023u; }
 
+// The distance squared from `inside` to the box from `low` to `high`: 0 inside it.
+float gap2_to_box(vec3 low, vec3 high, vec3 inside) {
+  vec3 gap = max(max(low - inside, inside - high), vec3(0.0));
+  return dot(gap, gap);
+}
+
 // The range of the sorted birds in cell c of a flock (xy), empty when no bird of it is there, and
 // the bounds of their places (zw, grid_cells.comp). Its search in the table starts at its slot
 // (grid.glsl): a slot holding the cell, or an empty one, ends it. A slot holding another cell means
@@ -102,6 +108,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
                    parts - 1);  // exact: cell / parts is a power of two
   int first = cells * (part.x + parts * (part.y + parts * part.z));
   float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
+  float lattice = cell / float(kBoundSteps);         // grid_cells.comp's step, exact
   bool blocked = false, done = false;
   int n = 0;
   uint e = 0u, end = 0u;
@@ -145,18 +152,14 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
         done = true;  // nor can any cell after it hold a bird nearer
       } else {
         low = vec3(around.xyz) * cell;  // the cell's low corner
-        vec3 gap = max(max(low - inside, inside - (low + cell)), vec3(0.0));
-        float gap2 = dot(gap, gap);
+        float gap2 = gap2_to_box(low, low + cell, inside);
         if (!(gap2 > radius2 || gap2 > worst_d2)) {
           uvec4 range = cell_birds(home + around.xyz, b.flock, probing, blocked);
           // The box of its birds' places: a cell whose birds are all out of sight or farther than
           // the k-th kept is passed without looking at them (exact: the box's corners are whole
           // steps of a power of two, and a bird's offset rounds no nearer than the box's).
-          float lattice = cell / float(kBoundSteps);
-          vec3 box_low = low + vec3(unpack_steps(range.z)) * lattice;
-          vec3 box_high = low + vec3(unpack_steps(range.w) + 1u) * lattice;
-          gap = max(max(box_low - inside, inside - box_high), vec3(0.0));
-          gap2 = dot(gap, gap);
+          gap2 = gap2_to_box(low + vec3(unpack_steps(range.z)) * lattice,
+                             low + vec3(unpack_steps(range.w) + 1u) * lattice, inside);
           e = gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x;
           end = range.y;
         }
