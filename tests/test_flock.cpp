@@ -23,18 +23,29 @@ namespace {
 using glm::dvec3;
 using testing::flocking_bird;
 
-// Every bird's neighbours from the grid equal brute force's, in order.
+// Every bird's neighbours from the grid equal brute force's, in order, whichever cell the grid
+// takes (grid_shape's, and each that grid_cell_for may choose).
 void expect_grid_matches_brute_force(const std::vector<BirdState>& birds,
                                      const std::vector<Species>& species, const char* what) {
-  const NeighbourGrid grid(birds, grid_shape(species, birds));
-  size_t seen = 0;
-  for (uint32_t i = 0; i < birds.size(); ++i) {
-    const std::vector<uint32_t> fast = grid.seen_by(i, species, dvec3{0.0});
-    ASSERT_EQ(fast, seen_by_brute_force(i, birds, species, dvec3{0.0})) << what << ": bird " << i;
-    seen += fast.size();
-  }
-  if (birds.size() > 1) {
-    EXPECT_GT(seen, 0u) << what << ": nobody saw anybody: nothing was compared";
+  std::vector<std::vector<uint32_t>> truth;
+  for (uint32_t i = 0; i < birds.size(); ++i)
+    truth.push_back(seen_by_brute_force(i, birds, species, dvec3{0.0}));
+  GridShape shape = grid_shape(species, birds);
+  std::vector<double> cells = grid_cells_allowed(species, birds);
+  ASSERT_FALSE(cells.empty());
+  EXPECT_NE(std::find(cells.begin(), cells.end(), shape.cell), cells.end()) << what;
+  for (const double cell : cells) {
+    shape.cell = cell;
+    const NeighbourGrid grid(birds, shape);
+    size_t seen = 0;
+    for (uint32_t i = 0; i < birds.size(); ++i) {
+      const std::vector<uint32_t> fast = grid.seen_by(i, species, dvec3{0.0});
+      ASSERT_EQ(fast, truth[i]) << what << ", cells of " << cell << " cm: bird " << i;
+      seen += fast.size();
+    }
+    if (birds.size() > 1) {
+      EXPECT_GT(seen, 0u) << what << ": nobody saw anybody: nothing was compared";
+    }
   }
 }
 
@@ -55,6 +66,52 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
     }
     expect_grid_matches_brute_force(birds, species, "random");
   }
+}
+
+// Issue 44: the grid's cell follows how far the searches reach (grid_cell_for). A bird that reached
+// R searches about (R / cell + 1)^3 cells and meets about k (1 + cell / R)^3 birds: the cell that
+// suits it is about R, and a flock's many dense birds outweigh its few sparse ones.
+TEST(NeighbourGrid, TheCellSuitsHowFarTheSearchesReach) {
+  const auto at = [](double distance, uint32_t birds) {
+    SearchReach r;
+    r.count[reach_bin(distance)] = birds;
+    return r;
+  };
+  const std::vector<double> cells = {256.0, 512.0, 1024.0, 2048.0};
+  EXPECT_EQ(grid_cell_for(SearchReach{}, cells), 0.0);        // nobody searched: keep the cell
+  EXPECT_EQ(grid_cell_for(at(240.0, 1000), cells), 256.0);    // the default's starlings
+  EXPECT_EQ(grid_cell_for(at(2000.0, 1000), cells), 2048.0);  // seeing fewer than k in 20 m
+  EXPECT_EQ(grid_cell_for(at(700.0, 1000), cells), 512.0);
+  SearchReach mixed = at(240.0, 1000);
+  mixed.add(at(2000.0, 20));  // and the default's 20 eagles
+  EXPECT_EQ(grid_cell_for(mixed, cells), 256.0);
+  EXPECT_EQ(grid_cell_for(at(20.0, 5), cells), 256.0);  // never below the least allowed
+  // Half octaves from 32 cm; the first and the last bins open.
+  EXPECT_EQ(reach_bin(32.0), 0u);
+  EXPECT_EQ(reach_bin(1.0), 0u);
+  EXPECT_EQ(reach_bin(46.0), 1u);
+  EXPECT_EQ(reach_bin(256.0), 6u);
+  EXPECT_EQ(reach_bin(1e9), kReachBins - 1);
+  // The cells allowed: from a twelfth of the perception (powers of two) to the first past it,
+  // grid_shape's among them.
+  const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
+  EXPECT_EQ(grid_cells_allowed({starling()}, one), cells);
+  EXPECT_EQ(grid_cells_allowed({goose()}, one), cells);
+  EXPECT_EQ(grid_cells_allowed({european_starling()}, one),
+            (std::vector<double>{128.0, 256.0, 512.0, 1024.0}));
+  EXPECT_EQ(grid_shape({european_starling()}, one).cell, 128.0);
+}
+
+// The CPU reference's grid follows them too: geese-migration's 96 geese in three skeins, 80 of them
+// seeing fewer than 7 within 20 m, search all their sight; after a second their grid's cells are 20
+// m, not grid_shape's 2.56. The default's starlings keep grid_shape's.
+TEST(NeighbourGrid, ASparseFlocksCellsGrowADenseFlocksStay) {
+  CpuSimulation geese(load_scenario("geese-migration"));
+  CpuSimulation starlings(load_scenario("default"));
+  while (geese.time() < 1.0) geese.step_frame();
+  while (starlings.time() < 1.0) starlings.step_frame();
+  EXPECT_EQ(geese.grid_cell(), 2048.0);
+  EXPECT_EQ(starlings.grid_cell(), 256.0);
 }
 
 TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
@@ -91,7 +148,7 @@ TEST(NeighbourGrid, FindsWhatBruteForceFindsOnAdversarialFlocks) {
   const std::vector<BirdState> one = {flocking_bird(dvec3{0.0}, dvec3{1000.0, 0.0, 0.0})};
   EXPECT_TRUE(NeighbourGrid(one, grid_shape(species, one)).seen_by(0, species, dvec3{0.0}).empty());
   std::vector<Perception> perception;
-  perceive({}, species, World{}, 0, 0, 0.03, perception);
+  perceive({}, species, World{}, 0, 0, 0.03, GridShape{kMinGridCell, 1024}, perception);
   EXPECT_TRUE(perception.empty());
 }
 

@@ -138,9 +138,20 @@ double farthest_seen(const Scenario& scenario, const std::vector<BirdState>& bir
   return radius;
 }
 
-Buffer search_buffer(const Device& device, const GridShape& shape, double radius) {
-  const std::vector<glm::ivec4> order = grid_search_order(shape, radius, kSearchParts);
-  return buffer_with(device, order, Memory::device_local, "grid search offsets");
+// The search's orders for each of `cells`, one after the other; where each begins and how many
+// cells a part's list holds.
+Buffer search_buffer(const Device& device, const std::vector<double>& cells, uint32_t buckets,
+                     double radius, std::vector<uint32_t>& first, std::vector<uint32_t>& length) {
+  std::vector<glm::ivec4> orders;
+  constexpr size_t kParts = size_t{kSearchParts} * kSearchParts * kSearchParts;
+  for (const double cell : cells) {
+    const std::vector<glm::ivec4> order =
+        grid_search_order(GridShape{cell, buckets}, radius, kSearchParts);
+    first.push_back(static_cast<uint32_t>(orders.size()));
+    length.push_back(static_cast<uint32_t>(order.size() / kParts));
+    orders.insert(orders.end(), order.begin(), order.end());
+  }
+  return buffer_with(device, orders, Memory::device_local, "grid search offsets");
 }
 
 }  // namespace
@@ -148,6 +159,7 @@ Buffer search_buffer(const Device& device, const GridShape& shape, double radius
 GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario,
                                   const std::vector<BirdState>& kinds, uint32_t capacity)
     : shape{grid_shape(scenario.species, kinds).cell, grid_buckets(capacity)},
+      cells(grid_cells_allowed(scenario.species, kinds)),
       place(grid_buffer(device, 2 * size_t{capacity}, "birds' grid places")),
       counts(grid_buffer(device, shape.buckets, "grid slots")),
       starts(grid_buffer(device, shape.buckets, "grid slots")),
@@ -156,9 +168,10 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                          "birds in the grid")),  // a texel at least
       keys(grid_buffer(device, 4 * size_t{shape.buckets}, "grid slots")),
       owners(grid_buffer(device, shape.buckets, "grid slots")),
-      cells(grid_buffer(device, 4 * (size_t{shape.buckets} + 1), "grid slots")),
+      cell_boxes(grid_buffer(device, 4 * (size_t{shape.buckets} + 1), "grid slots")),
       seen(grid_buffer(device, 8 * std::max<size_t>(capacity, 1), "birds in the grid")),
-      search(search_buffer(device, shape, farthest_seen(scenario, kinds))),
+      search(search_buffer(device, cells, shape.buckets, farthest_seen(scenario, kinds),
+                           search_first, search_cells)),
       count(device, shader_spirv("grid_count"),
             world_and({kBindingGridPlace, kBindingGridCounts, kBindingGridKeys, kBindingGridOwners,
                        kBindingPerception}),
@@ -190,8 +203,10 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                           {kBindingGridStarts, &starts},
                           {kBindingGridBlocks, &blocks},
                           {kBindingGridPoints, &points},
-                          {kBindingGridCells, &cells}});
+                          {kBindingGridCells, &cell_boxes}});
 
+  cell = static_cast<size_t>(std::find(cells.begin(), cells.end(), shape.cell) - cells.begin());
+  if (cell == cells.size()) throw std::logic_error("the grid's cell is not one it may take");
   perceive.check_groups(group_count(capacity, kWorkgroupSize));
   scan_blocks.check_groups(shape.buckets / kScanBlock);
 }
@@ -238,13 +253,14 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, 2 * sizeof(uint32_t), Memory::host)},
+              Buffer(device, (2 + kReachBins) * sizeof(uint32_t), Memory::host)},
              {targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, 2 * sizeof(uint32_t), Memory::host)}},
+              Buffer(device, (2 + kReachBins) * sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(capacity_, kWorkgroupSize));  // so that step() cannot fail on it
+  fit_cell_ = kinds == nullptr;
   if (any_flocking(this->scenario()))
     flocking_ =
         std::make_unique<Flocking>(device, this->scenario(), kinds ? *kinds : initial_, capacity_);
@@ -259,7 +275,7 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
         f.perceive.make_set(world_buffers(slot.targets, {{kBindingPerception, &perception_},
                                                          {kBindingGridPoints, &f.points},
                                                          {kBindingGridKeys, &f.keys},
-                                                         {kBindingGridCells, &f.cells},
+                                                         {kBindingGridCells, &f.cell_boxes},
                                                          {kBindingGridSearch, &f.search},
                                                          {kBindingGridSeen, &f.seen},
                                                          {kBindingCutShort, &slot.cut_short}}));
@@ -385,6 +401,18 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
   steps_per_dispatch_ = steps;
 }
 
+void GpuSimulation::fit_grid_cell(const Slot& slot) {
+  if (!flocking_ || !fit_cell_) return;
+  Flocking& f = *flocking_;
+  SearchReach reach;
+  std::memcpy(reach.count.data(), reinterpret_cast<const uint32_t*>(slot.cut_short.mapped()) + 2,
+              sizeof(reach.count));
+  const double cell = grid_cell_for(reach, f.cells);
+  if (cell <= 0.0) return;  // no search reached: keep the cell
+  f.cell = static_cast<size_t>(std::find(f.cells.begin(), f.cells.end(), cell) - f.cells.begin());
+  f.shape.cell = cell;
+}
+
 void GpuSimulation::check_cut_short(const Slot& slot) const {
   const auto* cut = reinterpret_cast<const uint32_t*>(slot.cut_short.mapped());
   if (cut[0] > 0)
@@ -419,6 +447,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     Slot& reused = slots_[1 - last_];
     submitter_.wait(reused.fence);  // as begin() would
     check_cut_short(reused);        // before its count is cleared
+    fit_grid_cell(reused);
     collect_pass_times(reused);
     std::memset(reused.cut_short.mapped(), 0, reused.cut_short.size());
   }
@@ -447,8 +476,11 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   c.wind_exponent = float(world().wind_exponent);
   c.wind_roughness = float(world().wind_roughness);
   if (flocking_) {
-    c.grid_cell = float(flocking_->shape.cell);
-    c.buckets = flocking_->shape.buckets;
+    const Flocking& f = *flocking_;
+    c.grid_cell = float(f.shape.cell);
+    c.buckets = f.shape.buckets;
+    c.search_first = f.search_first[f.cell];
+    c.search_cells = f.search_cells[f.cell];
   }
   for (uint32_t f = 0; f < frames; ++f) {
     const double start = begin_frame();

@@ -58,6 +58,9 @@ class GpuSimulation final : public Simulation {
   void prepare_forces() override;
 
   const Device& gpu_device() const { return device_; }
+  // The neighbour grid's cell the next submission takes, cm (0 without flocking): it follows how
+  // far the searches reached (grid_cell_for) on one device.
+  double grid_cell() const { return flocking_ ? flocking_->shape.cell : 0.0; }
   // The most steps a dispatch takes (kMaxStepsPerDispatch unless set): tests split frames finer
   // to compare the parts with the whole, or coarser to see a driver's limit caught.
   void set_steps_per_dispatch(uint32_t steps);
@@ -124,7 +127,12 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    Buffer place, counts, starts, blocks, points, keys, owners, cells, seen, search;
+    // The cells the grid may take (grid_cells_allowed), the search's order for each in `search`
+    // (where it begins, and the cells a part's list holds), and the one it has.
+    std::vector<double> cells;
+    std::vector<uint32_t> search_first, search_cells;
+    size_t cell = 0;
+    Buffer place, counts, starts, blocks, points, keys, owners, cell_boxes, seen, search;
     ComputePipeline count, scan_blocks, scan_totals, scatter, cells_pass, perceive;
     // For up to `capacity` birds of the kinds of `kinds`.
     Flocking(const Device& device, const Scenario& scenario, const std::vector<BirdState>& kinds,
@@ -136,6 +144,8 @@ class GpuSimulation final : public Simulation {
   // Throws Error when the finished submission of `slot` had birds' steps or neighbour search cut
   // short by the device.
   void check_cut_short(const Slot& slot) const;
+  // Fits the grid's cell to how far the searches of `slot`'s finished submission reached.
+  void fit_grid_cell(const Slot& slot);
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   // With `timestamps`, writes `first` + 1 after the grid's passes and `first` + 2 after the
@@ -151,6 +161,9 @@ class GpuSimulation final : public Simulation {
   Buffer birds_, ids_, species_, routes_, route_targets_, branches_;
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
   std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
+  // Whether the grid's cell follows how far the searches reach (grid_cell_for): on one device,
+  // not for an MPI rank's share (whose cell is the whole flock's, dist/).
+  bool fit_cell_ = true;
   ComputePipeline step_;
   uint32_t frames_per_submission_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.

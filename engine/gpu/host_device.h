@@ -95,7 +95,8 @@ AF_UINT(kBindingGridSearch,
 AF_UINT(kBindingGridSeen, 26)
 // What a driver's limit on a shader's loops cut short, counted (two uints): the birds whose steps
 // a dispatch ended short of its steps (step.glsl), and the birds whose search of the neighbour
-// grid ended before it was done (flock.glsl: search).
+// grid ended before it was done (flock.glsl: search); then how far the searches reached
+// (perceive.comp: kReachBins counts, flock.h: SearchReach), for the host to fit the grid's cell.
 AF_UINT(kBindingCutShort, 23)
 // Each bird's global id (its index in the whole flock), kGhostBird set for a ghost: a copy of
 // another MPI rank's bird, perceived, never stepped nor perceiving (engine/dist). On one device the
@@ -240,7 +241,11 @@ struct StepConstants {
   uint targets_base;     // where this frame's targets begin (several frames a submission)
   uint first_step;       // the frame's steps before this dispatch (a long frame takes several)
   uint frame_steps;      // the frame's steps: the dispatch that ends it retiles and records forces
-  AF_V8 uvec2 step;      // the run's steps before the frame's first (low word first): its clock
+  // The search's order for the grid's cell (flock.h: grid_search_order): where its list for a
+  // cell's first part begins in grid_search, and the cells a part's list holds.
+  uint search_first;
+  uint search_cells;
+  AF_V8 uvec2 step;  // the run's steps before the frame's first (low word first): its clock
 };
 
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right

@@ -118,6 +118,12 @@ AF_REAL(kSettledAngle, 0.001)
 AF_REAL(kWingFold, 0.25)
 // The most neighbours a bird sees (a species' `neighbours`; the shaders' list is this long).
 AF_COUNT(kMaxNeighbours, 16)
+// How far birds' searches reached (flock.h: SearchReach): kReachBins half-octave bins of the
+// distance in cm, the first from 2^(kReachFirstBin / 2) cm (32 cm), the last open above.
+AF_COUNT(kReachBins, 24)
+AF_COUNT(kReachFirstBin, 10)
+// The device counts one perceiving bird in kReachSample (by index) in its histogram.
+AF_COUNT(kReachSample, 16)
 // Perception::seen_key's multiplier (Knuth's multiplicative hash), odd so that indices stay apart.
 AF_COUNT(kSeenKeyFactor, 2654435761u)
 

@@ -291,6 +291,55 @@ GridShape grid_shape(const std::vector<Species>& species, const std::vector<Bird
   return g;
 }
 
+uint32_t SearchReach::total() const {
+  uint32_t sum = 0;
+  for (const uint32_t c : count) sum += c;
+  return sum;
+}
+
+void SearchReach::add(const SearchReach& other) {
+  for (uint32_t b = 0; b < kReachBins; ++b) count[b] += other.count[b];
+}
+
+uint32_t reach_bin(double distance) {
+  const double half_octaves = std::floor(2.0 * std::log2(std::max(distance, 1.0)));
+  return static_cast<uint32_t>(
+      std::clamp(half_octaves - double(kReachFirstBin), 0.0, double(kReachBins - 1)));
+}
+
+std::vector<double> grid_cells_allowed(const std::vector<Species>& species,
+                                       const std::vector<BirdState>& birds) {
+  const std::vector<bool> flocks = flocking_species(species.size(), birds);
+  double perception = 0.0;
+  for (size_t k = 0; k < species.size(); ++k)
+    if (flocks[k]) perception = std::max(perception, species[k].perception_radius);
+  // grid_shape's own cell among them (a perception shorter than its separation's cell).
+  const double most = std::max(perception, grid_shape(species, birds).cell);
+  std::vector<double> cells;
+  const double least = std::max(kMinGridCell, std::exp2(std::ceil(std::log2(perception / 12.0))));
+  for (double cell = least; cell <= kMaxGridCell; cell *= 2.0) {
+    cells.push_back(cell);
+    if (cell >= most) break;
+  }
+  return cells;
+}
+
+double grid_cell_for(const SearchReach& reach, const std::vector<double>& allowed) {
+  if (reach.total() == 0 || allowed.empty()) return 0.0;
+  double best = allowed.front(), least_cost = INFINITY;
+  for (const double cell : allowed) {
+    double cost = 0.0;
+    for (uint32_t b = 0; b < kReachBins; ++b) {
+      if (reach.count[b] == 0) continue;
+      // The bin's middle, in cm.
+      const double r = std::exp2((double(b + kReachFirstBin) + 0.5) / 2.0);
+      cost += reach.count[b] * (std::pow(r / cell + 1.0, 3.0) + std::pow(1.0 + cell / r, 3.0));
+    }
+    if (cost < least_cost) least_cost = cost, best = cell;
+  }
+  return best;
+}
+
 uint32_t grid_buckets(size_t birds) {
   return std::bit_ceil(static_cast<uint32_t>(std::clamp<size_t>(4 * birds, 1024, size_t{1} << 31)));
 }
@@ -373,9 +422,10 @@ std::vector<uint32_t> NeighbourGrid::seen_by(uint32_t i, const std::vector<Speci
   const double edge = std::max(0.0, std::min({inside.x, inside.y, inside.z}));
   for (int r = 0; r <= rings; ++r) {
     // Every cell of ring r is at least r - 1 cells and `edge` away: stop once none can hold a
-    // nearer bird.
+    // nearer bird, nor one as near of a lower index (ties go by index: a cell exactly at the k-th's
+    // distance may hold one; cells of 10 m on a lattice of 2.56 m had one).
     const double inner = (r - 1) * cell + edge;
-    if (r > 0 && nearest.full() && inner * inner >= nearest.worst2()) break;
+    if (r > 0 && nearest.full() && inner * inner > nearest.worst2()) break;
     for (int dx = -r; dx <= r; ++dx)
       for (int dy = -r; dy <= r; ++dy) {
         const bool side = std::abs(dx) == r || std::abs(dy) == r;
@@ -436,13 +486,18 @@ void see_wakes(const Species& s, const BirdState& b, const dvec3& wind,
 }
 
 // What bird `i` of `birds` perceives now, from `grid`; its seen_key by `ids` where given.
+// `reached`, where given: how far its search reached (SearchReach).
 Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>& birds, uint32_t i,
                         const std::vector<Species>& species, const World& world, uint64_t step,
-                        std::span<const uint32_t> ids = {}) {
+                        std::span<const uint32_t> ids = {}, double* reached = nullptr) {
   const BirdState& b = birds[i];
   const Species& s = species[b.species];
   const dvec3 wind = wind_at(world, b.position.y);  // the air it flies in
   const std::vector<uint32_t> seen = grid.seen_by(i, species, wind);
+  if (reached)
+    *reached = seen.empty() || seen.size() < static_cast<size_t>(s.neighbours)
+                   ? s.perception_radius
+                   : glm::length(birds[seen.back()].position - b.position);
   BirdState route_bird = b;  // route_goal passes targets: the step does that, not the eyes
   dvec3 goal = seen.empty() ? dvec3{0.0} : route_goal(route_bird, s, world);
   bool route_done = route_over(route_bird, world);
@@ -466,16 +521,27 @@ Perception perceive_one(const NeighbourGrid& grid, const std::vector<BirdState>&
 
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
               const World& world, uint64_t frame, uint64_t step, double frame_seconds,
-              std::vector<Perception>& perception) {
+              GridShape shape, std::vector<Perception>& perception, SearchReach* reach) {
   perception.resize(birds.size());
-  const NeighbourGrid grid(birds, grid_shape(species, birds));
+  const NeighbourGrid grid(birds, shape);
   const int64_t n = static_cast<int64_t>(birds.size());
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int64_t i = 0; i < n; ++i) {
-    const Species& s = species[birds[static_cast<size_t>(i)].species];
-    if (frame % reaction_frames(s, frame_seconds) != 0) continue;
-    perception[static_cast<size_t>(i)] =
-        perceive_one(grid, birds, static_cast<uint32_t>(i), species, world, step);
+#pragma omp parallel
+  {
+    SearchReach mine;
+#pragma omp for schedule(dynamic, 256)
+    for (int64_t i = 0; i < n; ++i) {
+      const BirdState& b = birds[static_cast<size_t>(i)];
+      const Species& s = species[b.species];
+      if (frame % reaction_frames(s, frame_seconds) != 0) continue;
+      double reached = 0.0;
+      perception[static_cast<size_t>(i)] =
+          perceive_one(grid, birds, static_cast<uint32_t>(i), species, world, step, {}, &reached);
+      if (flocks_now(b) && s.neighbours >= 1.0) ++mine.count[reach_bin(reached)];
+    }
+    if (reach) {
+#pragma omp critical
+      reach->add(mine);
+    }
   }
 }
 

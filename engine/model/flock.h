@@ -3,6 +3,7 @@
 // force acts on a body.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -156,6 +157,28 @@ struct GridShape {
 // is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
+// How far the birds' neighbour searches reached (issue 44): of each perceiving bird, the distance
+// to the k-th nearest it saw, or its perception_radius where it saw fewer (its search then covered
+// all of its sight), counted in half-octave bins (reach_bin). The cell that suits a bird is about
+// its reach: a sparse flock's birds (the migrants' skeins, 80 of 96 geese seeing fewer than 7
+// within 20 m) search every cell of their sight, some 2,600 of 2.56 m, where cells of 20 m cost 27.
+struct SearchReach {
+  std::array<uint32_t, kReachBins> count{};
+  uint32_t total() const;
+  void add(const SearchReach& other);
+};
+// The bin of a reach of `distance` cm: floor(2 log2(distance)) - kReachFirstBin, within the bins.
+uint32_t reach_bin(double distance);
+// The cells a grid for these birds may have: the powers of two of cm from grid_shape's least (a
+// twelfth of the largest perception_radius, kMinGridCell) to the first at or past that perception
+// (kMaxGridCell at most), smallest first.
+std::vector<double> grid_cells_allowed(const std::vector<Species>& species,
+                                       const std::vector<BirdState>& birds);
+// Of `allowed`, the cell whose search costs least for birds that reached `reach`: a bird of reach
+// R searches about (R / cell + 1)^3 cells and meets about k (1 + cell / R)^3 birds, alike in cost
+// on lavapipe (roofline.md), so that a cell about R suits it. 0 when `reach` counts no bird.
+double grid_cell_for(const SearchReach& reach, const std::vector<double>& allowed);
+
 // The buckets of a grid of `birds` birds (grid_shape's).
 uint32_t grid_buckets(size_t birds);
 // Which of `species` species have birds that flock (the grid's cells and search are theirs).
@@ -195,10 +218,12 @@ std::vector<uint32_t> seen_by_brute_force(uint32_t i, const std::vector<BirdStat
 
 // Every bird's perception: due birds (frame a multiple of their reaction_frames) that flock now
 // get a new one from the grid, due birds that do not get none, the rest keep theirs.
-// `step`: the run's step at the frame's start (the wakes' time).
+// `step`: the run's step at the frame's start (the wakes' time). The grid of `shape` (grid_shape's
+// or one of grid_cells_allowed: the cell never changes what a bird sees); `reach`, where given,
+// gains how far each due bird's search reached.
 void perceive(const std::vector<BirdState>& birds, const std::vector<Species>& species,
               const World& world, uint64_t frame, uint64_t step, double frame_seconds,
-              std::vector<Perception>& perception);
+              GridShape shape, std::vector<Perception>& perception, SearchReach* reach = nullptr);
 // The same for the birds `perceivers` of `birds` alone (perception[k] is perceivers[k]'s), on a
 // grid of `shape`, each bird's seen_key summed over `ids` (its global id) rather than its index:
 // one rank's birds among their ghosts (dist/). `birds` in the order of `ids`, ascending, so

@@ -112,7 +112,7 @@ Snapshot Simulation::start_snapshot() {
   // What frame 0 perceives: the first frame's perception, from the same state.
   if (flocking)
     perceive(*s.birds, scenario_.species, scenario_.world, 0, 0, scenario_.frame_seconds(),
-             start_perception_);
+             grid_shape(scenario_.species, *s.birds), start_perception_);
   next_step_forces(*s.birds, scenario_, scenario_.world, 0, flocking ? &start_perception_ : nullptr,
                    start_forces_);
   s.forces = &start_forces_;
@@ -151,8 +151,19 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   const int64_t n = static_cast<int64_t>(birds_.size());
   // The birds see their flock at the frame's start, as they were after the last frame.
   const bool flocking = any_flocking(scenario());
-  if (flocking)
-    perceive(birds_, species, world, frames() - 1, first, scenario().frame_seconds(), perception_);
+  if (flocking) {
+    // The grid's cell suits how far the birds' searches reached last (grid_cell_for); it sets
+    // how fast they search, never what they find.
+    if (grid_.buckets == 0) {
+      grid_ = grid_shape(species, birds_);
+      grid_cells_ = grid_cells_allowed(species, birds_);
+    } else if (const double cell = grid_cell_for(reach_, grid_cells_); cell > 0.0) {
+      grid_.cell = cell;
+    }
+    reach_ = {};
+    perceive(birds_, species, world, frames() - 1, first, scenario().frame_seconds(), grid_,
+             perception_, &reach_);
+  }
   // Each bird runs all the frame's steps before the next bird: its state stays in cache.
   // Only the birds not retired, once some are (each thread an equal share of those).
   const bool some_retired = !retired_.empty();

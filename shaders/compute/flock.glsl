@@ -102,11 +102,10 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
   const int parts = int(kSearchParts);
-  int cells = textureSize(grid_search) /
-              (parts * parts * parts);  // the list of the bird's part of its cell
+  int cells = int(pc.search_cells);  // the list of the bird's part of its cell, for this cell
   ivec3 part = min(ivec3(inside * (float(parts) / cell)),
                    parts - 1);  // exact: cell / parts is a power of two
-  int first = cells * (part.x + parts * (part.y + parts * part.z));
+  int first = int(pc.search_first) + cells * (part.x + parts * (part.y + parts * part.z));
   float part2 = cell * cell / float(parts * parts);  // a part's side squared, exact
   float lattice = cell / float(kBoundSteps);         // grid_cells.comp's step, exact
   bool blocked = false, done = false;

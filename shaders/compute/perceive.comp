@@ -10,12 +10,6 @@ layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions {
   GpuPerception perception[];
 };
 layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
-// Counts the birds whose search a driver's limit on loops ended early (lavapipe ends a shader's
-// loops after 65,535 turns: a cell of tens of thousands of birds); the host refuses the frame.
-layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
-  uint steps_short;  // step.glsl's
-  uint searches_short;
-};
 // The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
 // storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
 layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
@@ -33,6 +27,24 @@ layout(constant_id = 0) const uint kSeen = kMaxNeighbours;
 layout(constant_id = 1) const bool kAllSeeKSeen = false;
 #include "grid.glsl"
 #include "flock.glsl"
+// Counts the birds whose search a driver's limit on loops ended early (lavapipe ends a shader's
+// loops after 65,535 turns: a cell of tens of thousands of birds); the host refuses the frame.
+// And how far a sample of the searches reached (one bird in kReachSample, turn about): the host
+// fits the grid's cell to them (flock.h: grid_cell_for).
+layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
+  uint steps_short;  // step.glsl's
+  uint searches_short;
+  uint reached[kReachBins];
+};
+
+// flock.cpp: perceive's reach, and reach_bin.
+void count_reach(GpuSpecies s, uint k) {
+  float reach2 = kFar;
+  [[unroll]] for (uint m = 0u; m < kSeen; ++m) if (m + 1u == k) reach2 = near_d2[m];
+  float reach = near_count < k ? s.perception_radius : sqrt(reach2);
+  int bin = int(floor(2.0 * log2(max(reach, 1.0)))) - int(kReachFirstBin);
+  atomicAdd(reached[clamp(bin, 0, int(kReachBins) - 1)], 1u);
+}
 
 void main() {
   // One bird of the grid each, in slot order: neighbouring invocations search the same cells.
@@ -50,6 +62,7 @@ void main() {
   search_cut = false;
   if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
   if (search_cut) atomicAdd(searches_short, 1u);
+  if (k >= 1u && (i + pc.frame) % kReachSample == 0u) count_reach(s, k);
   vec3 goal = vec3(0.0);
   bool route_done = false;
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes
