@@ -1,5 +1,6 @@
 """Checks the shape of `aeroflock bench --json` output (not its figures): python3 check_bench_json.py FILE."""
 import json
+import math
 import sys
 
 FIELDS = ("name", "backend", "variant", "birds", "iterations", "real_time", "p10", "p90", "time_unit",
@@ -32,6 +33,12 @@ def main(path):
             assert passes is not None, f"{b['name']}: no device passes"
             assert passes["steps"] > 0 and passes["grid"] >= 0 and passes["perception"] >= 0, b
             assert (b["variant"] == "solo") == (passes["grid"] == passes["perception"] == 0), b
+            # The grid's cell: a power of two of cm where the flock flocks, none solo.
+            cell = b["grid_cell_cm"]
+            if b["variant"] == "solo":
+                assert cell is None, b
+            else:
+                assert cell is not None and cell >= 64 and math.log2(cell).is_integer(), b
         else:
             assert passes is None, b
     for backend in backends:

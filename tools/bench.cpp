@@ -91,6 +91,7 @@ struct Settings {
 // over the timed frames of each pass, ms.
 struct DevicePasses {
   double grid = 0, perception = 0, steps = 0;
+  double cell = 0;  // cm: the neighbour grid's cell at the end (it follows the searches), 0: none
   double total() const { return grid + perception + steps; }
 };
 
@@ -249,7 +250,8 @@ class Subject {
         steps.push_back(t.steps_ms);
       }
     if (steps.empty()) return std::nullopt;
-    return DevicePasses{quantile(grid, 0.5), quantile(perception, 0.5), quantile(steps, 0.5)};
+    return DevicePasses{quantile(grid, 0.5), quantile(perception, 0.5), quantile(steps, 0.5),
+                        gpu.grid_cell()};
   }
 
  private:
@@ -332,6 +334,7 @@ void print_row(const Measurement& m, double budget_ms) {
     const double total = p.total() > 0 ? p.total() : 1.0;
     std::printf("  device: grid %.3f, perception %.3f (%.0f %%), steps %.3f ms", p.grid,
                 p.perception, 100.0 * p.perception / total, p.steps);
+    if (p.cell > 0.0) std::printf(" (cells of %.2f m)", p.cell / 100.0);
   }
   std::printf("\n");
   std::fflush(stdout);
@@ -839,6 +842,11 @@ nlohmann::json bench_json(const Run& run, const std::vector<Ratios>& ratios,
                                                          {"perception", m.passes->perception},
                                                          {"steps", m.passes->steps}}
                                         : nlohmann::json(nullptr)},
+          // The neighbour grid's cell the device's search ended with (it follows how far the
+          // searches reach: docs/MODEL.md "The neighbour grid"); null without device passes or
+          // flocking.
+          {"grid_cell_cm", m.passes && m.passes->cell > 0.0 ? nlohmann::json(m.passes->cell)
+                                                            : nlohmann::json(nullptr)},
       });
   }
   nlohmann::json ratios_json = nlohmann::json::array();
