@@ -260,7 +260,6 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(capacity_, kWorkgroupSize));  // so that step() cannot fail on it
-  fit_cell_ = kinds == nullptr;
   if (any_flocking(this->scenario()))
     flocking_ =
         std::make_unique<Flocking>(device, this->scenario(), kinds ? *kinds : initial_, capacity_);
@@ -402,7 +401,7 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
 }
 
 void GpuSimulation::fit_grid_cell(const Slot& slot) {
-  if (!flocking_ || !fit_cell_) return;
+  if (!flocking_) return;
   Flocking& f = *flocking_;
   SearchReach reach;
   std::memcpy(reach.count.data(), reinterpret_cast<const uint32_t*>(slot.cut_short.mapped()) + 2,

@@ -59,7 +59,7 @@ class GpuSimulation final : public Simulation {
 
   const Device& gpu_device() const { return device_; }
   // The neighbour grid's cell the next submission takes, cm (0 without flocking): it follows how
-  // far the searches reached (grid_cell_for) on one device.
+  // far the searches reached (grid_cell_for).
   double grid_cell() const { return flocking_ ? flocking_->shape.cell : 0.0; }
   // The most steps a dispatch takes (kMaxStepsPerDispatch unless set): tests split frames finer
   // to compare the parts with the whole, or coarser to see a driver's limit caught.
@@ -161,9 +161,6 @@ class GpuSimulation final : public Simulation {
   Buffer birds_, ids_, species_, routes_, route_targets_, branches_;
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
   std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
-  // Whether the grid's cell follows how far the searches reach (grid_cell_for): on one device,
-  // not for an MPI rank's share (whose cell is the whole flock's, dist/).
-  bool fit_cell_ = true;
   ComputePipeline step_;
   uint32_t frames_per_submission_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.
