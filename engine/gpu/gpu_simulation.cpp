@@ -205,8 +205,8 @@ GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario
                           {kBindingGridPoints, &points},
                           {kBindingGridCells, &cell_boxes}});
 
-  cell = static_cast<size_t>(std::find(cells.begin(), cells.end(), shape.cell) - cells.begin());
-  if (cell == cells.size()) throw std::logic_error("the grid's cell is not one it may take");
+  if (cell_index() == cells.size())
+    throw std::logic_error("the grid's cell is not one it may take");
   perceive.check_groups(group_count(capacity, kWorkgroupSize));
   scan_blocks.check_groups(shape.buckets / kScanBlock);
 }
@@ -400,6 +400,10 @@ void GpuSimulation::set_steps_per_dispatch(uint32_t steps) {
   steps_per_dispatch_ = steps;
 }
 
+size_t GpuSimulation::Flocking::cell_index() const {
+  return static_cast<size_t>(std::find(cells.begin(), cells.end(), shape.cell) - cells.begin());
+}
+
 void GpuSimulation::fit_grid_cell(const Slot& slot) {
   if (!flocking_) return;
   Flocking& f = *flocking_;
@@ -407,9 +411,7 @@ void GpuSimulation::fit_grid_cell(const Slot& slot) {
   std::memcpy(reach.count.data(), reinterpret_cast<const uint32_t*>(slot.cut_short.mapped()) + 2,
               sizeof(reach.count));
   const double cell = grid_cell_for(reach, f.cells);
-  if (cell <= 0.0) return;  // no search reached: keep the cell
-  f.cell = static_cast<size_t>(std::find(f.cells.begin(), f.cells.end(), cell) - f.cells.begin());
-  f.shape.cell = cell;
+  if (cell > 0.0) f.shape.cell = cell;  // else no search reached: keep the cell
 }
 
 void GpuSimulation::check_cut_short(const Slot& slot) const {
@@ -478,8 +480,9 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     const Flocking& f = *flocking_;
     c.grid_cell = float(f.shape.cell);
     c.buckets = f.shape.buckets;
-    c.search_first = f.search_first[f.cell];
-    c.search_cells = f.search_cells[f.cell];
+    const size_t k = f.cell_index();
+    c.search_first = f.search_first[k];
+    c.search_cells = f.search_cells[k];
   }
   for (uint32_t f = 0; f < frames; ++f) {
     const double start = begin_frame();

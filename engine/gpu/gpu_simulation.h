@@ -127,11 +127,12 @@ class GpuSimulation final : public Simulation {
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
     GridShape shape;
-    // The cells the grid may take (grid_cells_allowed), the search's order for each in `search`
-    // (where it begins, and the cells a part's list holds), and the one it has.
+    // The cells the grid may take (grid_cells_allowed; shape.cell one of them) and the search's
+    // order for each in `search` (where it begins, and the cells a part's list holds).
     std::vector<double> cells;
     std::vector<uint32_t> search_first, search_cells;
-    size_t cell = 0;
+    // Which of `cells` the grid has now.
+    size_t cell_index() const;
     Buffer place, counts, starts, blocks, points, keys, owners, cell_boxes, seen, search;
     ComputePipeline count, scan_blocks, scan_totals, scatter, cells_pass, perceive;
     // For up to `capacity` birds of the kinds of `kinds`.

@@ -133,10 +133,16 @@ double Simulation::begin_frame() {
 }
 
 CpuSimulation::CpuSimulation(Scenario scenario, uint32_t birds_override)
-    : Simulation(std::move(scenario)), birds_(spawn_birds(this->scenario(), birds_override)) {}
+    : Simulation(std::move(scenario)),
+      birds_(spawn_birds(this->scenario(), birds_override)),
+      grid_(grid_shape(this->scenario().species, birds_)),
+      grid_cells_(grid_cells_allowed(this->scenario().species, birds_)) {}
 
 CpuSimulation::CpuSimulation(Scenario scenario, std::vector<BirdState> birds)
-    : Simulation(std::move(scenario)), birds_(std::move(birds)) {}
+    : Simulation(std::move(scenario)),
+      birds_(std::move(birds)),
+      grid_(grid_shape(this->scenario().species, birds_)),
+      grid_cells_(grid_cells_allowed(this->scenario().species, birds_)) {}
 
 std::string CpuSimulation::device() const {
   return "cpu reference (" + std::to_string(omp_get_max_threads()) + " threads)";
@@ -154,12 +160,7 @@ void CpuSimulation::step(uint32_t steps, bool record_forces) {
   if (flocking) {
     // The grid's cell suits how far the birds' searches reached last (grid_cell_for); it sets
     // how fast they search, never what they find.
-    if (grid_.buckets == 0) {
-      grid_ = grid_shape(species, birds_);
-      grid_cells_ = grid_cells_allowed(species, birds_);
-    } else if (const double cell = grid_cell_for(reach_, grid_cells_); cell > 0.0) {
-      grid_.cell = cell;
-    }
+    if (const double cell = grid_cell_for(reach_, grid_cells_); cell > 0.0) grid_.cell = cell;
     reach_ = {};
     perceive(birds_, species, world, frames() - 1, first, scenario().frame_seconds(), grid_,
              perception_, &reach_);

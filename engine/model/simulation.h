@@ -152,7 +152,7 @@ class CpuSimulation final : public Simulation {
 
   // The state, to change between steps (tests).
   std::vector<BirdState>& state() { return birds_; }
-  // The neighbour grid's cell its last perception searched, cm (0 before one).
+  // The neighbour grid's cell its last perception searched (before one, grid_shape's), cm.
   double grid_cell() const { return grid_.cell; }
   void retire(std::span<const uint32_t> birds) override;
 
@@ -160,7 +160,7 @@ class CpuSimulation final : public Simulation {
   std::vector<BirdState> birds_;
   std::vector<StepForces> forces_;
   std::vector<Perception> perception_;
-  GridShape grid_;                  // the neighbour grid's (buckets 0: not made yet)
+  GridShape grid_;                  // the neighbour grid's
   std::vector<double> grid_cells_;  // the cells it may take (grid_cells_allowed)
   SearchReach reach_;               // how far the last perception's searches reached
   bool forces_current_ = false;
