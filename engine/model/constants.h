@@ -98,6 +98,9 @@ AF_REAL(kSteerAirspeed, 100.0)
 AF_REAL(kTouchdownAim, 0.5)
 // A bird flares once it must brake at this share of its full flare to stop in time (route.h).
 AF_REAL(kBrakeShare, 0.5)
+// A bird that lands on the ground (Species::perches 0) comes in on a glide path this steep (rad)
+// that ends on its site (route.h: route_goal), sinking at its slowest airspeed times its tangent.
+AF_REAL(kGlideSlope, 0.10471975511965977)
 // A bird that touches down on the ground stands this long (and until it has settled) before it
 // takes off again, s.
 AF_REAL(kRestAfterTouchdown, 0.5)

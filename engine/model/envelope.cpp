@@ -197,7 +197,11 @@ EnvelopeFlight envelope_flight(const Species& species, const std::vector<Envelop
       b.attitude = heading_attitude(0.0);
     } else {
       b.attitude = glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
-      b.velocity = b.attitude * dvec3{c.speed, 0.0, 0.0};
+      // A landing begins in flight: no slower than the species flies (the migrants' min_speed is
+      // above the case's 10 m/s: released slower, they stalled onto the ground at once).
+      const double speed =
+          c.kind == EnvelopeCase::Kind::landing ? std::max(c.speed, species.min_speed) : c.speed;
+      b.velocity = b.attitude * dvec3{speed, 0.0, 0.0};
     }
     flight.birds.push_back(b);
     flight.longest = std::max(flight.longest, time_limit(c));

@@ -102,6 +102,40 @@ dvec3 landing_goal(BirdState& b, const Species& s, const Branch& br, const dvec3
   return on_curve;
 }
 
+// A bird that lands on the ground (route.h: lands_on_ground) steers for `goal` (landing_goal's)
+// at the height of its glide path: on the way to the gate, the path's height there (it climbs to
+// where its final begins); on its final, the path's height where it will be a height_lead on, so
+// that its height error (control.h: steer_towards leads it by as much) is how far it is off the
+// path where it is. The path runs on under the ground past the site, so that the bird sinks at
+// the path's rate until its legs meet the ground (ending it level at the site, the lead would
+// float it on over the ground). Past the site it flies straight on.
+dvec3 glide_goal(const BirdState& b, const Species& s, const Branch& br, dvec3 goal,
+                 const dvec3& wind) {
+  const dvec3 site = perch_point(s, br);
+  const double slope = std::tan(kGlideSlope);
+  if (b.landing_stage == LandingStage::gate) {
+    goal.y = site.y + slope * glm::length(horizontal(goal - site));
+    return goal;
+  }
+  const dvec3 ground_velocity = horizontal(b.velocity);
+  const double speed = glm::length(ground_velocity);
+  if (!(speed > 0.0)) return goal;
+  // How far it has to go to the site: along its track near it (negative once past it), else the
+  // whole way (turning onto its final, it may head away from the site).
+  const dvec3 way = horizontal(site - b.position);
+  const double along = glm::dot(way, ground_velocity) / speed;
+  const bool near = glm::length(way) <= s.perch_radius;
+  const double ahead = near ? along : glm::length(way);
+  if (near && along <= 0.0) {
+    const dvec3 air = horizontal(b.velocity - wind);
+    goal =
+        b.position + (glm::length(air) > 0.0 ? air / glm::length(air) : ground_velocity / speed) *
+                         s.approach_distance;
+  }
+  goal.y = site.y + slope * (ahead - s.height_lead * speed);
+  return goal;
+}
+
 void perch(BirdState& b, const Species& s, const Branch& br) {
   hold_on(b, FlightMode::perched, perch_point(s, br));
   ++b.targets_reached;
@@ -163,8 +197,17 @@ dvec3 route_goal(BirdState& b, const Species& s, const World& w) {
   if (b.target < n) return w.target_now[r.targets[b.target]];
   if (r.branch < 0) return w.target_now[r.targets[n - 1]];
   const Branch& br = w.branches[static_cast<uint32_t>(r.branch)];
-  return r.path_control ? landing_goal(b, s, br, wind_at(w, b.position.y))
-                        : perch_point(s, br);  // or straight in
+  const dvec3 wind = wind_at(w, b.position.y);
+  const dvec3 goal =
+      r.path_control ? landing_goal(b, s, br, wind) : perch_point(s, br);  // or straight in
+  return lands_on_ground(s) ? glide_goal(b, s, br, goal, wind) : goal;
+}
+
+bool lands_on_ground(const Species& s) { return s.perches == 0.0; }
+
+bool at_landing_site(const BirdState& b, const Species& s, const World& w, const dvec3& at) {
+  const Branch* br = route_branch(b, w);
+  return br && lands_on_ground(s) && glm::length(horizontal(at - br->point)) <= s.perch_radius;
 }
 
 std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const World& w) {
@@ -184,7 +227,8 @@ bool braking_due(const Species& s, const BirdState& b, const dvec3& to_perch, co
 
 bool approach_branch(BirdState& b, const Species& s, const World& w) {
   const Branch* br = route_branch(b, w);
-  if (!br) return false;
+  // A bird that lands on the ground does not brake: it touches down at its slowest airspeed.
+  if (!br || lands_on_ground(s)) return false;
   const dvec3 to_perch = perch_point(s, *br) - b.position;
   const double distance = glm::length(to_perch);
   if (distance <= s.perch_radius && glm::length(b.velocity) <= s.touchdown_speed) {

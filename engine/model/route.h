@@ -36,6 +36,16 @@ std::optional<glm::dvec3> onward_goal(const BirdState& b, const World& w);
 // route that loops without end.
 std::optional<double> distance_to_go(const BirdState& b, const World& w);
 
+// Whether the bird lands on the ground (Species::perches 0): its route's branch is a site on the
+// ground. It does not brake: it glides down to it at its slowest airspeed, on a path kGlideSlope
+// steep, lands where its legs meet the ground within perch_radius of the site and runs out on
+// them (docs/MODEL.md "Landing on the ground").
+bool lands_on_ground(const Species& s);
+
+// Whether a bird that lands on the ground, its legs meeting the ground at `at`, has landed: on its
+// route's site, within perch_radius of it (horizontally).
+bool at_landing_site(const BirdState& b, const Species& s, const World& w, const glm::dvec3& at);
+
 // For a bird whose route has brought it to its branch: starts braking (the flare) within
 // brake_distance, or sooner where it must already brake at kBrakeShare of its full flare; goes
 // round when it overshoots (flown past, out of perch_radius) or has sunk under the branch still

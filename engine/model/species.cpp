@@ -123,7 +123,8 @@ Species ibis() {
   s.crouch_depth = 8;
   s.leg_force = 5.5e6;  // the eagle's push scaled by mass
   s.perches = 0;        // it lands on the ground
-  s.perch_radius = 130;
+  s.perch_radius = 800;
+  s.approach_distance = 2500;
   // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows.
   s.w_formation = 8;
   s.separation_radius = 156;
@@ -168,7 +169,8 @@ Species goose() {
   // target 10 m up, 90 degrees off) climbed away too late.
   s.leg_force = 2.0e7;
   s.perches = 0;  // it lands on the ground
-  s.perch_radius = 160;
+  s.perch_radius = 1500;
+  s.approach_distance = 3000;
   // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows.
   s.w_formation = 8;
   s.separation_radius = 192;
@@ -273,7 +275,9 @@ void validate(const Species& s) {
   if (s.amp_min > s.amp_max) fail("amp_min must be <= amp_max");
   if (s.box_c < 2 * s.wing_length) fail("box_c (full span) must be >= 2 wing_length");
   if (s.Cd_90 < s.Cd_0) fail("Cd_90 must be >= Cd_0");
-  if (s.perch_radius > s.brake_distance) fail("perch_radius must be <= brake_distance");
+  // A bird that lands on the ground does not brake: its perch_radius is its site's (route.h).
+  if (s.perches != 0.0 && s.perch_radius > s.brake_distance)
+    fail("perch_radius must be <= brake_distance");
   if (!(s.min_speed <= s.cruise_speed && s.cruise_speed <= s.max_speed))
     fail("min_speed <= cruise_speed <= max_speed must hold");
   if (s.pitch_min >= s.pitch_max) fail("pitch_min must be < pitch_max");

@@ -40,14 +40,15 @@ struct Commands {
 Commands control(const BirdState& b, const Species& sp, const World& w, double dt, dvec3 goal,
                  double airspeed_command, bool in_air) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
+  // A bird gliding down to its site on the ground aims on under it (route.h: route_goal).
+  const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double ground = w.ground_height + sp.stand_height;
-  goal.y = std::max(goal.y, ground);
+  if (!(way && lands_on_ground(sp))) goal.y = std::max(goal.y, ground);
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   // Braking, the bird aims above the perch: slowing, it sinks onto it (below, it could not climb).
   if (braking) goal.y += kFlareAimAbove * sp.perch_radius;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
-  const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double to_perch = way ? glm::length(*way) : -1.0;
   const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
@@ -249,8 +250,10 @@ void settle(BirdState& b, const Species& sp, const World& w, double dt) {
   b.velocity += pull * dt;
   b.position += b.velocity * dt;
   // On the ground its legs fold no deeper than in a crouch (a hard touch-down stops there).
+  // So too on its landing site on the ground (perched there: its place is on the ground).
   const double floor = w.ground_height + std::max(sp.stand_height - sp.crouch_depth, 0.0);
-  if (b.mode == FlightMode::standing && b.position.y < floor) {
+  const bool on_ground = b.via_point.y <= w.ground_height + sp.stand_height;
+  if ((b.mode == FlightMode::standing || on_ground) && b.position.y < floor) {
     b.position.y = floor;
     b.velocity.y = std::max(b.velocity.y, 0.0);
   }
@@ -272,10 +275,19 @@ void settle(BirdState& b, const Species& sp, const World& w, double dt) {
 
 // The ground is solid: a bird whose legs reach it on the way down stands, and stops where its
 // legs can stop it from its speed over the ground (kSettleDecel).
-void touch_down(BirdState& b, const Species& sp, const World& w) {
+// Touching down on its route's landing site, it has landed there: it runs out and stays (perched,
+// as a bird on its branch; route.h: at_landing_site).
+void touch_down(BirdState& b, const Species& sp, const World& w, double dt) {
   const dvec3 level = horizontal(b.velocity);
-  const dvec3 stop = b.position + level * (glm::length(level) / (2.0 * kSettleDecel));
-  hold_on(b, FlightMode::standing, dvec3{stop.x, w.ground_height + sp.stand_height, stop.z});
+  const dvec3 run = b.position + level * (glm::length(level) / (2.0 * kSettleDecel));
+  const dvec3 stop{run.x, w.ground_height + sp.stand_height, run.z};
+  if (at_landing_site(b, sp, w, b.position)) {
+    hold_on(b, FlightMode::perched, stop);
+    ++b.targets_reached;
+    return;
+  }
+  hold_on(b, FlightMode::standing, stop);
+  b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
 }
 
 // One step of a bird that is not quarantined (step_bird).
@@ -358,8 +370,7 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   // The ground is solid: a bird in the air whose legs reach it on the way down touches down,
   // stands, and takes off again when it has rested (its route goes on).
   if (!on_legs && b.position.y < w.ground_height + sp.stand_height && b.velocity.y < 0.0) {
-    touch_down(b, sp, w);
-    b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
+    touch_down(b, sp, w, dt);
   }
   if (out) *out = f;
 }

@@ -26,13 +26,14 @@ struct Commands {
 // made glslang's precise propagation blow up (docs/ARCHITECTURE.md).
 Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airspeed_command,
                  bool in_air) {
+  vec4 way = way_to_perch(b, s, route);
   float ground = pc.wind_ground.w + s.stand_height;
-  goal.y = max(goal.y, ground);  // no bird flies lower than it stands
+  // No bird flies lower than it stands, but one gliding down to its site on the ground.
+  if (!(way.w >= 0.0 && lands_on_ground(s))) goal.y = max(goal.y, ground);
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   if (braking) goal.y += kFlareAimAbove * s.perch_radius;
   bool fixed_rate = pc.turning == 1u && !braking;
-  vec4 way = way_to_perch(b, s, route);
   float to_perch = way.w;  // -1: none
   vec3 wind = step_wind;
   Commands c;
@@ -252,7 +253,8 @@ void settle(inout GpuBird b, GpuSpecies s, float dt) {
   b.velocity = velocity;
   b.position = position;
   float floor_y = pc.wind_ground.w + max(s.stand_height - s.crouch_depth, 0.0);
-  if (b.mode == mode_standing && b.position.y < floor_y) {
+  bool on_ground = b.via_point.y <= pc.wind_ground.w + s.stand_height;
+  if ((b.mode == mode_standing || on_ground) && b.position.y < floor_y) {
     b.position.y = floor_y;
     b.velocity.y = max(b.velocity.y, 0.0);
   }
@@ -272,10 +274,17 @@ void settle(inout GpuBird b, GpuSpecies s, float dt) {
 }
 
 // step.cpp: touch_down.
-void touch_down(inout GpuBird b, GpuSpecies s) {
+void touch_down(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   vec3 level = horizontal(b.velocity);
-  vec3 stop = b.position + level * (length(level) / (2.0 * kSettleDecel));
-  hold_on(b, mode_standing, vec3(stop.x, pc.wind_ground.w + s.stand_height, stop.z));
+  vec3 run = b.position + level * (length(level) / (2.0 * kSettleDecel));
+  vec3 stop = vec3(run.x, pc.wind_ground.w + s.stand_height, run.z);
+  if (at_landing_site(b, s, r, b.position)) {
+    hold_on(b, mode_perched, stop);
+    b.targets_reached += 1u;
+    return;
+  }
+  hold_on(b, mode_standing, stop);
+  b.rest_steps = pc.rest_steps;
 }
 
 // step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
@@ -355,8 +364,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   // The ground is solid: touch down, stand, take off again when rested.
   float ground = pc.wind_ground.w;
   if (!on_legs && b.position.y < ground + s.stand_height && b.velocity.y < 0.0) {
-    touch_down(b, s);
-    b.rest_steps = pc.rest_steps;
+    touch_down(b, s, leg.route);
   }
   return f;
 }

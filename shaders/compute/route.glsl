@@ -126,6 +126,40 @@ bool onward_goal(GpuBird b, Leg leg, out vec3 goal) {
   return true;
 }
 
+// route.cpp: lands_on_ground, glide_goal, at_landing_site.
+bool lands_on_ground(GpuSpecies s) { return s.perches == 0.0; }
+
+vec3 glide_goal(GpuBird b, GpuSpecies s, uint branch, vec3 goal, vec3 wind) {
+  vec3 site = perch_point(b, s, branch);
+  float slope = tan(kGlideSlope);
+  if (b.landing_stage == stage_gate) {
+    goal.y = site.y + slope * length(horizontal(goal - site));
+    return goal;
+  }
+  vec3 ground_velocity = horizontal(b.velocity);
+  float speed = length(ground_velocity);
+  if (!(speed > 0.0)) return goal;
+  vec3 way = horizontal(site - b.position);
+  float along = dot(way, ground_velocity) / speed;
+  bool near = length(way) <= s.perch_radius;
+  float ahead = near ? along : length(way);
+  if (near && along <= 0.0) {
+    vec3 air = horizontal(b.velocity - wind);
+    goal = b.position +
+           (length(air) > 0.0 ? air / length(air) : ground_velocity / speed) * s.approach_distance;
+  }
+  goal.y = site.y + slope * (ahead - s.height_lead * speed);
+  return goal;
+}
+
+bool at_landing_site(GpuBird b, GpuSpecies s, GpuRoute r, vec3 at) {
+  uint br = route_branch(b, r);
+  return br != 0u && lands_on_ground(s) &&
+         length(horizontal(at - branches[br - 1u].point.xyz -
+                           tile_shift(branches[br - 1u].tile_x, branches[br - 1u].tile_z, b.tile_x,
+                                      b.tile_z))) <= s.perch_radius;
+}
+
 vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   GpuRoute r = leg.route;
   if (b.target < r.count) {
@@ -141,8 +175,9 @@ vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
   }
   if (b.target < r.count || r.branch == 0u) return leg.centre_radius.xyz;
   uint branch = r.branch - 1u;
-  return (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, step_wind)
-                                             : perch_point(b, s, branch);
+  vec3 goal = (r.flags & kRoutePathControl) != 0u ? landing_goal(b, s, branch, step_wind)
+                                                  : perch_point(b, s, branch);
+  return lands_on_ground(s) ? glide_goal(b, s, branch, goal, step_wind) : goal;
 }
 
 // xyz: the way to where the bird perches, w: its length, once the perch is its goal; w -1 before
@@ -161,7 +196,7 @@ bool braking_due(GpuSpecies s, GpuBird b, vec3 to_perch, vec3 wind, float distan
 
 bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   uint br = route_branch(b, r);
-  if (br == 0u) return false;
+  if (br == 0u || lands_on_ground(s)) return false;  // no braking: it touches down
   uint branch = br - 1u;
   vec3 to_perch = perch_point(b, s, branch) - b.position;
   float d = length(to_perch);
