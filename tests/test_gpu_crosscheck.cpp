@@ -446,8 +446,9 @@ TEST(GpuCrossCheck, OneStepForcesAndEveryStateFieldMatchTheReference) {
 // Issue 10: the flight envelope judged on both backends gives the same outcomes: every fifth
 // flight of the grid up to 300 m away (216), every take-off (24) and every branch landing (48),
 // for each preset (the migrants' on the ground, at the fast step); on Vulkan each first touch-down
-// without a jump (issue 40: touchdown_criteria.h). The envelope's sample at the paper's step and at
-// the fast one (the issue 39 crab was checked at both).
+// on a branch without a jump (issue 40: touchdown_criteria.h; the migrants' are measured only). The
+// envelope's sample at the paper's step and at the fast one (the issue 39 crab was checked at
+// both).
 struct EnvelopeRun {
   Species (*preset)();
   double dt;

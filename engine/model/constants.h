@@ -99,7 +99,8 @@ AF_REAL(kTouchdownAim, 0.5)
 // A bird flares once it must brake at this share of its full flare to stop in time (route.h).
 AF_REAL(kBrakeShare, 0.5)
 // A bird that lands on the ground (Species::perches 0) comes in on a glide path this steep (rad)
-// that ends on its site (route.h: route_goal), sinking at its slowest airspeed times its tangent.
+// that ends on its site (route.h: route_goal), sinking at its speed over the ground times its
+// tangent (1.2 m/s for the ibis, 1.4 for the goose at their slowest airspeeds in calm air).
 AF_REAL(kGlideSlope, 0.10471975511965977)
 // A bird that touches down on the ground stands this long (and until it has settled) before it
 // takes off again, s.

@@ -40,10 +40,11 @@ struct Commands {
 Commands control(const BirdState& b, const Species& sp, const World& w, double dt, dvec3 goal,
                  double airspeed_command, bool in_air) {
   // No bird flies lower than it stands: a goal on (or under) the ground is flown to at that height.
-  // A bird gliding down to its site on the ground aims on under it (route.h: route_goal).
+  // A bird gliding down its glide path to its site on the ground aims on under it (route.h:
+  // route_goal); not one steering by its flock.
   const std::optional<dvec3> way = way_to_perch(b, sp, w);
   const double ground = w.ground_height + sp.stand_height;
-  if (!(way && lands_on_ground(sp))) goal.y = std::max(goal.y, ground);
+  if (!(way && lands_on_ground(sp) && !in_air)) goal.y = std::max(goal.y, ground);
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   // Braking, the bird aims above the perch: slowing, it sinks onto it (below, it could not climb).
@@ -250,9 +251,9 @@ void settle(BirdState& b, const Species& sp, const World& w, double dt) {
   b.velocity += pull * dt;
   b.position += b.velocity * dt;
   // On the ground its legs fold no deeper than in a crouch (a hard touch-down stops there).
-  // So too on its landing site on the ground (perched there: its place is on the ground).
+  // So too a bird that lands on the ground, on its site (perched there: its place is on it).
   const double floor = w.ground_height + std::max(sp.stand_height - sp.crouch_depth, 0.0);
-  const bool on_ground = b.via_point.y <= w.ground_height + sp.stand_height;
+  const bool on_ground = lands_on_ground(sp) && b.via_point.y <= w.ground_height + sp.stand_height;
   if ((b.mode == FlightMode::standing || on_ground) && b.position.y < floor) {
     b.position.y = floor;
     b.velocity.y = std::max(b.velocity.y, 0.0);

@@ -28,8 +28,8 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
                  bool in_air) {
   vec4 way = way_to_perch(b, s, route);
   float ground = pc.wind_ground.w + s.stand_height;
-  // No bird flies lower than it stands, but one gliding down to its site on the ground.
-  if (!(way.w >= 0.0 && lands_on_ground(s))) goal.y = max(goal.y, ground);
+  // No bird flies lower than it stands, but one gliding down its path to its site on the ground.
+  if (!(way.w >= 0.0 && lands_on_ground(s) && !in_air)) goal.y = max(goal.y, ground);
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
   if (braking) goal.y += kFlareAimAbove * s.perch_radius;
@@ -253,7 +253,7 @@ void settle(inout GpuBird b, GpuSpecies s, float dt) {
   b.velocity = velocity;
   b.position = position;
   float floor_y = pc.wind_ground.w + max(s.stand_height - s.crouch_depth, 0.0);
-  bool on_ground = b.via_point.y <= pc.wind_ground.w + s.stand_height;
+  bool on_ground = lands_on_ground(s) && b.via_point.y <= pc.wind_ground.w + s.stand_height;
   if ((b.mode == mode_standing || on_ground) && b.position.y < floor_y) {
     b.position.y = floor_y;
     b.velocity.y = max(b.velocity.y, 0.0);
