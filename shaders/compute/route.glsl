@@ -155,9 +155,7 @@ vec3 glide_goal(GpuBird b, GpuSpecies s, uint branch, vec3 goal, vec3 wind) {
 bool at_landing_site(GpuBird b, GpuSpecies s, GpuRoute r, vec3 at) {
   uint br = route_branch(b, r);
   return br != 0u && lands_on_ground(s) &&
-         length(horizontal(at - branches[br - 1u].point.xyz -
-                           tile_shift(branches[br - 1u].tile_x, branches[br - 1u].tile_z, b.tile_x,
-                                      b.tile_z))) <= s.perch_radius;
+         length(horizontal(at - perch_point(b, s, br - 1u))) <= s.perch_radius;
 }
 
 vec3 route_goal(inout GpuBird b, GpuSpecies s, inout Leg leg) {
