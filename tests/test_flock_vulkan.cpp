@@ -165,13 +165,26 @@ TEST(GpuFlock, ALooseGroupInFormationHoldsItsRoutesHeight) {
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
-// Issue 43: formation flying on both backends. A loose group of seven formation eagles after 40 s
+// Issue 43's energy criterion on the device (formation_run.h).
+TEST(GpuFlock, AFollowerSpendsLessPowerThanAlone) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, false);
+  testing::expect_a_follower_saves_power([&](const Scenario& s, std::vector<BirdState> birds) {
+    return std::make_unique<gpu::GpuSimulation>(device, s, std::move(birds));
+  });
+  EXPECT_EQ(device.validation_errors(), 0u);
+}
+
+// Issue 43: formation flying on both backends. A loose group of seven formation eagles, and
+// ibis-v's 14 ibises (their wingbeat led by their airspeed's rate, speed_lead), after 40 s
 // (followers in and around V places): each bird's formation (its heading, airspeed and wingbeat's
 // phase rate, from the upwash it predicts at probes around it) agrees within float rounding, and a
 // second later so do the birds' places.
-TEST(GpuFlock, FormationFlyingIsTheReferences) {
+class GpuFormation : public ::testing::TestWithParam<bool> {};
+
+TEST_P(GpuFormation, FormationFlyingIsTheReferences) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
-  const Scenario scenario = testing::formation_scenario(7, true);
+  const Scenario scenario =
+      GetParam() ? load_scenario("ibis-v") : testing::formation_scenario(7, true);
   BothBackends both = from_one_state(device, scenario, 40.0);
   const std::vector<BirdState>& birds = both.birds;
   CpuSimulation& cpu = *both.cpu;
@@ -210,6 +223,11 @@ TEST(GpuFlock, FormationFlyingIsTheReferences) {
   EXPECT_LT(worst_position, 1.0);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
+
+INSTANTIATE_TEST_SUITE_P(GpuFlock, GpuFormation, ::testing::Values(false, true),
+                         [](const ::testing::TestParamInfo<bool>& p) {
+                           return std::string(p.param ? "ibis_v" : "formation_eagles");
+                         });
 
 // The same 1,000 km east and 300 km north: the grid's cells and the birds' places in them are
 // exact on the device (world tiles), so it finds what it finds at the origin.

@@ -144,5 +144,12 @@ TEST(Formation, ALooseGroupInFormationHoldsItsRoutesHeight) {
         seed, [](const Scenario& s) { return std::make_unique<CpuSimulation>(s); });
 }
 
+// Issue 43's energy criterion (formation_run.h).
+TEST(Formation, AFollowerSpendsLessPowerThanAlone) {
+  testing::expect_a_follower_saves_power([](const Scenario& s, std::vector<BirdState> birds) {
+    return std::make_unique<CpuSimulation>(s, std::move(birds));
+  });
+}
+
 }  // namespace
 }  // namespace aeroflock

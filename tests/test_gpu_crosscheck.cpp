@@ -99,6 +99,10 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     b.tail_twist = in(-sp.rot_max, sp.rot_max);
     b.sweep = in(-sp.sweep_max, sp.sweep_max);
     b.pitch_trim = in(0.0, radians(20));
+    // The airspeed as the last wingbeat began and its rate over the one before (speed_lead), from
+    // the draws above so as not to change the birds drawn after it: every other bird has begun one.
+    b.beat_airspeed = i % 2 == 0 ? 0.0 : 0.97 * glm::length(b.velocity);
+    b.airspeed_rate = (b.phase - kPi) * 50.0;
     // Past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside.
     b.circling_steps = uint32_t(in(0.0, 5.0) / s.dt);
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
@@ -216,6 +220,8 @@ const std::map<std::string, double> kStateTolerance = {
     {"quarantined_step", 0},
     {"rest_steps", 0},
     {"lift", 0.5},               // dyn: up to 2e6 (an eagle's), whose float ulp is 0.125
+    {"beat_airspeed", 1e-2},     // cm/s, as velocity
+    {"airspeed_rate", 0.2},      // cm/s^2: a difference of airspeeds (1e-2) times f (up to 19 Hz)
     {"landing_start", 1e-3},     // cm: placed at the bird's position
     {"landing_progress", 1e-6},  // of the curve
     {"via_point", 0.05},         // cm: the middle of a curve tens of metres long, its crossing

@@ -149,6 +149,10 @@ double spool_lead(const Species& s, double amplitude, double air_climb) {
   return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
 }
 
+double speed_lead_error(const Species& s, double airspeed, double airspeed_rate) {
+  return -s.speed_lead * airspeed * airspeed_rate / kGravity;
+}
+
 double commanded_pitch(const Species& s, double pitch_trim, double balance, double height,
                        double goal_height) {
   const double pitch = std::clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);

@@ -123,6 +123,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   dvec3 separation{0.0}, heading_sum{0.0}, cohesion_sum{0.0};
   double ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   int beyond = 0;
+  uint32_t ahead_count = 0;
   for (const uint32_t j : seen) {
     const dvec3 offset = birds[j].position - b.position;
     const double distance = glm::length(offset);
@@ -131,6 +132,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
       separation -= unit_or_zero(offset) * std::pow(1.0 - zone / s.separation_radius, 2.0);
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity - wind);
+    if (glm::dot(offset, ahead) > 0.0) ++ahead_count;
     faster_sum += glm::dot(birds[j].velocity - b.velocity, ahead);
     // Along its flight, how far the neighbour is from separation_radius away (ahead > 0): one
     // nearer than that counts in full, those beyond by their mean.
@@ -157,6 +159,15 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   const dvec3 route = route_done ? dvec3{0.0}
                                  : route_heading(s, route_goal - b.position, wind,
                                                  glm::length(horizontal(b.velocity - wind)));
+  // A bird of a formation species with none of those it sees ahead of it heads the formation: it
+  // flies its route at its own airspeed, heeding only the separation. Steered by its followers too
+  // (their cohesion, their speed), it and they swung each other's airspeed and course, and each
+  // follower's swings grew down the chain behind it.
+  if (s.w_formation > 0.0 && !route_done && ahead_count == 0) {
+    p.airspeed = 0.0;
+    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
+    return p;
+  }
   const dvec3 d = formation.heading != dvec3{0.0}
                       ? s.w_separation * separation +
                             s.w_formation * (formation.heading +

@@ -130,7 +130,8 @@ double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec
 // on with its flock, without the route's share of d.
 // `formation`: a bird flying in formation (its heading not 0) steers by the separation and the
 // formation alone, at the formation's airspeed: the bird ahead whose wake it rides flies the route
-// for it.
+// for it. A bird of a formation species that sees none of them ahead of it heads the formation: it
+// flies the route at its own airspeed (0: none commanded), heeding only the separation.
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& wind,
                        const glm::dvec3& route_goal, bool route_done,
                        std::span<const uint32_t> seen, const std::vector<BirdState>& birds,

@@ -125,8 +125,12 @@ Species ibis() {
   s.perches = 0;        // it lands on the ground
   s.perch_radius = 800;
   s.approach_distance = 2500;
-  // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows.
+  // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows, its
+  // airspeed steadied by the wingbeat's lead and its place by small turns (the paper's 3 degree
+  // dead band left its corrections of 1-2 degrees unsteered).
   s.w_formation = 8;
+  s.speed_lead = 1.0;
+  s.dead_band = radians(0.3);
   s.separation_radius = 156;
   s.w_separation = 2;
   return s;
@@ -171,8 +175,11 @@ Species goose() {
   s.perches = 0;  // it lands on the ground
   s.perch_radius = 1500;
   s.approach_distance = 3000;
-  // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows.
+  // Formation flying (docs/MODEL.md): a follower keeps 1.2 spans from the bird it follows, as the
+  // ibis does.
   s.w_formation = 8;
+  s.speed_lead = 1.0;
+  s.dead_band = radians(0.3);
   s.separation_radius = 192;
   s.w_separation = 2;
   return s;

@@ -81,8 +81,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).
-  c.energy_error =
-      braking ? c.steering.height_error : e.total + spool_lead(sp, b.amplitude, air_climb);
+  c.energy_error = braking ? c.steering.height_error
+                           : e.total + spool_lead(sp, b.amplitude, air_climb) +
+                                 (in_air ? speed_lead_error(sp, airspeed, b.airspeed_rate) : 0.0);
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
   // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
@@ -291,6 +292,18 @@ void touch_down(BirdState& b, const Species& sp, const World& w, double dt) {
   b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
 }
 
+// As a wingbeat begins (its phase passing 2 pi), the airspeed's rate over the beat that ended
+// (speed_lead_error); on its legs none.
+void time_the_beat(BirdState& b, double airspeed, double phase_before, bool on_legs) {
+  if (on_legs) {
+    b.beat_airspeed = 0.0;
+    b.airspeed_rate = 0.0;
+  } else if (b.phase < phase_before) {
+    if (b.beat_airspeed > 0.0) b.airspeed_rate = (airspeed - b.beat_airspeed) * b.frequency;
+    b.beat_airspeed = airspeed;
+  }
+}
+
 // One step of a bird that is not quarantined (step_bird).
 void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, double dt,
              StepForces* out, const Perception* seen) {
@@ -348,8 +361,10 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   if (on_legs) stand_on_legs(b, sp, w, dt);
 
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
+  const double phase_before = b.phase;
   b.phase =
       std::fmod(b.phase + 2.0 * kPi * beat_frequency(b, social ? seen : nullptr) * dt, 2.0 * kPi);
+  time_the_beat(b, glm::length(b.velocity - wind_at(w, b.position.y)), phase_before, on_legs);
   b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
   // The pitch trim integrates the energy balance.

@@ -53,8 +53,9 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded, b.position.y - ground,
                            goal.y - ground);
-  c.energy_error =
-      braking ? c.steering.height_error : e.total + spool_lead(s, b.amplitude, air_climb);
+  c.energy_error = braking ? c.steering.height_error
+                           : e.total + spool_lead(s, b.amplitude, air_climb) +
+                                 (in_air ? speed_lead_error(s, airspeed, b.airspeed_rate) : 0.0);
   if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
     c.energy_error = min(c.energy_error, 0.0);
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);
@@ -291,6 +292,20 @@ void touch_down(inout GpuBird b, GpuSpecies s, GpuRoute r) {
 // a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
 // alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
 // the bird.
+// step.cpp: time_the_beat.
+void time_the_beat(inout GpuBird b, float airspeed, float phase_before, bool on_legs) {
+  if (on_legs) {
+    b.beat_airspeed = 0.0;
+    b.airspeed_rate = 0.0;
+  } else if (b.phase < phase_before) {
+    if (b.beat_airspeed > 0.0) {
+      precise float rate = (airspeed - b.beat_airspeed) * b.frequency;
+      b.airspeed_rate = rate;
+    }
+    b.beat_airspeed = airspeed;
+  }
+}
+
 GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen,
                     uint step) {
   if (b.mode == mode_quarantined) return no_forces();
@@ -343,7 +358,9 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   b.omega = omega;
   if (on_legs) stand_on_legs(b, s, dt);
 
+  float phase_before = b.phase;
   b.phase = mod(b.phase + 2.0 * kPi * beat_frequency(b, seen, social) * dt, 2.0 * kPi);
+  time_the_beat(b, length(b.velocity - wind_at(b.position.y)), phase_before, on_legs);
   b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
   if (!on_legs)

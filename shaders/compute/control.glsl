@@ -126,6 +126,11 @@ float spool_lead(GpuSpecies s, float amplitude, float air_climb) {
   return 0.5 * (s.amp_max - amplitude) / s.K_a * -air_climb;
 }
 
+// control.cpp: speed_lead_error.
+float speed_lead_error(GpuSpecies s, float airspeed, float airspeed_rate) {
+  return -s.speed_lead * airspeed * airspeed_rate / kGravity;
+}
+
 float commanded_pitch(GpuSpecies s, float pitch_trim, float balance, float height,
                       float goal_height) {
   float pitch = clamp(pitch_trim + s.balance_gain * balance, s.pitch_min, s.pitch_max);

@@ -328,7 +328,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   vec3 ahead = flight_direction(b, wind);
   vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
   float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
-  uint beyond = 0u;
+  uint beyond = 0u, ahead_count = 0u;
   for (uint e = 0u; e < near_count; ++e) {
     vec4 place = texelFetch(grid_seen, int(2u * near_index[e]));
     vec4 motion = texelFetch(grid_seen, int(2u * near_index[e] + 1u));
@@ -340,6 +340,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
       separation -= unit_or_zero(offset) * square(1.0 - zone / s.separation_radius);
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(motion.xyz - wind);
+    if (dot(offset, ahead) > 0.0) ++ahead_count;
     faster_sum += dot(motion.xyz - b.velocity, ahead);
     if (distance > 0.0) {
       float along = dot(offset, ahead) * (1.0 - s.separation_radius / distance);
@@ -365,6 +366,12 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   vec3 route = route_done ? vec3(0.0)
                           : route_heading(s, route_goal - b.position, wind,
                                           length(horizontal(b.velocity - wind)));
+  // The head of a formation flies its route (flock.cpp: social_goal).
+  if (s.w_formation > 0.0 && !route_done && ahead_count == 0u) {
+    p.airspeed = 0.0;
+    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
+    return p;
+  }
   vec3 d = in_formation ? s.w_separation * separation +
                               s.w_formation * (formation.heading +
                                                kFormationRouteHeight * vec3(0.0, route.y, 0.0))
