@@ -18,21 +18,12 @@
 
 namespace aeroflock::testing {
 
-// `count` eagles that fly in formation (w_formation), released as a loose group 60 m across on a
-// straight 3 km leg, their wakes on (`wake`). Separation 1.2 spans: a follower keeps that from
-// the bird it follows.
-inline Scenario formation_scenario(uint32_t count, bool wake, uint32_t seed = 3) {
-  const std::string text = R"([simulation]
-fidelity = "fast"
-duration = 300.0
-seed = )" + std::to_string(seed) +
-                           R"(
-[[species]]
-name = "formation-eagle"
-base = "eagle"
-w_formation = 8.0
-separation_radius = 264.0
-w_separation = 2.0
+// `count` birds of `species` (a preset, or one `species_toml` defines) flocking on a straight 3 km
+// leg 60 m up, released `extent` cm across, their wakes on (`wake`).
+inline Scenario leg_scenario(const std::string& species_toml, const std::string& species,
+                             uint32_t count, bool wake, uint32_t seed, double extent) {
+  const std::string text = "[simulation]\nfidelity = \"fast\"\nduration = 300.0\nseed = " +
+                           std::to_string(seed) + "\n" + species_toml + R"(
 [[targets]]
 name = "end"
 centre = [300000.0, 6000.0, 0.0]
@@ -41,16 +32,26 @@ radius = 3000.0
 name = "leg"
 targets = ["end"]
 [[flocks]]
-species = "formation-eagle"
+species = ")" + species + R"("
 route = "leg"
 count = )" + std::to_string(count) +
-                           R"(
-centre = [0.0, 6000.0, 0.0]
-extent = [3000.0, 100.0, 3000.0]
-flocking = true
-wake = )" + (wake ? "true" : "false") +
-                           "\n";
-  return parse_scenario(text, "formation.toml");
+                           "\ncentre = [0.0, 6000.0, 0.0]\nextent = [" + std::to_string(extent) +
+                           ", 100.0, " + std::to_string(extent) +
+                           "]\nflocking = true\nwake = " + (wake ? "true" : "false") + "\n";
+  return parse_scenario(text, "leg.toml");
+}
+
+// `count` eagles that fly in formation (w_formation), released as a loose group 60 m across on a
+// straight 3 km leg, their wakes on (`wake`). Separation 1.2 spans: a follower keeps that from
+// the bird it follows.
+inline Scenario formation_scenario(uint32_t count, bool wake, uint32_t seed = 3) {
+  return leg_scenario(R"([[species]]
+name = "formation-eagle"
+base = "eagle"
+w_formation = 8.0
+separation_radius = 264.0
+w_separation = 2.0)",
+                      "formation-eagle", count, wake, seed, 3000.0);
 }
 
 // A loose group in formation holds its route's height (kFormationRouteHeight; issue 43):
@@ -94,7 +95,7 @@ void expect_route_height_held(uint64_t seed, const Make& make) {
 }
 
 // Issue 43's energy criterion, on the `ibis` preset as ibis-v flies it: a pair released level at
-// cruise on a straight 3 km leg 60 m up, the follower 2 spans behind the leader and 1.5 spans to
+// cruise on leg_scenario's leg, the follower 2 spans behind the leader and 1.5 spans to
 // its right (`count` 2), or the leader's start alone (`count` 1). From 30 to 90 s (each frame's
 // next step): each bird's mean aerodynamic power and airspeed, and for the follower the mean upwash
 // its wings meet and its share of frames in a V place (formation_figures.h).
@@ -106,34 +107,9 @@ struct PairPower {
   bool finite = true, upright = true;
 };
 
-inline Scenario ibis_pair_scenario(uint32_t count, bool wake) {
-  const std::string text = R"([simulation]
-fidelity = "fast"
-duration = 90.0
-seed = 3
-[[targets]]
-name = "end"
-centre = [300000.0, 6000.0, 0.0]
-radius = 3000.0
-[[routes]]
-name = "leg"
-targets = ["end"]
-[[flocks]]
-species = "ibis"
-route = "leg"
-count = )" + std::to_string(count) +
-                           R"(
-centre = [0.0, 6000.0, 0.0]
-extent = [100.0, 100.0, 100.0]
-flocking = true
-wake = )" + (wake ? "true" : "false") +
-                           "\n";
-  return parse_scenario(text, "ibis-pair.toml");
-}
-
 template <class Make>
 PairPower fly_ibis_pair(uint32_t count, bool wake, const Make& make) {
-  const Scenario scenario = ibis_pair_scenario(count, wake);
+  const Scenario scenario = leg_scenario("", "ibis", count, wake, 3, 100.0);
   std::vector<BirdState> birds = spawn_birds(scenario);
   const Species& s = scenario.species[birds[0].species];
   for (BirdState& b : birds) {
