@@ -152,12 +152,8 @@ double spool_lead(const Species& s, double amplitude, double air_climb);
 // How far (cm) the airspeed's rate over the last wingbeat (`airspeed_rate`, cm/s^2) will have
 // moved the energy in speed_lead: the wingbeat's energy error of a bird flying on its flock's
 // commands counts it, so that eqs. 4, 5 ease off as the speed comes back rather than when it is
-// back (a bird alone flies them as the paper has them). Without it a bird's airspeed rings for many
-// seconds after a change of command (an ibis given 0.5 m/s more swung its amplitude between 0.58
-// and 0.73 every 2.6 s for 15 s), and birds flying in formation on each other, each commanding the
-// other's speed, kept ringing: the swings cost a follower more power than the upwash saved it.
-// Taken over a whole wingbeat, the rate leaves out the beat's own surge, whose uneven share of
-// each beat would bias where the sign of eqs. 4, 5 settles.
+// back, and stop ringing (docs/MODEL.md "Holding its place"). A bird alone flies them as the paper
+// has them.
 double speed_lead_error(const Species& s, double airspeed, double airspeed_rate);
 
 // The pitch the bird holds: its integral trim plus balance_gain times the balance, within

@@ -146,6 +146,18 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   }
   p.nearest = glm::length(birds[seen[0]].position - b.position);
   for (const uint32_t j : seen) p.seen_key += j * kSeenKeyFactor;
+  const dvec3 route = route_done ? dvec3{0.0}
+                                 : route_heading(s, route_goal - b.position, wind,
+                                                 glm::length(horizontal(b.velocity - wind)));
+  // A bird of a formation species that sees none of them ahead of it (along its flight) heads the
+  // formation: it flies its route at its own airspeed, heeding only the separation. Steered by its
+  // followers too (their cohesion, their speed), it and they swung each other's airspeed and
+  // course, and each follower's swings grew down the chain behind it.
+  if (s.w_formation > 0.0 && !route_done && ahead_count == 0) {
+    p.airspeed = b.airspeed;
+    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
+    return p;
+  }
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
   const double faster = faster_sum / double(seen.size());
   const double pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
@@ -156,18 +168,6 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
     p.airspeed = formation.airspeed;
   else
     p.airspeed = std::max(p.airspeed - formation.fall_back, s.min_speed);
-  const dvec3 route = route_done ? dvec3{0.0}
-                                 : route_heading(s, route_goal - b.position, wind,
-                                                 glm::length(horizontal(b.velocity - wind)));
-  // A bird of a formation species with none of those it sees ahead of it heads the formation: it
-  // flies its route at its own airspeed, heeding only the separation. Steered by its followers too
-  // (their cohesion, their speed), it and they swung each other's airspeed and course, and each
-  // follower's swings grew down the chain behind it.
-  if (s.w_formation > 0.0 && !route_done && ahead_count == 0) {
-    p.airspeed = 0.0;
-    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
-    return p;
-  }
   const dvec3 d = formation.heading != dvec3{0.0}
                       ? s.w_separation * separation +
                             s.w_formation * (formation.heading +

@@ -292,14 +292,15 @@ void touch_down(BirdState& b, const Species& sp, const World& w, double dt) {
   b.rest_steps = whole_steps(kRestAfterTouchdown, dt);
 }
 
-// As a wingbeat begins (its phase passing 2 pi), the airspeed's rate over the beat that ended
-// (speed_lead_error); on its legs none.
-void time_the_beat(BirdState& b, double airspeed, double phase_before, bool on_legs) {
+// As a wingbeat begins (its phase passing 2 pi at `beat` Hz), the airspeed's rate over the beat
+// that ended (speed_lead_error); on its legs none.
+void time_the_beat(BirdState& b, const World& w, double phase_before, double beat, bool on_legs) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
   } else if (b.phase < phase_before) {
-    if (b.beat_airspeed > 0.0) b.airspeed_rate = (airspeed - b.beat_airspeed) * b.frequency;
+    const double airspeed = glm::length(b.velocity - wind_at(w, b.position.y));
+    if (b.beat_airspeed > 0.0) b.airspeed_rate = (airspeed - b.beat_airspeed) * beat;
     b.beat_airspeed = airspeed;
   }
 }
@@ -361,10 +362,9 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   if (on_legs) stand_on_legs(b, sp, w, dt);
 
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
-  const double phase_before = b.phase;
-  b.phase =
-      std::fmod(b.phase + 2.0 * kPi * beat_frequency(b, social ? seen : nullptr) * dt, 2.0 * kPi);
-  time_the_beat(b, glm::length(b.velocity - wind_at(w, b.position.y)), phase_before, on_legs);
+  const double phase_before = b.phase, beat = beat_frequency(b, social ? seen : nullptr);
+  b.phase = std::fmod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
+  time_the_beat(b, w, phase_before, beat, on_legs);
   b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
   // The pitch trim integrates the energy balance.

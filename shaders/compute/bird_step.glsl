@@ -288,24 +288,25 @@ void touch_down(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   b.rest_steps = pc.rest_steps;
 }
 
-// step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
-// a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
-// alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
-// the bird.
 // step.cpp: time_the_beat.
-void time_the_beat(inout GpuBird b, float airspeed, float phase_before, bool on_legs) {
+void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
   } else if (b.phase < phase_before) {
+    float airspeed = length(b.velocity - wind_at(b.position.y));
     if (b.beat_airspeed > 0.0) {
-      precise float rate = (airspeed - b.beat_airspeed) * b.frequency;
+      precise float rate = (airspeed - b.beat_airspeed) * beat;
       b.airspeed_rate = rate;
     }
     b.beat_airspeed = airspeed;
   }
 }
 
+// step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
+// a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
+// alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
+// the bird.
 GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuPerception seen,
                     uint step) {
   if (b.mode == mode_quarantined) return no_forces();
@@ -358,9 +359,9 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
   b.omega = omega;
   if (on_legs) stand_on_legs(b, s, dt);
 
-  float phase_before = b.phase;
-  b.phase = mod(b.phase + 2.0 * kPi * beat_frequency(b, seen, social) * dt, 2.0 * kPi);
-  time_the_beat(b, length(b.velocity - wind_at(b.position.y)), phase_before, on_legs);
+  float phase_before = b.phase, beat = beat_frequency(b, seen, social);
+  b.phase = mod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
+  time_the_beat(b, phase_before, beat, on_legs);
   b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
   b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
   if (!on_legs)

@@ -355,6 +355,15 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   p.nearest = sqrt(near_d2[0]);
   for (uint e = 0u; e < near_count; ++e)
     p.seen_key += (ids[near_index[e]] & ~kGhostBird) * kSeenKeyFactor;
+  vec3 route = route_done ? vec3(0.0)
+                          : route_heading(s, route_goal - b.position, wind,
+                                          length(horizontal(b.velocity - wind)));
+  // The head of a formation flies its route (flock.cpp: social_goal).
+  if (s.w_formation > 0.0 && !route_done && ahead_count == 0u) {
+    p.airspeed = b.airspeed;
+    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
+    return p;
+  }
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
   float faster = faster_sum / float(near_count);
   float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
@@ -363,15 +372,6 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   bool in_formation = formation.heading != vec3(0.0);
   p.airspeed =
       in_formation ? formation.airspeed : max(p.airspeed - formation.fall_back, s.min_speed);
-  vec3 route = route_done ? vec3(0.0)
-                          : route_heading(s, route_goal - b.position, wind,
-                                          length(horizontal(b.velocity - wind)));
-  // The head of a formation flies its route (flock.cpp: social_goal).
-  if (s.w_formation > 0.0 && !route_done && ahead_count == 0u) {
-    p.airspeed = 0.0;
-    p.direction = unit_or_zero(s.w_route * route + s.w_separation * separation);
-    return p;
-  }
   vec3 d = in_formation ? s.w_separation * separation +
                               s.w_formation * (formation.heading +
                                                kFormationRouteHeight * vec3(0.0, route.y, 0.0))
