@@ -631,21 +631,34 @@ TEST(Energy, SpeedLeadIsTheEnergyTheAirspeedsRateWillHaveMoved) {
   EXPECT_EQ(speed_lead_error(s, 1400.0, 50.0), 0.0);
 }
 
+// A world whose one route leads to a target 100 km ahead at 60 m, and a bird of species `s` in
+// level flight along it there at `speed` (cm/s), its wingbeat at mid-frequency and `amplitude`:
+// the speed lead's flights (Energy.*).
+World far_ahead() {
+  World w;
+  w.targets.push_back(Target{"far", dvec3{1e7, 6000.0, 0.0}});
+  w.routes.push_back(Route{"on", {0}});
+  w.move_targets(0.0);
+  return w;
+}
+
+BirdState level_at_60_m(const Species& s, double speed, double amplitude) {
+  BirdState b;
+  b.position = dvec3{0.0, 6000.0, 0.0};
+  b.velocity = dvec3{speed, 0.0, 0.0};
+  b.attitude = heading_attitude(0.0);
+  b.frequency = 0.5 * (s.f_min + s.f_max);
+  b.amplitude = amplitude;
+  return b;
+}
+
 // The rate is taken as each wingbeat begins (its phase passing 2 pi), over the beat before: none
 // at the first beginning (only the airspeed then), (the airspeed's change) x (the beat's frequency)
 // at the next, nothing in between; on its legs both are cleared.
 TEST(Energy, TheAirspeedsRateIsTakenAsEachWingbeatBegins) {
   const Species s = ibis();
-  World w;
-  w.targets.push_back(Target{"far", dvec3{1e7, 6000.0, 0.0}});
-  w.routes.push_back(Route{"on", {0}});
-  w.move_targets(0.0);
-  BirdState b;
-  b.position = dvec3{0.0, 6000.0, 0.0};
-  b.velocity = dvec3{s.cruise_speed - 300.0, 0.0, 0.0};  // slow: it speeds up
-  b.attitude = heading_attitude(0.0);
-  b.frequency = 0.5 * (s.f_min + s.f_max);
-  b.amplitude = 0.8;
+  const World w = far_ahead();
+  BirdState b = level_at_60_m(s, s.cruise_speed - 300.0, 0.8);  // slow: it speeds up
   b.phase = 6.0;
   const double dt = 0.002;
   double begun[2] = {0.0, 0.0};
@@ -661,7 +674,9 @@ TEST(Energy, TheAirspeedsRateIsTakenAsEachWingbeatBegins) {
     }
     begun[beginnings] = glm::length(b.velocity);
     EXPECT_EQ(b.beat_airspeed, begun[beginnings]);
-    if (beginnings == 0) EXPECT_EQ(b.airspeed_rate, 0.0);
+    if (beginnings == 0) {
+      EXPECT_EQ(b.airspeed_rate, 0.0);
+    }
     f = before.frequency;
     ++beginnings;
   }
@@ -686,16 +701,8 @@ TEST(Energy, TheSpeedLeadSettlesTheAirspeedAfterAChangeOfCommand) {
   for (int lead = 0; lead < 2; ++lead) {
     Species s = ibis();
     s.speed_lead = lead;
-    World w;
-    w.targets.push_back(Target{"far", dvec3{1e7, 6000.0, 0.0}});
-    w.routes.push_back(Route{"on", {0}});
-    w.move_targets(0.0);
-    BirdState b;
-    b.position = dvec3{0.0, 6000.0, 0.0};
-    b.velocity = dvec3{s.cruise_speed, 0.0, 0.0};
-    b.attitude = heading_attitude(0.0);
-    b.frequency = 0.5 * (s.f_min + s.f_max);
-    b.amplitude = 0.6;
+    const World w = far_ahead();
+    BirdState b = level_at_60_m(s, s.cruise_speed, 0.6);
     b.flocking = kSeesFlock;
     const double dt = 0.002, command = s.cruise_speed + 50.0;
     double lo = 1.0, hi = 0.0, sum = 0.0, worst = 0.0;
