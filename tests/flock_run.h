@@ -122,11 +122,9 @@ inline FlockRun fly_flock(Simulation& sim, uint32_t flock, double from, double u
 }
 
 // What a flight lets expect_flock_criteria hold: a murmuration laps its roost without a straight
-// leg, and its real starlings do not keep the spacing's "too close" bound (issue 41, not met:
-// FlockCriteria.DISABLED_TheMurmurationsEuropeanStarlingsKeepHalfAWingspan...).
+// leg.
 struct FlockCriteriaHeld {
   bool straight_legs = true;
-  bool too_close = true;
 };
 
 // docs/MODEL.md's criteria 1-4 on a run of flock `flock` of `scenario`, and no NaN.
@@ -135,9 +133,7 @@ inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario,
   const double span = scenario.species[scenario.flocks[flock].species].box_c;
   EXPECT_GE(run.median_nearest_low, 1.0 * span);
   EXPECT_LE(run.median_nearest_high, 3.0 * span);
-  if (held.too_close) {
-    EXPECT_LT(run.worst_too_close, 0.005);
-  }
+  EXPECT_LT(run.worst_too_close, 0.005);
   if (held.straight_legs) {
     EXPECT_GE(run.lowest_straight_polarisation, 0.9);
     EXPECT_GT(run.straight_frames, 0u);

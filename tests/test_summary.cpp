@@ -179,7 +179,7 @@ TEST(Summary, JsonHasEveryKey) {
 TEST(Summary, TheFlocksStructureIsTheMeanOfItsSnapshots) {
   RunSummary r = sample_summary();
   EXPECT_TRUE(summary_json(r)["structure"].empty());
-  FlockStructureSummary f{"murmuration", "starling", 100.0, 10.0, 20.0, 1.0, {}};
+  FlockStructureSummary f{"murmuration", "starling", 100.0, 10.0, 20.0, 1.0, {}, {}};
   StructureFigures a, b;
   a.median_nearest = 200.0, b.median_nearest = 300.0;
   a.thinnest_from_vertical = radians(10.0), b.thinnest_from_vertical = radians(20.0);

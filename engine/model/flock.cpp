@@ -77,6 +77,14 @@ double zone_distance(const Species& s, const dvec3& offset, const dvec3& ahead) 
   return std::sqrt(across2 + front * front);
 }
 
+dvec3 nearest_offset(const Species& s, const dvec3& offset, const dvec3& closing) {
+  const double closing2 = glm::dot(closing, closing);
+  if (!(s.separation_lookahead > 0.0) || !(closing2 > 0.0)) return offset;
+  const double t = std::clamp(-glm::dot(offset, closing) / closing2, 0.0, s.separation_lookahead);
+  const dvec3 nearest = offset + closing * t;
+  return nearest == dvec3{0.0} ? offset : nearest;
+}
+
 bool flocks_now(const BirdState& b) {
   return b.flocking != 0 && b.mode == FlightMode::flying && b.landing_stage == LandingStage::none;
 }
@@ -127,9 +135,10 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   for (const uint32_t j : seen) {
     const dvec3 offset = birds[j].position - b.position;
     const double distance = glm::length(offset);
-    const double zone = zone_distance(s, offset, ahead);
+    const dvec3 nearest = nearest_offset(s, offset, birds[j].velocity - b.velocity);
+    const double zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
-      separation -= unit_or_zero(offset) * std::pow(1.0 - zone / s.separation_radius, 2.0);
+      separation -= unit_or_zero(nearest) * std::pow(1.0 - zone / s.separation_radius, 2.0);
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity - wind);
     if (glm::dot(offset, ahead) > 0.0) ++ahead_count;

@@ -113,6 +113,13 @@ double cohesion_pull(const Species& s, const glm::dvec3& cohesion, const glm::dv
 // starling's are (Ballerini et al. 2008, PNAS; docs/FIELD.md).
 double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec3& ahead);
 
+// Where a neighbour at `offset` (cm) will be nearest within separation_lookahead seconds, at
+// `closing` = its velocity less the bird's (both held): the separation acts there, so that two
+// birds closing fast step apart before they meet, not once they are close. A starling's zone,
+// 1.6 m across, leaves a bird overtaking at 2-3 m/s half a second (docs/FIELD.md). `offset` with
+// no lookahead, when they draw apart, or when they would meet exactly.
+glm::dvec3 nearest_offset(const Species& s, const glm::dvec3& offset, const glm::dvec3& closing);
+
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index), for a bird in `wind` (its own: its neighbours are metres away): the desired heading d of
 // docs/MODEL.md through that air from separation (the seen birds inside the separation zone,

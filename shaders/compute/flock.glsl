@@ -312,6 +312,15 @@ float zone_distance(GpuSpecies s, vec3 offset, vec3 ahead) {
   return sqrt(across2 + front * front);
 }
 
+// flock.cpp: nearest_offset.
+vec3 nearest_offset(GpuSpecies s, vec3 offset, vec3 closing) {
+  float closing2 = dot(closing, closing);
+  if (!(s.separation_lookahead > 0.0) || !(closing2 > 0.0)) return offset;
+  float t = clamp(-dot(offset, closing) / closing2, 0.0, s.separation_lookahead);
+  vec3 nearest = offset + closing * t;
+  return nearest == vec3(0.0) ? offset : nearest;
+}
+
 // flock.cpp: cohesion_pull.
 float cohesion_pull(GpuSpecies s, vec3 cohesion, vec3 ahead) {
   float weights = s.w_route + s.w_alignment + s.w_cohesion;
@@ -335,9 +344,10 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     vec3 offset =
         place.xyz + tile_shift(int(place.w), int(motion.w), b.tile_x, b.tile_z) - b.position;
     float distance = length(offset);
-    float zone = zone_distance(s, offset, ahead);
+    vec3 nearest = nearest_offset(s, offset, motion.xyz - b.velocity);
+    float zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
-      separation -= unit_or_zero(offset) * square(1.0 - zone / s.separation_radius);
+      separation -= unit_or_zero(nearest) * square(1.0 - zone / s.separation_radius);
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(motion.xyz - wind);
     if (dot(offset, ahead) > 0.0) ++ahead_count;
