@@ -275,18 +275,32 @@ TEST(Perception, TheSeparationActsWhereANeighbourClosingFastWillBeNearest) {
   EXPECT_EQ(nearest_offset(s, straight, closing), (dvec3{75.0, 0.0, 0.0}))
       << "nearest within the lookahead: 0.75 s on, not at the meeting 1 s on";
   EXPECT_EQ(nearest_offset(s, straight, 2.0 * closing), straight) << "meeting: pushed from here";
+  // Meeting head on within the lookahead, the nearest point is a rounding residual of either sign:
+  // never one through the neighbour.
+  for (const double x : {109.5, 37.3, 251.9})
+    for (const double v : {-372.1, -501.7, -333.3})
+      EXPECT_GT(glm::dot(nearest_offset(s, dvec3{x, 0.0, 0.0}, dvec3{v, 0.0, 0.0}), dvec3{x, 0, 0}),
+                0.0)
+          << x << " cm closing at " << v << " cm/s";
   Species off = s;
   off.separation_lookahead = 0.0;
   EXPECT_EQ(nearest_offset(off, ahead, closing), ahead);
-
-  // Its social goal: beyond the zone now (3.02 m against 1.45 m), inside it 0.75 s on.
+  // Its social goal: outside the zone now (zone distance 1.76 m against 1.45 m), inside it 0.75 s
+  // on: pushed away from where the neighbour will be, (75, 0, 40).
   s.w_cohesion = s.w_alignment = off.w_cohesion = off.w_alignment = 0.0;
   const std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, dvec3{1300.0, 0.0, 0.0}),
                                         flocking_bird(ahead, dvec3{1000.0, 0.0, 0.0})};
   const dvec3 route{1e6, 0.0, 0.0};
   const std::vector<uint32_t> seen{1};
-  EXPECT_LT(social_goal(s, birds[0], dvec3{0.0}, route, false, seen, birds).direction.z, -0.05);
-  EXPECT_EQ(social_goal(off, birds[0], dvec3{0.0}, route, false, seen, birds).direction.z, 0.0);
+  const dvec3 forward{1.0, 0.0, 0.0}, then{75.0, 0.0, 40.0};
+  ASSERT_GT(zone_distance(s, ahead, forward), s.separation_radius);
+  const double fall = std::pow(1.0 - zone_distance(s, then, forward) / s.separation_radius, 2.0);
+  const dvec3 d =
+      glm::normalize(s.w_route * forward - s.w_separation * fall * glm::normalize(then));
+  EXPECT_NEAR(
+      glm::distance(social_goal(s, birds[0], dvec3{0.0}, route, false, seen, birds).direction, d),
+      0.0, 1e-12);
+  EXPECT_EQ(social_goal(off, birds[0], dvec3{0.0}, route, false, seen, birds).direction, forward);
 }
 
 // The route's share of d aims at the route goal's height height_capture ahead (issue 39): far

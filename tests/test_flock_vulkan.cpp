@@ -99,6 +99,19 @@ TEST(GpuFlock, SameSocialGoalWhereTheNeighboursWillBeNearest) {
   while (flown.time() < 5.0) flown.step_frame();
   expect_same_perception(perceive_on_both(device, scenario, flown.birds()));
   EXPECT_EQ(device.validation_errors(), 0u);
+  // And the lookahead acts in this state: judged where their neighbours are, some steer otherwise.
+  Scenario now = scenario;
+  now.species[now.flocks[0].species].separation_lookahead = 0.0;
+  CpuSimulation ahead(scenario, flown.birds()), here(now, flown.birds());
+  ahead.step(0);
+  here.step(0);
+  const std::vector<Perception>& a = *ahead.snapshot().perception;
+  const std::vector<Perception>& h = *here.snapshot().perception;
+  size_t otherwise = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    otherwise += glm::distance(a[i].direction, h[i].direction) > 1e-3;
+  EXPECT_GT(otherwise, a.size() / 20) << otherwise << " of " << a.size() << " steer otherwise";
+  std::printf("%zu of %zu birds steer otherwise without the lookahead\n", otherwise, a.size());
 }
 
 // The scenario's birds flown `seconds` on the CPU reference, then on each backend from that state,

@@ -82,7 +82,7 @@ dvec3 nearest_offset(const Species& s, const dvec3& offset, const dvec3& closing
   if (!(s.separation_lookahead > 0.0) || !(closing2 > 0.0)) return offset;
   const double t = std::clamp(-glm::dot(offset, closing) / closing2, 0.0, s.separation_lookahead);
   const dvec3 nearest = offset + closing * t;
-  return nearest == dvec3{0.0} ? offset : nearest;
+  return glm::dot(nearest, offset) > 0.0 ? nearest : offset;
 }
 
 bool flocks_now(const BirdState& b) {

@@ -115,15 +115,17 @@ double zone_distance(const Species& s, const glm::dvec3& offset, const glm::dvec
 
 // Where a neighbour at `offset` (cm) will be nearest within separation_lookahead seconds, at
 // `closing` = its velocity less the bird's (both held): the separation acts there, so that two
-// birds closing fast step apart before they meet, not once they are close. A starling's zone,
-// 1.6 m across, leaves a bird overtaking at 2-3 m/s half a second (docs/FIELD.md). `offset` with
-// no lookahead, when they draw apart, or when they would meet exactly.
+// birds closing fast step apart before they meet, not once they are close. The real starling's
+// zone, 1.45 m across, leaves a bird closing at 1-5 m/s under a second (docs/FIELD.md). `offset`
+// with no lookahead, when they draw apart, or when they would meet or pass (the nearest point not
+// on offset's side: a rounding residual's sign says nothing).
 glm::dvec3 nearest_offset(const Species& s, const glm::dvec3& offset, const glm::dvec3& closing);
 
 // The social goal from the birds it sees, `seen` (indices into `birds`, nearest first; ties by
 // index), for a bird in `wind` (its own: its neighbours are metres away): the desired heading d of
 // docs/MODEL.md through that air from separation (the seen birds inside the separation zone,
-// zone_distance < separation_radius, fall-off (1 - zone_distance / separation_radius)^2),
+// zone_distance < separation_radius, fall-off (1 - zone_distance / separation_radius)^2, each
+// where nearest_offset puts it),
 // alignment (with their air velocities), cohesion (those farther than separation_radius: one
 // ahead or behind may be inside the zone and beyond that radius, and count in both) and the route
 // (towards `route_goal`: route_heading at the airspeed below), and the airspeed: cruise_speed plus

@@ -228,8 +228,8 @@ Species european_starling() {
   // separation zone of 3.7 wingspans, 1.75 times longer along its flight, puts its first neighbours
   // at its sides as the field's (at 3.8 wingspans and round: gamma(1) 0.27, r1 0.90 m). Its zone
   // is small for its speed: judged where each neighbour will be nearest over 0.75 s, not where it
-  // is, a bird closing at 2-5 m/s steps aside in time (at 0: 0.8-1.0 % of the birds nearer than
-  // half a wingspan in the worst frame; 0.4 %).
+  // is, a bird closing at 1-5 m/s steps aside in time (judged where they are, with a zone of 4.1
+  // wingspans: 0.8-1.0 % of the birds nearer than half a wingspan in the worst frame; 0.4 %).
   s.separation_radius = 145;
   s.separation_front = 1.75;
   s.separation_lookahead = 0.75;

@@ -16,7 +16,7 @@ void StructureObserver::start(Simulation& sim) {
           {sc.flocks[f].name, s.name, s.box_c, window_.from, window_.to, window_.every, {}, {}});
       // The optimum a follower one span behind its leader flies at (formation_figures.h).
       if (sc.flocks[f].wake)
-        flocks_.back().formation = FormationMean{best_lateral_offset(s, s.box_c)};
+        flocks_.back().formation = FormationMean{best_lateral_offset(s, s.box_c), 0, {}};
     }
 }
 

@@ -318,7 +318,7 @@ vec3 nearest_offset(GpuSpecies s, vec3 offset, vec3 closing) {
   if (!(s.separation_lookahead > 0.0) || !(closing2 > 0.0)) return offset;
   float t = clamp(-dot(offset, closing) / closing2, 0.0, s.separation_lookahead);
   vec3 nearest = offset + closing * t;
-  return nearest == vec3(0.0) ? offset : nearest;
+  return dot(nearest, offset) > 0.0 ? nearest : offset;
 }
 
 // flock.cpp: cohesion_pull.
