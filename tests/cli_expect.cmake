@@ -47,7 +47,7 @@ endif()
 if(SUMMARY)
   file(READ "${SUMMARY}" json)
   foreach(key units backend device scenario scenario_hash birds steps dt steps_per_frame sim_seconds wall_seconds
-              bird_steps_per_second nan_birds centroid mean_speed targets_reached perched flying
+              bird_steps_per_second nan_birds centroid mean_speed targets_reached perched landed flying
               wind_beyond_airspeed structure)
     string(JSON value ERROR_VARIABLE missing GET "${json}" ${key})
     if(missing)

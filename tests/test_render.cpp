@@ -102,6 +102,40 @@ TEST(Render, WingsUpAndDownDrawDifferently) {
   EXPECT_EQ(device.validation_errors(), 0);
 }
 
+// A site on the ground (where a species that does not perch lands: a goose on a field) is drawn
+// as a patch flat on the ground, 4 m square round its point; a branch above the ground as a stick
+// 4 cm thick. Seen from 8 m above, with the bird out of the picture.
+TEST(Render, ASiteOnTheGroundIsDrawnAsAPatchOnIt) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, true);
+  const VkExtent2D size{320, 240};
+  const Scenario scenario = load_scenario("fig16-circling-eagle");
+  BirdState bird = spawn_birds(scenario)[0];
+  bird.position.y = 1e5;
+  render::Camera camera;
+  camera.target = glm::vec3(0.0f);
+  camera.eye = glm::vec3(-300.0f, 800.0f, 0.0f);
+  auto draw = [&](std::vector<Branch> branches) {
+    Scenario s = scenario;
+    s.world.branches = std::move(branches);
+    gpu::GpuSimulation sim(device, s, std::vector<BirdState>{bird});
+    return render(device, sim, camera, size);
+  };
+  const Image bare = draw({});
+  const Image site = draw({{"field", {0.0, scenario.world.ground_height, 0.0}, {1.0, 0.0, 0.0}}});
+  const Image stick = draw({{"oak", {0.0, 300.0, 0.0}, {1.0, 0.0, 0.0}}});
+  auto changed_at = [&](const Image& image, glm::dvec3 p) {
+    return changed_near(image, bare, project(camera, size, p), 2);
+  };
+  const double g = scenario.world.ground_height;
+  EXPECT_EQ(changed_at(site, {0.0, g, 0.0}), 25) << "the site's point";
+  EXPECT_EQ(changed_at(site, {0.0, g, 150.0}), 25) << "1.5 m across";
+  EXPECT_EQ(changed_at(site, {150.0, g, -150.0}), 25) << "a corner's way";
+  EXPECT_EQ(changed_at(site, {0.0, g, 300.0}), 0) << "3 m across: past the patch";
+  EXPECT_GT(changed_at(stick, {0.0, 300.0, 0.0}), 0) << "the stick's point";
+  EXPECT_EQ(changed_at(stick, {0.0, 300.0, 150.0}), 0) << "a stick, not a patch";
+  EXPECT_EQ(device.validation_errors(), 0);
+}
+
 // A bird braking to land holds its tail fully open (the model's opening, paper 4.4): seen from
 // below, its tail fan is drawn wider than the same bird's in level flight, and nothing else
 // differs.

@@ -24,7 +24,7 @@ BirdState bird(glm::dvec3 position, glm::dvec3 velocity, FlightMode mode = Fligh
 }
 
 TEST(FlockStatistics, NoBirdsGivesZeros) {
-  const FlockStatistics s = flock_statistics({});
+  const FlockStatistics s = flock_statistics({}, {});
   EXPECT_EQ(s.birds, 0u);
   EXPECT_EQ(s.nan_birds, 0u);
   EXPECT_EQ(s.centroid, glm::dvec3(0.0));
@@ -40,7 +40,7 @@ TEST(FlockStatistics, CentroidSpeedAndCounts) {
   };
   birds[0].targets_reached = 2;
   birds[2].targets_reached = 3;
-  const FlockStatistics s = flock_statistics(birds);
+  const FlockStatistics s = flock_statistics(birds, {});
   EXPECT_EQ(s.birds, 4u);
   EXPECT_EQ(s.nan_birds, 0u);
   EXPECT_DOUBLE_EQ(s.centroid.x, 75.0);
@@ -49,7 +49,30 @@ TEST(FlockStatistics, CentroidSpeedAndCounts) {
   EXPECT_DOUBLE_EQ(s.mean_speed, 175.0);
   EXPECT_EQ(s.targets_reached, 5u);
   EXPECT_EQ(s.perched, 1u);
+  EXPECT_EQ(s.landed, 0u);
   EXPECT_EQ(s.flying, 2u);  // flying and landing; not perched or standing
+}
+
+// A bird at rest on its site has perched on a branch, or landed there on the ground if its
+// species does not perch (a goose on a field is not "perched").
+TEST(FlockStatistics, ABirdAtRestOnTheGroundHasLandedNotPerched) {
+  const std::vector<Species> species = {starling(), goose()};
+  std::vector<BirdState> birds = {
+      bird({0, 100, 0}, {0, 0, 0}, FlightMode::perched),
+      bird({0, 20, 0}, {0, 0, 0}, FlightMode::perched),
+      bird({0, 20, 500}, {0, 0, 0}, FlightMode::perched),
+      bird({0, 20, 900}, {0, 0, 0}, FlightMode::standing),
+  };
+  birds[1].species = birds[2].species = birds[3].species = 1;
+  const FlockStatistics s = flock_statistics(birds, species);
+  EXPECT_EQ(s.perched, 1u);
+  EXPECT_EQ(s.landed, 2u);
+  EXPECT_EQ(s.flying, 0u);
+  RunSummary r;
+  r.stats = s;
+  const nlohmann::ordered_json j = summary_json(r);
+  EXPECT_EQ(j["perched"], 1);
+  EXPECT_EQ(j["landed"], 2);
 }
 
 TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
@@ -63,7 +86,7 @@ TEST(FlockStatistics, NonFiniteBirdsAreCountedAndLeftOut) {
   };
   birds.push_back(birds[0]);
   birds.back().attitude.w = nan;
-  const FlockStatistics s = flock_statistics(birds);
+  const FlockStatistics s = flock_statistics(birds, {});
   EXPECT_EQ(s.birds, 5u);
   EXPECT_EQ(s.nan_birds, 3u);
   EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
@@ -83,7 +106,7 @@ TEST(FlockStatistics, QuarantinedBirdsAreCountedListedAndLeftOut) {
   birds[1].quarantined_step = 4000;  // 2 s of 0.5 ms steps
   birds[3].quarantined_step = 2000;
   birds[4].quarantined_step = 4000;
-  const FlockStatistics s = flock_statistics(birds);
+  const FlockStatistics s = flock_statistics(birds, {});
   EXPECT_EQ(s.nan_birds, 3u);
   EXPECT_EQ(s.flying, 2u);
   EXPECT_DOUBLE_EQ(s.centroid.x, 200.0);
@@ -135,23 +158,35 @@ RunSummary sample_summary() {
   r.steps_per_frame = 100;
   r.sim_seconds = 0.3;
   r.wall_seconds = 2.0;
-  r.stats = flock_statistics({bird({0, 100, 0}, {1000, 0, 0}), bird({0, 300, 0}, {0, 0, 0})});
+  r.stats = flock_statistics({bird({0, 100, 0}, {1000, 0, 0}), bird({0, 300, 0}, {0, 0, 0})}, {});
   return r;
 }
 
 TEST(Summary, JsonHasEveryKey) {
   const nlohmann::ordered_json j = summary_json(sample_summary());
-  for (const char* key : {"backend",         "device",
-                          "scenario",        "birds",
-                          "steps",           "dt",
-                          "steps_per_frame", "sim_seconds",
-                          "wall_seconds",    "bird_steps_per_second",
-                          "nan_birds",       "centroid",
-                          "mean_speed",      "targets_reached",
-                          "perched",         "flying",
-                          "flocking",        "quarantined",
-                          "signal",          "error",
-                          "vtk_queue",       "wind_beyond_airspeed",
+  for (const char* key : {"backend",
+                          "device",
+                          "scenario",
+                          "birds",
+                          "steps",
+                          "dt",
+                          "steps_per_frame",
+                          "sim_seconds",
+                          "wall_seconds",
+                          "bird_steps_per_second",
+                          "nan_birds",
+                          "centroid",
+                          "mean_speed",
+                          "targets_reached",
+                          "perched",
+                          "landed",
+                          "flying",
+                          "flocking",
+                          "quarantined",
+                          "signal",
+                          "error",
+                          "vtk_queue",
+                          "wind_beyond_airspeed",
                           "structure"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_TRUE(j["signal"].is_null());

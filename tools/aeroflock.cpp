@@ -161,9 +161,10 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
   std::printf("scenario         %s\n", r.scenario.c_str());
   std::printf("backend          %s\n", r.device.c_str());
-  std::printf("birds            %llu (%llu flying, %llu perched, %llu with NaN)\n",
+  std::printf("birds            %llu (%llu flying, %llu perched, %llu landed, %llu with NaN)\n",
               (unsigned long long)s.birds, (unsigned long long)s.flying,
-              (unsigned long long)s.perched, (unsigned long long)s.nan_birds);
+              (unsigned long long)s.perched, (unsigned long long)s.landed,
+              (unsigned long long)s.nan_birds);
   std::printf("flocks           %s\n", flocks.c_str());
   const double frame_seconds = r.dt * r.steps_per_frame;
   std::printf("simulated        %.3f s (%llu steps of %g s", r.sim_seconds,
@@ -491,7 +492,7 @@ int run(const RunOptions& opt) {
     if (any && errors.empty()) errors.push_back("another rank stopped with an error (above)");
   }
   const std::vector<BirdState>& birds_now = ranks ? gathered : sim->birds();
-  summary.stats = flock_statistics(birds_now);
+  summary.stats = flock_statistics(birds_now, sim->scenario().species);
   summary.flocking = flocking_summary(sim->scenario(), birds_now);
   if (structure) summary.structure = structure->flocks();
   summary.quarantined = quarantined_birds(birds_now, sim->scenario().dt, kQuarantinedListed);

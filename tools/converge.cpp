@@ -45,7 +45,7 @@ struct Run {
   double sim = 0.0;         // s
   uint64_t birds = 0;
   uint64_t nan_birds = 0, below_ground = 0, over_bank = 0, over_pitch = 0;  // birds that ever did
-  uint64_t targets_reached = 0, perched = 0;
+  uint64_t targets_reached = 0, perched = 0;  // perched: at rest on their sites, branch or ground
   std::vector<FlockingSummary> flocking;
   // Against the reference: relative to each bird's distance flown.
   double error_median = 0.0, error_max = 0.0;
@@ -142,9 +142,9 @@ class Recorder final : public RunObserver {
       run_.over_bank += bank_[i];
       run_.over_pitch += pitch_[i];
     }
-    const FlockStatistics stats = flock_statistics(end);
+    const FlockStatistics stats = flock_statistics(end, sim.scenario().species);
     run_.targets_reached = stats.targets_reached;
-    run_.perched = stats.perched;
+    run_.perched = stats.perched + stats.landed;
     run_.flocking = flocking_summary(sim.scenario(), end);
   }
 

@@ -9,6 +9,7 @@
 #include "io/atomic_file.h"
 #include "model/constants.h"
 #include "model/flock_geometry.h"
+#include "model/route.h"
 
 namespace aeroflock {
 namespace {
@@ -37,7 +38,8 @@ std::vector<WindWarning> wind_warnings(const Scenario& scenario) {
   return warnings;
 }
 
-FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
+FlockStatistics flock_statistics(const std::vector<BirdState>& birds,
+                                 const std::vector<Species>& species) {
   FlockStatistics s;
   s.birds = birds.size();
   const FlockExtent extent = flock_extent(birds);
@@ -46,7 +48,8 @@ FlockStatistics flock_statistics(const std::vector<BirdState>& birds) {
   double speed_sum = 0.0;
   for (const BirdState& b : birds) {
     s.targets_reached += b.targets_reached;
-    s.perched += b.mode == FlightMode::perched;
+    if (b.mode == FlightMode::perched)
+      ++(b.species < species.size() && lands_on_ground(species[b.species]) ? s.landed : s.perched);
     s.flying += in_the_air(b.mode);
     if (is_finite(b)) speed_sum += glm::length(b.velocity);
   }
@@ -229,6 +232,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"mean_speed", s.mean_speed},
       {"targets_reached", s.targets_reached},
       {"perched", s.perched},
+      {"landed", s.landed},
       {"flying", s.flying},
       {"flocking", flocking},
       {"structure", structure},

@@ -22,12 +22,16 @@ struct FlockStatistics {
   glm::dvec3 centroid{0.0};      // mean position of the finite birds, cm
   double mean_speed = 0.0;       // mean |velocity| of the finite birds, cm/s
   uint64_t targets_reached = 0;  // summed over all birds
-  uint64_t perched = 0;          // mode perched
+  uint64_t perched = 0;          // mode perched, on a branch
+  uint64_t landed = 0;           // mode perched, on the ground at its site (a species that
+                                 // does not perch: route.h, lands_on_ground)
   uint64_t flying = 0;           // in the air: modes flying, landing and taking_off
 };
 
-// Pure: statistics of a set of bird states (zeros for none).
-FlockStatistics flock_statistics(const std::vector<BirdState>& birds);
+// Pure: statistics of a set of bird states (zeros for none); `species` tells a perch from a
+// landing on the ground.
+FlockStatistics flock_statistics(const std::vector<BirdState>& birds,
+                                 const std::vector<Species>& species);
 
 // A flock that flocks, measured as docs/MODEL.md's "What a flock must show" does.
 struct FlockingSummary {
@@ -98,7 +102,7 @@ struct RunSummary {
 
 // The summary as JSON: backend, device, scenario, birds, steps, dt, steps_per_frame, sim_seconds,
 // wall_seconds, bird_steps_per_second, nan_birds, centroid, mean_speed, targets_reached, perched,
-// flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
+// landed, flying and, for each flock that flocks, `flocking`: name, birds, median_nearest (cm),
 // too_close, polarisation, largest_cluster; `structure`: with --structure-from, each flocking
 // flock's figures averaged over its snapshots (units in the file's `units`; null where no
 // snapshot measured one), else empty; `quarantined`: bird, time, and its last finite position,

@@ -1,7 +1,7 @@
 #version 450
 // Targets, routes, branches and their posts, one instance each, placed from the world's buffers,
 // from the eye: a target is a ring facing the eye round its sphere (a line list), a route a line
-// from target to target, a branch and its post a unit box scaled.
+// from target to target, a branch and its post a unit box scaled (a site on the ground a flat one).
 #extension GL_GOOGLE_include_directive : require
 
 #include "frame.glsl"
@@ -15,8 +15,9 @@ layout(location = 1) out vec3 out_world;
 layout(location = 2) flat out uint out_kind;
 
 layout(constant_id = 0) const uint kKind =
-    0u;                          // 0 target rings, 1 branches, 2 route lines, 3 posts
-const uint kRingSegments = 64u;  // renderer.cpp: kRingVertices / 2
+    0u;                           // 0 target rings, 1 branches, 2 route lines, 3 posts
+const uint kRingSegments = 64u;   // renderer.cpp: kRingVertices / 2
+const uint kKindGroundSite = 4u;  // a branch at the ground's height, for solid.frag
 // Route lines: pairs of target indices (kind 2 reads these instead of a mesh).
 layout(std430, set = 0, binding = kBindingSegments) readonly buffer Segments { uvec2 segments[]; };
 
@@ -24,6 +25,7 @@ void main() {
   uint vertex = kKind == 0u || kKind == 2u ? 0u : uint(gl_VertexIndex);
   vec3 in_position = mesh[vertex].position.xyz, in_normal = mesh[vertex].normal.xyz;
   vec3 world, normal = in_normal;
+  uint kind = kKind;
   if (kKind == 0u) {
     GpuTarget t = targets[gl_InstanceIndex];
     vec3 centre = t.centre_radius.xyz + tile_shift(t.tile_x, t.tile_z, frame.tile_x, frame.tile_z) -
@@ -54,13 +56,18 @@ void main() {
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
     mat3 m = mat3(along, up, across);
-    // A branch 1 m long and 4 cm thick, its top at the perch point.
-    world = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) -
-            frame.eye.xyz + m * (in_position * vec3(100.0, 4.0, 4.0) - vec3(0.0, 4.0, 0.0));
+    vec3 point =
+        br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz;
+    // A branch 1 m long and 4 cm thick, its top at the perch point; a site on the ground (where
+    // a species that does not perch lands) a patch 4 m square, 2 cm above the ground.
+    bool on_ground = point.y <= frame.fog_color.w - frame.eye.y + 1.0;
+    vec3 size = on_ground ? vec3(400.0, 2.0, 400.0) : vec3(100.0, 4.0, 4.0);
+    world = point + m * (in_position * size - vec3(0.0, on_ground ? 0.0 : 4.0, 0.0));
     normal = m * in_normal;
+    kind = on_ground ? kKindGroundSite : kKind;
   }
   out_normal = normal;
   out_world = world;
-  out_kind = kKind;
+  out_kind = kind;
   gl_Position = frame.view_projection * vec4(world, 1.0);
 }
