@@ -489,12 +489,12 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
       for (const EnvelopeResult* r : {&a[i], &b[i]})
         EXPECT_TRUE(r->outcome == Outcome::reached || r->outcome == Outcome::late)
             << cases[i].describe() << ": " << name(r->outcome);
-      expect_smooth_touchdown(b[i], sp);
+      expect_smooth_touchdown(b[i]);
       continue;
     }
     EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome)
                                           << ", vulkan " << name(b[i].outcome);
-    expect_smooth_touchdown(b[i], sp);
+    expect_smooth_touchdown(b[i]);
   }
   RecordProperty("same_outcomes", std::to_string(same) + " of " + std::to_string(cases.size()));
   EXPECT_EQ(device.validation_errors(), 0u);

@@ -26,12 +26,11 @@ inline bool pass_decided_by_rounding(const EnvelopeResult& r, const Species& spe
          r.c.crosswind == 0.0;
 }
 
-// The first touch-down's. A migrant's landings on the ground are only measured: 3 of the goose's 48
-// first touch-downs exceed these (2 short of the site, off their final, 2 s after release; 1 on it
-// sinking faster than its legs absorb within a crouch), docs/MODEL.md "Landing on the ground";
-// GroundLanding.TheMigrantsGlideDownAndLandOnTheirSite holds straight-in ones to them.
-inline void expect_smooth_touchdown(const EnvelopeResult& r, const Species& species) {
-  if (!r.touchdown || ground_landing(r, species)) return;
+// The first touch-down's, on a branch or on the ground (a migrant's landings too: since its legs
+// fold until its body rests on the ground and it turns into the wind on them, the goose's 3 of 48
+// that did not keep these keep them, docs/MODEL.md "Landing on the ground").
+inline void expect_smooth_touchdown(const EnvelopeResult& r) {
+  if (!r.touchdown) return;
   const Touchdown& d = *r.touchdown;
   const std::string where = r.c.describe() + (d.on_branch ? ", on the branch" : ", on the ground");
   EXPECT_LE(d.jump, 1.0) << where;

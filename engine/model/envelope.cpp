@@ -10,6 +10,7 @@
 #include "body.h"
 #include "constants.h"
 #include "flock_geometry.h"
+#include "step.h"
 
 namespace aeroflock {
 namespace {
@@ -195,6 +196,7 @@ EnvelopeFlight envelope_flight(const Species& species, const std::vector<Envelop
     if (c.kind == EnvelopeCase::Kind::takeoff) {
       b.mode = FlightMode::standing;
       b.attitude = heading_attitude(0.0);
+      face_the_wind(b, species, s.world, kPi);
     } else {
       b.attitude = glm::angleAxis(c.pitch, dvec3{0, 0, 1}) * glm::angleAxis(c.bank, dvec3{1, 0, 0});
       // A landing begins in flight: no slower than the species flies (the migrants' min_speed is

@@ -86,6 +86,7 @@ void for_each_spawned(const Scenario& s, uint32_t birds_override,
         b.mode = FlightMode::standing;
         b.position.y = s.world.ground_height + sp.stand_height;
         b.rest_steps = whole_steps(f.takeoff_time, s.dt);
+        face_the_wind(b, sp, s.world, kPi);
       } else {
         b.velocity = f.speed * dvec3{std::cos(f.heading), 0.0, std::sin(f.heading)};
       }

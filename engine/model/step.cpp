@@ -251,9 +251,10 @@ void settle(BirdState& b, const Species& sp, const World& w, double dt) {
   if (strength > kSettleDecel) pull *= kSettleDecel / strength;
   b.velocity += pull * dt;
   b.position += b.velocity * dt;
-  // On the ground its legs fold no deeper than in a crouch (a hard touch-down stops there).
-  // So too a bird that lands on the ground, on its site (perched there: its place is on it).
-  const double floor = w.ground_height + std::max(sp.stand_height - sp.crouch_depth, 0.0);
+  // On the ground its legs fold at most until its body rests on it (a hard touch-down stops
+  // there). So too a bird that lands on the ground, on its site (perched there: its place is on
+  // it).
+  const double floor = w.ground_height + std::min(0.5 * sp.box_b, sp.stand_height);
   const bool on_ground = lands_on_ground(sp) && b.via_point.y <= w.ground_height + sp.stand_height;
   if ((b.mode == FlightMode::standing || on_ground) && b.position.y < floor) {
     b.position.y = floor;
@@ -316,16 +317,19 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
     count_mode_step(b);
     return;
   }
-  // At rest: perched, or standing until its rest is over (whole steps: exact after days).
-  if (b.mode == FlightMode::perched || (b.mode == FlightMode::standing && b.rest_steps > 0)) {
-    if (b.mode == FlightMode::standing) --b.rest_steps;
+  // At rest: perched, or standing until its rest is over (whole steps: exact after days) and it
+  // faces into the wind, turning on its legs meanwhile.
+  if (b.mode == FlightMode::perched) {
     count_mode_step(b);
     return;
   }
   if (b.mode == FlightMode::standing) {
-    // A bird takes off into the wind: turned away from it, it would first fall back through it.
-    const dvec3 wind = wind_at(w, b.position.y);
-    if (heeds_wind(sp, glm::length(horizontal(wind)))) b.attitude = facing(-wind);
+    const bool into_wind = face_the_wind(b, sp, w, kSettleTurn * dt);
+    if (b.rest_steps > 0 || !into_wind) {
+      if (b.rest_steps > 0) --b.rest_steps;
+      count_mode_step(b);
+      return;
+    }
     b.mode = FlightMode::taking_off;
     b.mode_steps = 0;
     b.frequency = sp.f_max;
@@ -392,6 +396,15 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
 }
 
 }  // namespace
+
+// A bird takes off into the wind: turned away from it, it would first fall back through it.
+bool face_the_wind(BirdState& b, const Species& sp, const World& w, double most) {
+  const dvec3 wind = wind_at(w, b.position.y);
+  if (!heeds_wind(sp, glm::length(horizontal(wind)))) return true;
+  const glm::dquat into = facing(-wind);
+  b.attitude = turn_towards(b.attitude, into, most);
+  return turn_angle(b.attitude, into) < kSettledAngle;
+}
 
 uint32_t whole_steps(double seconds, double dt) {
   const double steps = std::ceil(seconds / dt - 0.5);

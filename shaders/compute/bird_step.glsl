@@ -253,7 +253,7 @@ void settle(inout GpuBird b, GpuSpecies s, float dt) {
   precise vec3 position = b.position + velocity * dt;
   b.velocity = velocity;
   b.position = position;
-  float floor_y = pc.wind_ground.w + max(s.stand_height - s.crouch_depth, 0.0);
+  float floor_y = pc.wind_ground.w + min(0.5 * s.box_b, s.stand_height);  // its body on the ground
   bool on_ground = lands_on_ground(s) && b.via_point.y <= pc.wind_ground.w + s.stand_height;
   if ((b.mode == mode_standing || on_ground) && b.position.y < floor_y) {
     b.position.y = floor_y;
@@ -303,6 +303,14 @@ void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs
   }
 }
 
+// step.cpp: face_the_wind (`wind` where the bird stands).
+bool face_the_wind(inout GpuBird b, GpuSpecies s, vec3 wind, float most) {
+  if (!heeds_wind(s, length(wind.xz))) return true;
+  vec4 into = facing(-wind);
+  b.attitude = turn_towards(b.attitude, into, most);
+  return turn_angle(b.attitude, into) < kSettledAngle;
+}
+
 // step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
 // a bird at rest or quarantined). `seen`: its last perception (none seen: it flies its route
 // alone). A step whose result is not finite is undone by the caller (step.glsl), which quarantines
@@ -316,15 +324,18 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
     count_mode_step(b);
     return no_forces();
   }
-  if (b.mode == mode_perched || (b.mode == mode_standing && b.rest_steps > 0u)) {
-    if (b.mode == mode_standing) --b.rest_steps;
+  if (b.mode == mode_perched) {
     count_mode_step(b);
     return no_forces();
   }
   step_wind = wind_at(b.position.y);
   if (b.mode == mode_standing) {
-    vec3 wind = step_wind;
-    if (heeds_wind(s, length(wind.xz))) b.attitude = facing(-wind);  // into the wind
+    bool into_wind = face_the_wind(b, s, step_wind, kSettleTurn * dt);
+    if (b.rest_steps > 0u || !into_wind) {
+      if (b.rest_steps > 0u) --b.rest_steps;
+      count_mode_step(b);
+      return no_forces();
+    }
     b.mode = mode_taking_off;
     b.mode_steps = 0u;
     b.frequency = s.f_max;
