@@ -337,5 +337,36 @@ TEST(Render, AShadowLiesUnderTheBirdOnTheGround) {
   EXPECT_EQ(device.validation_errors(), 0);
 }
 
+// A bird on its legs is drawn standing on them: seen from its side at their height, its legs
+// fill the pixels half way from its body down to the ground under its centre, where the same bird
+// in flight at the same place shows the background (its legs folded into its body).
+TEST(Render, ABirdOnTheGroundStandsOnItsLegs) {
+  AEROFLOCK_DEVICE_OR_SKIP(device, true);
+  const VkExtent2D size{320, 240};
+  PoseScene scene;
+  const Species& s = scene.scenario.species[scene.bird.species];
+  BirdState standing = scene.bird;
+  standing.mode = FlightMode::standing;
+  standing.position = {0.0, scene.scenario.world.ground_height + s.stand_height, 0.0};
+  standing.velocity = glm::dvec3(0.0);
+  standing.amplitude = 0.0;
+  BirdState flying = standing;
+  flying.mode = FlightMode::flying;
+  BirdState gone = standing;
+  gone.position.y = 1e6;
+  const glm::dvec3 legs =
+      standing.position - glm::dvec3(0.0, 0.5 * (0.3 * s.box_b + s.stand_height), 0.0);
+  scene.camera.target = glm::vec3(legs);
+  scene.camera.eye = glm::vec3(legs) + glm::vec3(0.0f, 0.0f, -150.0f);
+  const Image background = scene.draw(device, gone, size);
+  const glm::vec2 at = project(scene.camera, size, legs);
+  const int on_legs = changed_near(scene.draw(device, standing, size), background, at, 3);
+  const int in_flight = changed_near(scene.draw(device, flying, size), background, at, 3);
+  RecordProperty("leg_pixels", on_legs);
+  EXPECT_GE(on_legs, 7) << "a leg's column through the 7 x 7 pixels";
+  EXPECT_EQ(in_flight, 0) << "legs folded in flight";
+  EXPECT_EQ(device.validation_errors(), 0);
+}
+
 }  // namespace
 }  // namespace aeroflock

@@ -124,6 +124,24 @@ void tail(std::vector<MeshVertex>& out) {
   }
 }
 
+// The legs, part 7: two thin boxes under the body (body units: x along it, z across), y from the
+// hip (0) to the foot (1); bird.vert sets how far below the body's centre the feet reach.
+void legs(std::vector<MeshVertex>& out) {
+  constexpr float kAlong = 0.012f, kAcross = 0.05f;  // half widths: the body is longer than wide
+  for (float z : {-0.2f, 0.2f}) {
+    const vec3 hip[4] = {{-kAlong, 0.0f, z - kAcross},
+                         {kAlong, 0.0f, z - kAcross},
+                         {kAlong, 0.0f, z + kAcross},
+                         {-kAlong, 0.0f, z + kAcross}};
+    for (int k = 0; k < 4; ++k) {
+      const vec3 a = hip[k], b = hip[(k + 1) % 4];
+      const vec3 n = glm::normalize(vec3(a.x + b.x, 0.0f, a.z + b.z - 2.0f * z));
+      const vec3 a1 = a + vec3(0, 1, 0), b1 = b + vec3(0, 1, 0);
+      for (const vec3& p : {a, a1, b1, a, b1, b}) vertex(out, p, n, 7.0f, Tint::beak);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<MeshVertex> bird_mesh() {
@@ -134,6 +152,7 @@ std::vector<MeshVertex> bird_mesh() {
     hand(v, 2.0f + side);
   }
   tail(v);
+  legs(v);
   return v;
 }
 

@@ -16,7 +16,8 @@ enum class Tint { plumage = 0, beak = 1, flight_feathers = 2 };
 // Parts (MeshVertex::position.w): 0 body and head (a smooth lathe along x, -0.5 tail to +0.5
 // crown, scaled to a x b x b, with a beak), 1 and 2 the right arm and hand (span 0..1 along z,
 // chord -0.5..0.5 along x, leading edge +x; secondaries and slotted primaries), 3 the tail's fan
-// (x: radius fraction, z: angle fraction of the opening), 5 and 6 the left arm and hand.
+// (x: radius fraction, z: angle fraction of the opening), 5 and 6 the left arm and hand, 7 the
+// legs (placed with the body; y from the hip, 0, to the foot, 1: bird.vert).
 std::vector<MeshVertex> bird_mesh();
 // The same bird from afar, in four triangles, one a wing segment: a few pixels wide, its wings
 // are what shows (and every vertex counts when a flock of 100,000 is drawn).

@@ -17,13 +17,17 @@ const vec3 kPlumage[4] = vec3[](vec3(0.36, 0.25, 0.16),  // eagle: brown
                                 vec3(0.55, 0.55, 0.60), vec3(0.60, 0.35, 0.20));
 
 const float kClosedTail = 0.25;
+const float kHip = 0.3;  // body heights under its centre
 
 void main() {
   uint bird = lists[frame.list_offset + gl_InstanceIndex];
   MeshVertex v = mesh[gl_VertexIndex];
   uint part = uint(v.position.w);
-  uint transform = part < 4u ? part : part - 1u;  // left arm 5 -> 4, left hand 6 -> 5
+  uint transform = part < 4u ? part : part == 7u ? 0u : part - 1u;  // left arm 5 -> 4, hand 6 -> 5
   vec3 p = v.position.xyz, n = v.normal.xyz;
+  // The legs, with the body: from the hip to the feet, poses.tail.w body heights under its centre
+  // on the ground or a branch (its stand_height), folded into the body in flight.
+  if (part == 7u) p.y = mix(-kHip, -max(poses[bird].tail.w, kHip), p.y);
   if (part == 3u) {  // the tail's fan: x radius fraction, z angle fraction of the opening
     float a = p.z * poses[bird].tail.x;
     // Closed, the rectrices still lie side by side: the tip kClosedTail of the length wide.

@@ -97,5 +97,6 @@ void main() {
 
   // The tail's opening as the model has it now: fully open while braking to land.
   // The span: the shadow's size (shadow.vert; a distant bird grown on screen casts its own).
-  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), span, 0.0);
+  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), span,
+                       folded ? s.stand_height / s.box_b : 0.0);
 }
