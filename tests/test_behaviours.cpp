@@ -670,9 +670,10 @@ TEST_P(ClimbOut, FollowedForFiveSecondsItNeverLoops) {
   EXPECT_GT(b.position.y - ground, 300.0) << "clear of the ground after 5 s";
 }
 
-// A bird takes off into the wind (faster than half touchdown_speed): standing with a 5 m/s wind
-// behind it or from its side, it turns to face the wind as it crouches, and climbs out as in still
-// air. Followed for 5 s.
+// A bird takes off into the wind (faster than half touchdown_speed): a flock set down standing
+// with a 5 m/s wind behind it or from its side stands facing the wind, and climbs out as in still
+// air. Followed for 5 s. (A bird that stands turned away turns on its legs first:
+// SolidGround.ABirdTurnsIntoTheWindOnItsLegsBeforeItTakesOff.)
 TEST(TakeOff, FacesTheWindAndClimbsOut) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   for (const dvec3 wind : {dvec3{500.0, 0.0, 0.0}, dvec3{0.0, 0.0, -500.0}}) {

@@ -150,6 +150,8 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
         b.position.y = s.world.ground_height + sp.stand_height;
         b.velocity = b.omega = dvec3{0.0};
         b.attitude = heading_attitude(heading);
+        // In a wind it heeds, half of them face it (and take off), half turn on their legs first.
+        if (i / 12 % 2 == 0) face_the_wind(b, sp, s.world, kPi);
         break;
       case 9:  // perched on the branch
         b.route = 1;

@@ -33,8 +33,9 @@ void step_bird(BirdState& bird, const Species& species, const World& world, uint
                double dt, StepForces* forces = nullptr, const Perception* seen = nullptr);
 
 // Turns a standing bird on its legs by at most `most` (rad) towards facing into the wind where it
-// heeds the wind (control.h: heeds_wind), since it takes off into it; true once it faces it (or
-// heeds none). A bird that stands still turns at kSettleTurn; one set down standing, at once.
+// heeds the wind (control.h: heeds_wind), since it takes off into it; true once it faces it (the
+// turn left within `most`; or it heeds none). A bird that stands still turns at kSettleTurn; one
+// set down standing, at once.
 bool face_the_wind(BirdState& bird, const Species& species, const World& world, double most);
 
 }  // namespace aeroflock
