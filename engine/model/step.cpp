@@ -398,16 +398,14 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
 }  // namespace
 
 // A bird takes off into the wind: turned away from it, it would first fall back through it. Done
-// once the turn left is within this step's (judged by the turn's axis part, as turn_towards does:
-// float attitudes cannot resolve a step's turn in w, turn_angle's).
+// once the turn left is within this step's: turn_towards then returns `into` itself (it judges by
+// the turn's axis part; float attitudes cannot resolve a step's turn in w, turn_angle's).
 bool face_the_wind(BirdState& b, const Species& sp, const World& w, double most) {
   const dvec3 wind = wind_at(w, b.position.y);
   if (!heeds_wind(sp, glm::length(horizontal(wind)))) return true;
   const glm::dquat into = facing(-wind);
-  const glm::dquat r = into * glm::conjugate(b.attitude);
-  const bool there = 2.0 * std::atan2(glm::length(dvec3{r.x, r.y, r.z}), std::fabs(r.w)) <= most;
-  b.attitude = there ? into : turn_towards(b.attitude, into, most);
-  return there;
+  b.attitude = turn_towards(b.attitude, into, most);
+  return b.attitude == into;
 }
 
 uint32_t whole_steps(double seconds, double dt) {

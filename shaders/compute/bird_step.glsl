@@ -307,10 +307,8 @@ void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs
 bool face_the_wind(inout GpuBird b, GpuSpecies s, vec3 wind, float most) {
   if (!heeds_wind(s, length(wind.xz))) return true;
   vec4 into = facing(-wind);
-  vec4 r = quat_mul(into, vec4(-b.attitude.xyz, b.attitude.w));
-  bool there = 2.0 * atan_p(length(r.xyz), abs(r.w)) <= most;
-  b.attitude = there ? into : turn_towards(b.attitude, into, most);
-  return there;
+  b.attitude = turn_towards(b.attitude, into, most);
+  return b.attitude == into;  // turn_towards returns `into` itself once within `most`
 }
 
 // step.cpp's step_bird and advance: one step of dt; returns the step's forces (zero for
