@@ -234,6 +234,41 @@ void expect_brute_force_agrees(const std::vector<dvec3>& p, const std::vector<dv
   EXPECT_NEAR(std::fabs(glm::dot(f.axis[0], smallest_eigen(cov).vector)), 1.0, 1e-9);
 }
 
+// 1,500 points in an ellipsoid, none nearer than 50 cm, the outer `shell` of its radius `denser`
+// times as dense as the rest (rejection sampling).
+std::vector<dvec3> shelled_cloud(double shell, double denser) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+  const dvec3 half{2400.0, 1200.0, 720.0};
+  std::vector<dvec3> p;
+  while (p.size() < 1500) {
+    const dvec3 x{u(rng), u(rng), u(rng)};
+    const double r = glm::length(x);
+    if (r > 1.0 || (r <= 1.0 - shell && u01(rng) > 1.0 / denser)) continue;
+    const dvec3 at = x * half;
+    if (std::none_of(p.begin(), p.end(),
+                     [&](const dvec3& q) { return glm::distance(q, at) < 50.0; }))
+      p.push_back(at);
+  }
+  return p;
+}
+
+// The border's density (issue 41) reads below 1 only for a border far denser than the rest: a
+// border bird's outer side is empty, so its nearest neighbour lies farther than an inner bird's at
+// the same density. The outer 5 % of the radius as dense as the rest reads 1.155, twice 1.127, 4
+// times 0.973, 8 times 0.872, 16 times 0.864 (10 % of it: 0.91-1.15). None reads within the
+// field's 0.65-0.82 (docs/FIELD.md "The border").
+TEST(FlockStructure, OnlyABorderManyTimesDenserReadsDenserThanTheCentre) {
+  const auto ratio = [](const std::vector<dvec3>& p) {
+    const std::vector<dvec3> v(p.size(), dvec3{1000.0, 0.0, 0.0});
+    const FlockStructure f = flock_structure_by_spacing(p, v, kBorderBallNearest);
+    return f.border_nearest / f.interior_nearest;
+  };
+  EXPECT_GT(ratio(shelled_cloud(0.05, 1.0)), 1.1);
+  EXPECT_GT(ratio(shelled_cloud(0.05, 2.0)), 1.0);
+  EXPECT_LT(ratio(shelled_cloud(0.05, 8.0)), 0.9);
+}
+
 TEST(FlockStructure, AgreesWithBruteForce) {
   // A random flock, thin and moving obliquely.
   std::vector<dvec3> p = random_cloud(1500, {2000, 300, 1000}, 7), v;
