@@ -338,8 +338,9 @@ TEST(Render, AShadowLiesUnderTheBirdOnTheGround) {
 }
 
 // A bird on its legs is drawn standing on them: seen from its side at their height, its legs
-// fill the pixels half way from its body down to the ground under its centre, where the same bird
-// in flight at the same place shows the background (its legs folded into its body).
+// fill the pixels half way from its body down to the ground under its centre, standing or crouched
+// to take off, where the same bird in flight at the same place shows the background (its legs
+// folded into its body).
 TEST(Render, ABirdOnTheGroundStandsOnItsLegs) {
   AEROFLOCK_DEVICE_OR_SKIP(device, true);
   const VkExtent2D size{320, 240};
@@ -352,6 +353,10 @@ TEST(Render, ABirdOnTheGroundStandsOnItsLegs) {
   standing.amplitude = 0.0;
   BirdState flying = standing;
   flying.mode = FlightMode::flying;
+  // Crouched to leap (taking off), still on its legs: they reach the ground from its lower body.
+  BirdState crouching = standing;
+  crouching.mode = FlightMode::taking_off;
+  crouching.position.y -= s.crouch_depth;
   BirdState gone = standing;
   gone.position.y = 1e6;
   const glm::dvec3 legs =
@@ -362,8 +367,17 @@ TEST(Render, ABirdOnTheGroundStandsOnItsLegs) {
   const glm::vec2 at = project(scene.camera, size, legs);
   const int on_legs = changed_near(scene.draw(device, standing, size), background, at, 3);
   const int in_flight = changed_near(scene.draw(device, flying, size), background, at, 3);
+  // Between its crouched body and the ground.
+  const glm::dvec3 shins{
+      0.0, 0.5 * (crouching.position.y - 0.5 * s.box_b + scene.scenario.world.ground_height), 0.0};
+  scene.camera.target = glm::vec3(shins);
+  scene.camera.eye = glm::vec3(shins) + glm::vec3(0.0f, 0.0f, -150.0f);
+  const Image low_background = scene.draw(device, gone, size);
+  const int crouched = changed_near(scene.draw(device, crouching, size), low_background,
+                                    project(scene.camera, size, shins), 2);
   RecordProperty("leg_pixels", on_legs);
   EXPECT_GE(on_legs, 7) << "a leg's column through the 7 x 7 pixels";
+  EXPECT_GE(crouched, 5) << "on its legs while it crouches to take off";
   EXPECT_EQ(in_flight, 0) << "legs folded in flight";
   EXPECT_EQ(device.validation_errors(), 0);
 }

@@ -274,7 +274,7 @@ struct PoseConstants {
   int tile_z;
   float min_angle;   // rad: a bird is drawn at least this wide (distant birds grown to it)
   float tiny_scale;  // a bird farther than its span times this is tiny (0: none; View::tiny_pixels)
-  uint pad;
+  float ground_height;  // cm: where the feet of a bird on the ground are
 };
 
 // Push constants of every render shader (frame.glsl): the camera and the light. Everything is

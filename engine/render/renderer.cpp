@@ -525,7 +525,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage /*color*/, VkImageView color_
                            tile.tile.y,
                            kMinPixels / focal_pixels,
                            view.tiny_pixels > 0.0f ? focal_pixels / view.tiny_pixels : 0.0f,
-                           0};
+                           r.ground_height};
   if (bird_count > 0)
     r.pose_pipeline.dispatch(cmd, r.pose_set_for(birds),
                              gpu::group_count(bird_count, gpu::kWorkgroupSize), &pose, sizeof pose);

@@ -97,6 +97,11 @@ void main() {
 
   // The tail's opening as the model has it now: fully open while braking to land.
   // The span: the shadow's size (shadow.vert; a distant bird grown on screen casts its own).
-  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), span,
-                       folded ? s.stand_height / s.box_b : 0.0);
+  // The legs (body heights under its centre): on its legs (standing, taking off, perched) they
+  // reach stand_height down, or to the ground where that is nearer: folded as its body crouches to
+  // leap or sinks onto the ground in a hard touch-down. In flight, none.
+  float legs = folded || b.mode == mode_taking_off
+                   ? clamp(b.position.y - pc.ground_height, 0.0, s.stand_height) / s.box_b
+                   : 0.0;
+  poses[i].tail = vec4(tail_opening(s, b), uintBitsToFloat(b.species), span, legs);
 }

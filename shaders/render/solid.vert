@@ -51,7 +51,10 @@ void main() {
     vec3 top = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) -
                frame.eye.xyz - 45.0 * along;
     float ground = frame.fog_color.w - frame.eye.y;
-    world = vec3(top.x, ground, top.z) + in_position * vec3(10.0, top.y - ground, 10.0);
+    // None under a site on the ground: every vertex at its foot, nothing drawn.
+    float height = top.y - ground > 1.0 ? top.y - ground : 0.0;
+    world = vec3(top.x, ground, top.z) +
+            in_position * (height > 0.0 ? vec3(10.0, height, 10.0) : vec3(0.0));
   } else {
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
