@@ -251,7 +251,8 @@ struct StepConstants {
 // Render: each bird's pose for drawing (pose.comp), six 3x4 transforms (body, right arm, right
 // hand, tail, left arm, left hand; part-local to world, by rows), the tail's opening (x), the
 // bird's species (y, as bits), its wingspan (z, cm: the size of its shadow, shadow.vert) and how
-// far its feet reach under its centre (w, body heights: stand_height / box_b on its legs, else 0).
+// far its feet reach under its centre (w, body heights: on its legs stand_height / box_b, or to
+// the ground where that is nearer; in flight 0).
 struct Pose {
   AF_V16 vec4 rows[18];
   AF_V16 vec4 tail;

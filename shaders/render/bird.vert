@@ -26,7 +26,7 @@ void main() {
   uint transform = part < 4u ? part : part == 7u ? 0u : part - 1u;  // left arm 5 -> 4, hand 6 -> 5
   vec3 p = v.position.xyz, n = v.normal.xyz;
   // The legs, with the body: from the hip to the feet, poses.tail.w body heights under its centre
-  // on the ground or a branch (its stand_height), folded into the body in flight.
+  // on its legs (pose.comp), folded into the body in flight.
   if (part == 7u) p.y = mix(-kHip, -max(poses[bird].tail.w, kHip), p.y);
   if (part == 3u) {  // the tail's fan: x radius fraction, z angle fraction of the opening
     float a = p.z * poses[bird].tail.x;

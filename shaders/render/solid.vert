@@ -21,6 +21,11 @@ const uint kKindGroundSite = 4u;  // a branch at the ground's height, for solid.
 // Route lines: pairs of target indices (kind 2 reads these instead of a mesh).
 layout(std430, set = 0, binding = kBindingSegments) readonly buffer Segments { uvec2 segments[]; };
 
+// The ground's height from the eye, and whether a branch at `point` (from the eye) is a site on
+// the ground (where a species that does not perch lands): no post, a flat patch.
+float ground_from_eye() { return frame.fog_color.w - frame.eye.y; }
+bool on_ground(vec3 point) { return point.y <= ground_from_eye() + 1.0; }
+
 void main() {
   uint vertex = kKind == 0u || kKind == 2u ? 0u : uint(gl_VertexIndex);
   vec3 in_position = mesh[vertex].position.xyz, in_normal = mesh[vertex].normal.xyz;
@@ -50,11 +55,10 @@ void main() {
     vec3 along = normalize(vec3(br.direction.x, 0.0, br.direction.z) + vec3(1e-6, 0.0, 0.0));
     vec3 top = br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) -
                frame.eye.xyz - 45.0 * along;
-    float ground = frame.fog_color.w - frame.eye.y;
+    float ground = ground_from_eye();
     // None under a site on the ground: every vertex at its foot, nothing drawn.
-    float height = top.y - ground > 1.0 ? top.y - ground : 0.0;
-    world = vec3(top.x, ground, top.z) +
-            in_position * (height > 0.0 ? vec3(10.0, height, 10.0) : vec3(0.0));
+    vec3 size = on_ground(top) ? vec3(0.0) : vec3(10.0, top.y - ground, 10.0);
+    world = vec3(top.x, ground, top.z) + in_position * size;
   } else {
     GpuBranch br = branches[gl_InstanceIndex];
     vec3 along = normalize(br.direction.xyz), up = vec3(0, 1, 0), across = cross(along, up);
@@ -63,11 +67,11 @@ void main() {
         br.point.xyz + tile_shift(br.tile_x, br.tile_z, frame.tile_x, frame.tile_z) - frame.eye.xyz;
     // A branch 1 m long and 4 cm thick, its top at the perch point; a site on the ground (where
     // a species that does not perch lands) a patch 4 m square, 2 cm above the ground.
-    bool on_ground = point.y <= frame.fog_color.w - frame.eye.y + 1.0;
-    vec3 size = on_ground ? vec3(400.0, 2.0, 400.0) : vec3(100.0, 4.0, 4.0);
-    world = point + m * (in_position * size - vec3(0.0, on_ground ? 0.0 : 4.0, 0.0));
+    bool site = on_ground(point);
+    vec3 size = site ? vec3(400.0, 2.0, 400.0) : vec3(100.0, 4.0, 4.0);
+    world = point + m * (in_position * size - vec3(0.0, site ? 0.0 : 4.0, 0.0));
     normal = m * in_normal;
-    kind = on_ground ? kKindGroundSite : kKind;
+    kind = site ? kKindGroundSite : kKind;
   }
   out_normal = normal;
   out_world = world;
