@@ -15,6 +15,8 @@
 #include "model/body.h"
 #include "model/formation_figures.h"
 #include "model/simulation.h"
+#include "run/run_loop.h"
+#include "run/structure.h"
 
 namespace aeroflock::testing {
 
@@ -177,6 +179,67 @@ void expect_a_follower_saves_power(const Make& make) {
   EXPECT_GT(on.upwash, 0.0);
   EXPECT_GT(saving, 0.0);
   EXPECT_LE(saving_off, 0.0);
+}
+
+// `ibis-v` (14 ibises released as a loose group, the paper's fixed-rate turning) from `seed`, its
+// wakes on or off, measured as `aeroflock run ibis-v --structure-from 60` measures it
+// (run/structure.h) to 120 s: the share of its followers in a V place and of those in spatial phase
+// (a snapshot a second), and the wings' power of a follower and of a head (every frame).
+struct GroupFormation {
+  double in_v = 0.0, in_phase = 0.0, follower_w = 0.0, head_w = 0.0;
+};
+template <class Make>
+GroupFormation fly_ibis_v(uint64_t seed, bool wake, const Make& make) {
+  Scenario scenario = load_scenario("ibis-v");
+  scenario.seed = seed;
+  for (Flock& f : scenario.flocks) f.wake = wake;
+  std::unique_ptr<Simulation> sim = make(scenario, spawn_birds(scenario));
+  StructureObserver structure({60.0, 120.0, 1.0});
+  RunLimits limits;
+  limits.frames = uint64_t(std::llround(120.0 / scenario.frame_seconds()));
+  const RunResult run = run_frames(*sim, {&structure}, limits);
+  EXPECT_TRUE(run.errors.empty()) << (run.errors.empty() ? "" : run.errors[0]);
+  const FormationMean& f = *structure.flocks().at(0).formation;
+  return {f.in_v(), f.in_phase(), f.follower_power_w(), f.head_power_w()};
+}
+
+// Issue 43's V and energy criteria on `ibis-v`, seeds 1-4 (`flies_seeds`): at least 70 % of the
+// followers in a V place over the seeds, most of those in phase, and a follower spends less than
+// the same ibis alone at the same airspeed (fly_ibis_pair's, at the scenario's cruise) in each
+// seed, while the formation's heads spend as one alone; with the wakes off (`seeds_off`) no V.
+template <class Make>
+void expect_ibis_v_forms_a_v_and_saves(const Make& make, uint64_t seeds, uint64_t seeds_off) {
+  const double alone = fly_ibis_pair(1, true, make).power_w[0];
+  double in_v = 0.0, saving = 0.0;
+  for (uint64_t seed = 1; seed <= seeds; ++seed) {
+    const GroupFormation on = fly_ibis_v(seed, true, make);
+    std::printf(
+        "seed %llu: %.3f of the followers in a V place, %.3f of those in phase; a follower %.2f "
+        "W, a head %.2f W, one alone %.2f W\n",
+        static_cast<unsigned long long>(seed), on.in_v, on.in_phase, on.follower_w, on.head_w,
+        alone);
+    const std::string n = std::to_string(seed);
+    ::testing::Test::RecordProperty("in_v_seed_" + n, std::to_string(on.in_v));
+    ::testing::Test::RecordProperty("follower_w_seed_" + n, std::to_string(on.follower_w));
+    in_v += on.in_v / double(seeds);
+    saving += (1.0 - on.follower_w / alone) / double(seeds);
+    EXPECT_GE(on.in_v, 0.55) << "seed " << seed;
+    EXPECT_GE(on.in_phase, 0.7) << "seed " << seed;
+    EXPECT_LT(on.follower_w, alone) << "seed " << seed;
+    EXPECT_NEAR(on.head_w, alone, 0.01 * alone) << "seed " << seed;
+  }
+  ::testing::Test::RecordProperty("alone_w", std::to_string(alone));
+  ::testing::Test::RecordProperty("in_v_mean", std::to_string(in_v));
+  ::testing::Test::RecordProperty("saving_percent_mean", std::to_string(100.0 * saving));
+  EXPECT_GE(in_v, 0.7);
+  EXPECT_GE(saving, 0.01);
+  for (uint64_t seed = 1; seed <= seeds_off; ++seed) {
+    const GroupFormation off = fly_ibis_v(seed, false, make);
+    std::printf("wakes off, seed %llu: %.3f in a V place, a follower %.2f W\n",
+                static_cast<unsigned long long>(seed), off.in_v, off.follower_w);
+    EXPECT_LT(off.in_v, 0.1) << "wakes off, seed " << seed;
+    EXPECT_GE(off.follower_w, alone) << "wakes off, seed " << seed;
+  }
 }
 
 }  // namespace aeroflock::testing

@@ -152,6 +152,12 @@ void print_structure(const FlockStructureSummary& f) {
         "wing, %.2f m across +-10 %%), %s %% of those in the leader's wingtip path\n",
         v->followers(), fig(100 * v->in_v()).c_str(), v->optimum / 100,
         fig(100 * v->in_phase()).c_str());
+  if (const auto& v = f.formation)
+    std::printf(
+        "  wings' power       a head of the formation %s W, a follower %s W, one in a V place %s "
+        "W\n",
+        fig(v->head_power_w()).c_str(), fig(v->follower_power_w()).c_str(),
+        fig(v->in_v_power_w()).c_str());
 }
 
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,

@@ -98,13 +98,17 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
   nlohmann::ordered_json structure = nlohmann::ordered_json::array();
   for (const FlockStructureSummary& f : r.structure) {
     const StructureFigures& m = f.structure.mean;
-    nlohmann::ordered_json formation;  // null: a flock without wakes
+    nlohmann::ordered_json
+        formation;  // null: a flock that neither meets wakes nor flies in formation
     if (f.formation)
       formation = {{"optimum_lateral", f.formation->optimum},
                    {"samples", f.formation->samples},
                    {"followers", f.formation->followers()},
                    {"in_v", f.formation->in_v()},
-                   {"in_phase", f.formation->in_phase()}};
+                   {"in_phase", f.formation->in_phase()},
+                   {"head_power", f.formation->head_power_w()},
+                   {"follower_power", f.formation->follower_power_w()},
+                   {"in_v_power", f.formation->in_v_power_w()}};
     structure.push_back(
         nlohmann::ordered_json{{"flock", f.flock},
                                {"species", f.species},
@@ -193,6 +197,11 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
        "optimum"},
       {"structure.formation.in_phase",
        "fraction of those in V whose phase lag is within pi/4 of 2 pi f dx / U"},
+      {"structure.formation.head_power",
+       "W: the wings' power against their motion of a bird that follows none, on average over "
+       "every frame of the window (null over many ranks)"},
+      {"structure.formation.follower_power", "W: the same of a follower"},
+      {"structure.formation.in_v_power", "W: the same of a follower in a V place"},
       {"quarantined.time", "s"},
       {"quarantined.position", "cm"},
       {"quarantined.velocity", "cm/s"},

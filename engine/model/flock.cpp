@@ -266,19 +266,24 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   const double above = parabola_peak(met(-step * up, 0.0), here, met(step * up, 0.0), step, most);
   const double shift = parabola_peak(met(dvec3{0.0}, -kPhaseProbe), here,
                                      met(dvec3{0.0}, kPhaseProbe), kPhaseProbe, kPhaseReach);
-  // Closing on that place over formation_time, less how fast it already moves there.
+  // Closing on that place over formation_time: across the flight less how fast it already moves
+  // there; up and down by the offset alone. Two birds' vertical velocities at an instant differ
+  // mostly by their wingbeats' heave, about opposite at the wingtip path's phase: fed back, that
+  // swung the follower's climb at its wingbeat rate, and the swings grew down a chain.
   const double closing_side = across / s.formation_time - glm::dot(across_air, side);
-  const double closing_up = above / s.formation_time - glm::dot(across_air, up);
+  const double closing_up = above / s.formation_time;
   f.heading = glm::normalize(ahead + (side * closing_side + up * closing_up) / speed);
   // Along the flight it keeps separation_radius from its leader: it flies as far behind it as that
   // leaves at its offset across. (social_goal's law, by the distance along the flight alone, would
-  // leave a bird abreast where it is: a line abreast, not a V.)
+  // leave a bird abreast where it is: a line abreast, not a V.) It closes about its species'
+  // cruise_speed, not its leader's airspeed and their difference: read at an instant, those carry
+  // both birds' wingbeat surges, and a chain in which each copies the one ahead amplifies any swing
+  // down the chain (string instability); by the offset alone a follower damps it.
   const dvec3 offset = lead.position - b.position;
   const double behind = glm::dot(offset, ahead);
   const double across2 = std::max(glm::dot(offset, offset) - behind * behind, 0.0);
   const double keep = std::sqrt(std::max(s.separation_radius * s.separation_radius - across2, 0.0));
-  f.airspeed = std::clamp(speed + s.speed_gain * (behind - keep) -
-                              s.speed_match * glm::dot(across_air, ahead) - f.fall_back,
+  f.airspeed = std::clamp(s.cruise_speed + s.speed_gain * (behind - keep) - f.fall_back,
                           s.min_speed, s.max_speed);
   f.phase_rate = shift / s.formation_time;
   return f;

@@ -47,8 +47,8 @@ struct Perception {
 // across relative to it; `phase_rate` to close on that phase.
 struct Formation {
   glm::dvec3 heading{0.0};
-  double airspeed = 0.0;  // cm/s: the leader's, and faster or slower to keep separation_radius
-                          // from it (as social_goal's airspeed does from the flock)
+  double airspeed = 0.0;  // cm/s: its cruise_speed, faster or slower to keep separation_radius
+                          // from its leader (as social_goal's airspeed does from the flock)
   double phase_rate = 0.0;
   double fall_back = 0.0;  // cm/s slower than the flock's airspeed: nearly abreast of the bird
                            // ahead, it drops back into that bird's wake

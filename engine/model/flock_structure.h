@@ -136,7 +136,8 @@ struct FlockStructureSummary {
   // s: the window asked for, a snapshot at the first frame at or after each from + k every
   double from = 0.0, to = 0.0, every = 0.0;
   StructureMean structure;
-  // A flock that meets the wakes: its formation at the same snapshots (formation_figures.h).
+  // A flock that meets the wakes or flies in formation (Species::w_formation): its formation at
+  // the same snapshots (formation_figures.h), its wings' power over every frame between.
   std::optional<FormationMean> formation;
 };
 

@@ -40,8 +40,12 @@ double best_lateral_offset(const Species& s, double behind) {
 }
 
 FormationFigures formation_figures(std::span<const BirdState> birds, const Species& s,
-                                   double optimum) {
+                                   double optimum, std::vector<FormationRole>* roles) {
   FormationFigures out;
+  if (roles) roles->assign(birds.size(), FormationRole::head);
+  auto role = [&](size_t i, FormationRole r) {
+    if (roles) (*roles)[i] = r;
+  };
   for (size_t i = 0; i < birds.size(); ++i) {
     const BirdState& b = birds[i];
     const double own = glm::length(b.velocity);
@@ -60,6 +64,7 @@ FormationFigures formation_figures(std::span<const BirdState> birds, const Speci
     const dvec3 across = glm::cross(lead->velocity, dvec3{0.0, 1.0, 0.0});
     if (!(speed > 0.0) || !(glm::length(across) > 0.0)) continue;
     ++out.followers;
+    role(i, FormationRole::follower);
     const dvec3 ahead = lead->velocity / speed;
     const dvec3 side = glm::normalize(across);
     const dvec3 offset = b.position - lead->position;
@@ -68,6 +73,7 @@ FormationFigures formation_figures(std::span<const BirdState> birds, const Speci
     if (bearing < kPi / 6.0 || bearing > kPi / 3.0 || std::fabs(dy - optimum) > 0.1 * optimum)
       continue;
     ++out.in_v;
+    role(i, FormationRole::in_v);
     const double lag = lead->phase - b.phase;
     const double spatial = 2.0 * kPi * lead->frequency * dx / speed;
     out.in_phase += std::fabs(std::remainder(lag - spatial, 2.0 * kPi)) <= kPi / 4.0;
@@ -76,11 +82,22 @@ FormationFigures formation_figures(std::span<const BirdState> birds, const Speci
 }
 
 FormationFigures measure_formation(const Scenario& scenario, const std::vector<BirdState>& birds,
-                                   uint32_t flock, double optimum) {
+                                   uint32_t flock, double optimum,
+                                   std::vector<FormationRole>* roles) {
   std::vector<BirdState> members;
-  for (const BirdState& b : birds)
-    if (b.flock == flock && flocks_now(b) && is_finite(b)) members.push_back(b);
-  return formation_figures(members, scenario.species[scenario.flocks[flock].species], optimum);
+  std::vector<size_t> index;
+  for (size_t i = 0; i < birds.size(); ++i)
+    if (birds[i].flock == flock && flocks_now(birds[i]) && is_finite(birds[i]))
+      members.push_back(birds[i]), index.push_back(i);
+  std::vector<FormationRole> member_roles;
+  const FormationFigures f =
+      formation_figures(members, scenario.species[scenario.flocks[flock].species], optimum,
+                        roles ? &member_roles : nullptr);
+  if (roles) {
+    roles->assign(birds.size(), FormationRole::none);
+    for (size_t k = 0; k < index.size(); ++k) (*roles)[index[k]] = member_roles[k];
+  }
+  return f;
 }
 
 void FormationMean::add(const FormationFigures& f) {
@@ -88,6 +105,31 @@ void FormationMean::add(const FormationFigures& f) {
   sum.followers += f.followers;
   sum.in_v += f.in_v;
   sum.in_phase += f.in_phase;
+}
+
+void FormationMean::add_power(std::span<const FormationRole> roles,
+                              std::span<const StepForces> forces) {
+  for (size_t i = 0; i < std::min(roles.size(), forces.size()); ++i) {
+    const double w = forces[i].power;
+    switch (roles[i]) {
+      case FormationRole::none:
+        break;
+      case FormationRole::head:
+        power_sum[0] += w, ++power_frames[0];
+        break;
+      case FormationRole::in_v:
+        power_sum[2] += w, ++power_frames[2];
+        [[fallthrough]];
+      case FormationRole::follower:
+        power_sum[1] += w, ++power_frames[1];
+        break;
+    }
+  }
+}
+
+double FormationMean::power_w(int k) const {
+  return power_frames[k] ? 1e-7 * power_sum[k] / double(power_frames[k])
+                         : std::numeric_limits<double>::quiet_NaN();
 }
 
 double FormationMean::followers() const {

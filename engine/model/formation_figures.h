@@ -12,6 +12,7 @@
 #include "bird.h"
 #include "scenario.h"
 #include "species.h"
+#include "step.h"
 
 namespace aeroflock {
 
@@ -30,22 +31,43 @@ struct FormationFigures {
   size_t in_phase =
       0;  // of those in V: phase lag within pi / 4 of 2 pi f dx / U (the wingtip path)
 };
+
+// What a bird is in a snapshot's formation: a head follows none (the formation's heads, and any
+// bird flying alone); `none`: not measured (another flock's, or not flocking now).
+enum class FormationRole : uint8_t { none, head, follower, in_v };
+
+// `roles`, where given, gets each bird's role (birds.size() of them).
 FormationFigures formation_figures(std::span<const BirdState> birds, const Species& s,
-                                   double optimum);
+                                   double optimum, std::vector<FormationRole>* roles = nullptr);
 
-// The snapshot of flock `flock` of `scenario`, over its birds that flock now and are finite.
+// The snapshot of flock `flock` of `scenario`, over its birds that flock now and are finite;
+// `roles` as above, one for each of `birds`.
 FormationFigures measure_formation(const Scenario& scenario, const std::vector<BirdState>& birds,
-                                   uint32_t flock, double optimum);
+                                   uint32_t flock, double optimum,
+                                   std::vector<FormationRole>* roles = nullptr);
 
-// Snapshots summed: the fractions over all of them.
+// Snapshots summed: the fractions over all of them. And the wings' power (StepForces::power) of
+// each role over every frame it is given, each bird in its role at the snapshot before: a
+// wingbeat's power swings from below zero to several times its mean, so a snapshot a second would
+// not tell a saving of a few per cent.
 struct FormationMean {
   double optimum = 0.0;  // cm: best_lateral_offset one span behind
   size_t samples = 0;
   FormationFigures sum;
+  double power_sum[3]{};     // erg/s summed: heads, followers (those in V too), those in V
+  size_t power_frames[3]{};  // bird-frames summed
   void add(const FormationFigures& f);
+  void add_power(std::span<const FormationRole> roles, std::span<const StepForces> forces);
   double followers() const;  // a snapshot's, on average
   double in_v() const;       // of the followers (NaN: none)
   double in_phase() const;   // of those in V (NaN: none)
+  // W, a bird's on average over the frames given (NaN: none)
+  double head_power_w() const { return power_w(0); }
+  double follower_power_w() const { return power_w(1); }
+  double in_v_power_w() const { return power_w(2); }
+
+ private:
+  double power_w(int k) const;
 };
 
 }  // namespace aeroflock

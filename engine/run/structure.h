@@ -26,6 +26,8 @@ class StructureObserver final : public RunObserver {
   // Each snapshot is taken at the first frame at or after its time, from + k every: the frames are
   // stepped one at a time (not in batches), so that it is that frame whatever the flock's size.
   bool reads_every_frame() const override { return true; }
+  // A flock that meets the wakes has its wings' power summed over every frame of the window.
+  bool wants_forces(uint64_t frame, bool last) const override;
   void frame(Simulation& sim, uint64_t frames) override;
   // Whether a frame at simulated time `t` is one it measures (the next snapshot's).
   bool due(double t) const;
@@ -36,6 +38,9 @@ class StructureObserver final : public RunObserver {
   double next_ = 0.0;
   std::vector<uint32_t> flocking_;  // the scenario's flocks that flock
   std::vector<FlockStructureSummary> flocks_;
+  double frame_seconds_ = 0.0;
+  bool formation_ = false;                         // a flock of flocks_ has one
+  std::vector<std::vector<FormationRole>> roles_;  // each flock's, at its last snapshot
 };
 
 }  // namespace aeroflock

@@ -274,14 +274,13 @@ Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
       parabola_peak(upwash_met(s, b, p, up, vec3(0.0), -kPhaseProbe), here,
                     upwash_met(s, b, p, up, vec3(0.0), kPhaseProbe), kPhaseProbe, kPhaseReach);
   precise float closing_side = across / s.formation_time - dot(across_air, side);
-  precise float closing_up = above / s.formation_time - dot(across_air, up);
+  precise float closing_up = above / s.formation_time;  // by the offset alone (flock.cpp)
   f.heading = normalize(ahead + (side * closing_side + up * closing_up) / speed);
   precise vec3 offset = lead.position_phase.xyz - b.position;
   precise float behind = dot(offset, ahead);
   precise float across2 = max(dot(offset, offset) - behind * behind, 0.0);
   precise float keep = sqrt(max(s.separation_radius * s.separation_radius - across2, 0.0));
-  precise float airspeed =
-      speed + s.speed_gain * (behind - keep) - s.speed_match * dot(across_air, ahead) - f.fall_back;
+  precise float airspeed = s.cruise_speed + s.speed_gain * (behind - keep) - f.fall_back;
   f.airspeed = clamp(airspeed, s.min_speed, s.max_speed);
   f.phase_rate = shift / s.formation_time;
   return f;
