@@ -6,10 +6,11 @@ double).
 
 usage: python3 tests/check_formation.py VTK_DIR SUMMARY.json
 
-A follower is a bird with another at least 0.25 spans ahead along its flight, within 10 spans; the
-nearest such is the bird it follows. In a V place: 30-60 degrees behind that bird's wing (in its
-flight's frame, level across), the lateral offset of centres within 10 % of the summary's
-`optimum_lateral`. In phase: the phase lag within pi/4 of 2 pi f dx / U (f and U the leader's).
+A follower is a bird with another at least 0.25 spans ahead along its flight through the air
+(the export's `air_velocity`), within 10 spans; the nearest such is the bird it follows. In a V
+place: 30-60 degrees behind that bird's wing (in the frame of its flight through the air, level
+across), the lateral offset of centres within 10 % of the summary's `optimum_lateral`. In phase:
+the phase lag within pi/4 of 2 pi f dx / U (f and U, the airspeed, the leader's).
 Exits 0 when the followers a snapshot, the share in V and the share of those in phase agree, 1
 otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
 """
@@ -21,9 +22,9 @@ from vtk_snapshots import dot, read, snapshots, sub
 
 
 def frame(path):
-    points, arrays = read(path, ["velocity", "wingbeat_phase", "frequency"])
+    points, arrays = read(path, ["air_velocity", "wingbeat_phase", "frequency"])
     return [{"p": p, "v": v, "phase": phase[0], "f": f[0]}
-            for p, v, phase, f in zip(points, arrays["velocity"], arrays["wingbeat_phase"],
+            for p, v, phase, f in zip(points, arrays["air_velocity"], arrays["wingbeat_phase"],
                                       arrays["frequency"])]
 
 

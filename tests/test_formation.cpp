@@ -64,6 +64,36 @@ TEST(Formation, TheBestPhaseOutboardIsTheLeadersWingtipPath) {
   }
 }
 
+// In a crosswind a bird crabs: its wings and its wake lie square to its flight through the air,
+// not to its track over the ground. A follower set at the V place behind a leader, in the frame of
+// their flight through the air, in a crosswind of 4 m/s at 14 m/s (a crab of 16 degrees), is in
+// its V place and in phase measured so (`world` given), and out of it measured along the track.
+TEST(Formation, TheVPlaceIsMeasuredInTheFlightThroughTheAir) {
+  const Species s = ibis();
+  const double optimum = best_lateral_offset(s, s.box_c);
+  World world;
+  world.wind = dvec3{0.0, 0.0, 400.0};
+  BirdState lead, follower;
+  for (BirdState* b : {&lead, &follower}) {
+    b->velocity = dvec3{1400.0, 0.0, 0.0} + world.wind;  // heading along x through the air
+    b->frequency = 5.0;
+  }
+  lead.position = dvec3{0.0, 6000.0, 0.0};
+  follower.position = lead.position + dvec3{-s.box_c, 0.0, optimum};
+  follower.phase = std::remainder(-2.0 * kPi * lead.frequency * s.box_c / 1400.0, 2.0 * kPi);
+  if (follower.phase < 0.0) follower.phase += 2.0 * kPi;
+  const std::vector<BirdState> birds{lead, follower};
+  std::vector<FormationRole> roles;
+  const FormationFigures air = formation_figures(birds, s, optimum, &roles, &world);
+  EXPECT_EQ(air.followers, 1u);
+  EXPECT_EQ(air.in_v, 1u);
+  EXPECT_EQ(air.in_phase, 1u);
+  ASSERT_EQ(roles.size(), 2u);
+  EXPECT_EQ(roles[0], FormationRole::head);
+  EXPECT_EQ(roles[1], FormationRole::in_v);
+  EXPECT_EQ(formation_figures(birds, s, optimum).in_v, 0u) << "along the track";
+}
+
 struct PairFlight {
   double in_v = 0.0;      // share of the samples from 30 s on with the follower in a V place
   double in_phase = 0.0;  // of those, the share in spatial phase

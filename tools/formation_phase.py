@@ -5,15 +5,17 @@
     /usr/bin/python3 tools/formation_phase.py OUT.svg LABEL DIR SUMMARY [LABEL DIR SUMMARY ...]
 
 For each export DIR and its run's summary (`--summary`, the run measured with `--structure-from`:
-it gives the span and the optimum lateral offset) one panel: for and each exported frame, each follower (a bird with another at
-least 0.25 spans ahead along its flight within 10 spans; the nearest such is the bird it follows,
-as docs/MODEL.md "Formation flying" measures it) gives a point: its streamwise distance dx behind
-that bird (m) and the phase lag of its wingbeat, the leader's phase less its own, in [0, 2 pi).
-Blue: in a V place (30-60 degrees behind the wing, the lateral offset within 10 % of the optimum of
-the summary); red: directly behind (its centre within a quarter span of the
-leader's track); grey: elsewhere (at most 1,200 points drawn a panel, every k-th). The line is the wingtip path's lag 2 pi f dx / U (f and U the
-mean over the followers), the dashed one half a beat from it (spatial anti-phase). Portugal's
-ibises in V places lie along the line, those directly behind along the dashed one. It needs VTK's
+it gives the span and the optimum lateral offset) one panel: each follower of each exported frame
+(a bird with another at least 0.25 spans ahead along its flight through the air within 10 spans;
+the nearest such is the bird it follows, measured in the frame of that bird's flight through the
+air, the export's `air_velocity`, as docs/MODEL.md "Formation flying" has it) gives a point: its
+streamwise distance dx behind that bird (m) and the phase lag of its wingbeat, the leader's phase
+less its own, in [0, 2 pi). Blue: in a V place (30-60 degrees behind the wing, the lateral offset
+within 10 % of the summary's optimum); red: directly behind (its centre within a quarter span of
+the leader's line of flight); grey: elsewhere (at most 1,200 points drawn a panel, every k-th).
+The line is the wingtip path's lag 2 pi f dx / U (f and U, the airspeed, the mean over the
+followers), the dashed one half a beat from it (spatial anti-phase). Portugal's ibises in V places
+lie along the line, those directly behind along the dashed one. It needs VTK's
 Python module (Debian's python3-vtk9) and nothing else.
 """
 import json
@@ -39,7 +41,7 @@ def frame(path):
     d = r.GetOutput()
     pd = d.GetPointData()
     n = d.GetNumberOfPoints()
-    return [{"p": d.GetPoints().GetPoint(i), "v": pd.GetArray("velocity").GetTuple3(i),
+    return [{"p": d.GetPoints().GetPoint(i), "v": pd.GetArray("air_velocity").GetTuple3(i),
              "phase": pd.GetArray("wingbeat_phase").GetTuple1(i),
              "f": pd.GetArray("frequency").GetTuple1(i)} for i in range(n)]
 

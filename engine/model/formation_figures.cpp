@@ -40,17 +40,22 @@ double best_lateral_offset(const Species& s, double behind) {
 }
 
 FormationFigures formation_figures(std::span<const BirdState> birds, const Species& s,
-                                   double optimum, std::vector<FormationRole>* roles) {
+                                   double optimum, std::vector<FormationRole>* roles,
+                                   const World* world) {
   FormationFigures out;
   if (roles) roles->assign(birds.size(), FormationRole::head);
   auto role = [&](size_t i, FormationRole r) {
     if (roles) (*roles)[i] = r;
   };
+  auto air_velocity = [&](const BirdState& b) {
+    return world ? b.velocity - wind_at(*world, b.position.y) : b.velocity;
+  };
   for (size_t i = 0; i < birds.size(); ++i) {
     const BirdState& b = birds[i];
-    const double own = glm::length(b.velocity);
+    const dvec3 air = air_velocity(b);
+    const double own = glm::length(air);
     if (!(own > 0.0)) continue;
-    const dvec3 ahead_b = b.velocity / own;
+    const dvec3 ahead_b = air / own;
     const BirdState* lead = nullptr;
     double nearest = kWakeReach * s.box_c;
     for (size_t j = 0; j < birds.size(); ++j) {
@@ -60,12 +65,13 @@ FormationFigures formation_figures(std::span<const BirdState> birds, const Speci
         nearest = d, lead = &birds[j];
     }
     if (!lead) continue;
-    const double speed = glm::length(lead->velocity);
-    const dvec3 across = glm::cross(lead->velocity, dvec3{0.0, 1.0, 0.0});
+    const dvec3 lead_air = air_velocity(*lead);
+    const double speed = glm::length(lead_air);
+    const dvec3 across = glm::cross(lead_air, dvec3{0.0, 1.0, 0.0});
     if (!(speed > 0.0) || !(glm::length(across) > 0.0)) continue;
     ++out.followers;
     role(i, FormationRole::follower);
-    const dvec3 ahead = lead->velocity / speed;
+    const dvec3 ahead = lead_air / speed;
     const dvec3 side = glm::normalize(across);
     const dvec3 offset = b.position - lead->position;
     const double dx = -glm::dot(offset, ahead), dy = std::fabs(glm::dot(offset, side));
@@ -92,7 +98,7 @@ FormationFigures measure_formation(const Scenario& scenario, const std::vector<B
   std::vector<FormationRole> member_roles;
   const FormationFigures f =
       formation_figures(members, scenario.species[scenario.flocks[flock].species], optimum,
-                        roles ? &member_roles : nullptr);
+                        roles ? &member_roles : nullptr, &scenario.world);
   if (roles) {
     roles->assign(birds.size(), FormationRole::none);
     for (size_t k = 0; k < index.size(); ++k) (*roles)[index[k]] = member_roles[k];

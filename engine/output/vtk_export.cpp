@@ -38,6 +38,7 @@
 #include "model/body.h"
 #include "model/constants.h"
 #include "model/tail.h"
+#include "model/world.h"
 
 namespace aeroflock {
 
@@ -197,6 +198,7 @@ struct ExportedBird {
   const Species& species;
   const StepForces& forces;
   const Perception& seen;  // its last perception (none when its flock does not flock)
+  glm::dvec3 wind;         // the wind at its height
 };
 
 // What a point array holds: a real number (float or double as --vtk-precision says), a time
@@ -225,6 +227,8 @@ const PointArray kPointArrays[] = {
      [](const ExportedBird& e, double* v) { put(v, e.state.velocity); }},
     {"speed", Value::real, 1, "cm/s",
      [](const ExportedBird& e, double* v) { v[0] = glm::length(e.state.velocity); }},
+    {"air_velocity", Value::real, 3, "cm/s",
+     [](const ExportedBird& e, double* v) { put(v, e.state.velocity - e.wind); }},
     {"attitude", Value::real, 4, "- (unit quaternion w, x, y, z: body to world)",
      [](const ExportedBird& e, double* v) {
        const glm::dquat& q = e.state.attitude;
@@ -415,6 +419,7 @@ struct VtkExporter::Writer {
   std::vector<uint32_t> ids;
   std::vector<uint32_t> id_species;  // the species of each exported bird, by position in ids
   std::vector<Species> species;
+  World world;  // its wind
   std::string scenario_name, scenario_hash;
   std::vector<std::string> species_names, state_names;  // by code
   std::vector<std::string> frame_units;                 // "name: unit" of each point array
@@ -498,8 +503,13 @@ struct VtkExporter::Writer {
     for (vtkIdType i = 0; i < n; ++i) {
       const size_t k = static_cast<size_t>(i);
       const BirdState& b = frame.birds[k];
-      const ExportedBird e{frame_ids[k],       frame.time,      b,
-                           species[b.species], frame.forces[k], frame.perception[k]};
+      const ExportedBird e{frame_ids[k],
+                           frame.time,
+                           b,
+                           species[b.species],
+                           frame.forces[k],
+                           frame.perception[k],
+                           wind_at(world, b.position.y)};
       rank_array->SetValue(i, rank);
       points->SetPoint(i, b.position.x, b.position.y, b.position.z);
       for (size_t a = 0; a < std::size(kPointArrays); ++a) {
@@ -736,6 +746,7 @@ void VtkExporter::start_writer(const VtkOptions& options, const Scenario& scenar
   w.precision = options.precision;
   w.ids = selected_;
   w.species = scenario.species;
+  w.world = scenario.world;
   w.scenario_name = scenario.name;
   w.scenario_hash = scenario.hash;
   for (const Species& sp : scenario.species) w.species_names.push_back(sp.name);
