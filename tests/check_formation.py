@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """Recomputes a run's formation figures (docs/MODEL.md "Formation flying", Portugal et al. 2014)
 from its VTK export, independently of aeroflock's code, and checks them against the summary's
-`structure[].formation` (one flocking flock meeting wakes, every bird exported, --vtk-precision
-double).
+`structure[].formation` (one flocking flock meeting wakes, every bird and every frame of the
+window exported, --vtk-precision double): the followers, the shares in V and in phase at the
+snapshots, and the wings' power of each role over every frame (`wingbeat_power`), each bird in its
+role at the snapshot before.
 
 usage: python3 tests/check_formation.py VTK_DIR SUMMARY.json
 
@@ -18,14 +20,14 @@ import json
 import math
 import sys
 
-from vtk_snapshots import dot, read, snapshots, sub
+from vtk_snapshots import dot, frames_between, read, snapshots, sub
 
 
 def frame(path):
-    points, arrays = read(path, ["air_velocity", "wingbeat_phase", "frequency"])
-    return [{"p": p, "v": v, "phase": phase[0], "f": f[0]}
-            for p, v, phase, f in zip(points, arrays["air_velocity"], arrays["wingbeat_phase"],
-                                      arrays["frequency"])]
+    points, arrays = read(path, ["air_velocity", "wingbeat_phase", "frequency", "wingbeat_power"])
+    return [{"p": p, "v": v, "phase": phase[0], "f": f[0], "w": w[0]}
+            for p, v, phase, f, w in zip(points, arrays["air_velocity"], arrays["wingbeat_phase"],
+                                         arrays["frequency"], arrays["wingbeat_power"])]
 
 
 def norm(a):
@@ -36,8 +38,12 @@ def remainder(x, y):
     return x - y * round(x / y)
 
 
-def figures(birds, span, optimum):
+def figures(birds, span, optimum, roles=None):
+    """The snapshot's followers, in V and in phase; `roles` (a list) gets each bird's: "head",
+    "follower" or "in_v"."""
     followers = in_v = in_phase = 0
+    if roles is not None:
+        roles[:] = ["head"] * len(birds)
     for i, b in enumerate(birds):
         ahead_b = [x / norm(b["v"]) for x in b["v"]]
         lead, nearest = None, 10.0 * span
@@ -49,6 +55,8 @@ def figures(birds, span, optimum):
         if lead is None:
             continue
         followers += 1
+        if roles is not None:
+            roles[i] = "follower"
         speed = norm(lead["v"])
         ahead = [x / speed for x in lead["v"]]
         across = [-ahead[2], 0.0, ahead[0]]  # ahead x up, normalised below
@@ -59,6 +67,8 @@ def figures(birds, span, optimum):
         if bearing < math.pi / 6 or bearing > math.pi / 3 or abs(dy - optimum) > 0.1 * optimum:
             continue
         in_v += 1
+        if roles is not None:
+            roles[i] = "in_v"
         lag = lead["phase"] - b["phase"]
         spatial = 2 * math.pi * lead["f"] * dx / speed
         in_phase += abs(remainder(lag - spatial, 2 * math.pi)) <= math.pi / 4
@@ -78,20 +88,34 @@ def main():
         print(f"FAILED: {e}")
         return 1
     total = [0, 0, 0]
-    for path in paths:
-        total = [a + b for a, b in zip(total, figures(frame(path), s["wingspan"],
-                                                      v["optimum_lateral"]))]
+    # The wings' power of each role over every exported frame of the window (the export must hold
+    # every frame of it), each bird in its role at the snapshot before.
+    snapshot_paths = set(paths)
+    power = {"head": [0.0, 0], "follower": [0.0, 0], "in_v": [0.0, 0]}
+    roles = []
+    for t, path in frames_between(vtk_dir, s["from"], s["to"]):
+        birds = frame(path)
+        if path in snapshot_paths:
+            total = [a + b for a, b in zip(total, figures(birds, s["wingspan"],
+                                                          v["optimum_lateral"], roles))]
+        for b, role in zip(birds, roles):
+            for r in (role, "follower") if role == "in_v" else (role,):
+                power[r][0] += b["w"]
+                power[r][1] += 1
     mine = {"followers": total[0] / v["samples"],
             "in_v": total[1] / total[0] if total[0] else None,
             "in_phase": total[2] / total[1] if total[1] else None}
+    for role in power:
+        mine[f"{role}_power"] = 1e-7 * power[role][0] / power[role][1] if power[role][1] else None
     errors = [f"{key}: recomputed {mine[key]}, summary {v[key]}" for key in mine
               if (mine[key] is None) != (v[key] is None)
-              or (mine[key] is not None and abs(mine[key] - v[key]) > 1e-9)]
+              or (mine[key] is not None and abs(mine[key] - v[key]) > 1e-9 * max(1, abs(v[key])))]
     for e in errors:
         print("FAILED:", e)
     if not errors:
         print(f"ok: {v['samples']} snapshots, {mine['followers']:.2f} followers, "
-              f"in V {mine['in_v']}, in phase {mine['in_phase']}")
+              f"in V {mine['in_v']}, in phase {mine['in_phase']}; power W: a head "
+              f"{mine['head_power']}, a follower {mine['follower_power']}, in V {mine['in_v_power']}")
     return 1 if errors else 0
 
 

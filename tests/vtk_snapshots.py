@@ -14,11 +14,22 @@ except ImportError as e:
     sys.exit(77)
 
 
+def exported_frames(vtk_dir):
+    """(time, path) of every exported frame, in order of time."""
+    collection = ET.parse(os.path.join(vtk_dir, "flock.pvd")).getroot().find("Collection")
+    return sorted((float(d.get("timestep")), os.path.join(vtk_dir, d.get("file")))
+                  for d in collection.findall("DataSet"))
+
+
+def frames_between(vtk_dir, start, end):
+    """(time, path) of the exported frames from `start` to `end` s (a frame on either, within
+    1e-9 s, counts), in order of time."""
+    return [(t, f) for t, f in exported_frames(vtk_dir) if start - 1e-9 <= t <= end + 1e-9]
+
+
 def snapshots(vtk_dir, structure):
     """The frame files of the summary's snapshots, in order; raises LookupError for one missing."""
-    collection = ET.parse(os.path.join(vtk_dir, "flock.pvd")).getroot().find("Collection")
-    frames = sorted((float(d.get("timestep")), os.path.join(vtk_dir, d.get("file")))
-                    for d in collection.findall("DataSet"))
+    frames = exported_frames(vtk_dir)
     paths = []
     for k in range(structure["samples"]):
         t = structure["from"] + k * structure["every"]
