@@ -146,18 +146,18 @@ void print_structure(const FlockStructureSummary& f) {
   for (double g : m.anisotropy) std::printf(" %s", fig(g).c_str());
   std::printf(" (1/3 isotropic); nearest along the motion %s\n",
               fig(m.nearest_along_motion).c_str());
-  if (const auto& v = f.formation)
+  if (const auto& v = f.formation) {
     std::printf(
         "  formation          %.1f followers a snapshot; %s %% in a V place (30-60 deg behind the "
         "wing, %.2f m across +-10 %%), %s %% of those in the leader's wingtip path\n",
         v->followers(), fig(100 * v->in_v()).c_str(), v->optimum / 100,
         fig(100 * v->in_phase()).c_str());
-  if (const auto& v = f.formation)
     std::printf(
         "  wings' power       a head of the formation %s W, a follower %s W, one in a V place %s "
         "W\n",
         fig(v->head_power_w()).c_str(), fig(v->follower_power_w()).c_str(),
         fig(v->in_v_power_w()).c_str());
+  }
 }
 
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,

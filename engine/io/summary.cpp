@@ -98,8 +98,8 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
   nlohmann::ordered_json structure = nlohmann::ordered_json::array();
   for (const FlockStructureSummary& f : r.structure) {
     const StructureFigures& m = f.structure.mean;
-    nlohmann::ordered_json
-        formation;  // null: a flock that neither meets wakes nor flies in formation
+    // null: a flock that neither meets wakes nor flies in formation
+    nlohmann::ordered_json formation;
     if (f.formation)
       formation = {{"optimum_lateral", f.formation->optimum},
                    {"samples", f.formation->samples},
