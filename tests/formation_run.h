@@ -181,6 +181,17 @@ void expect_a_follower_saves_power(const Make& make) {
   EXPECT_LE(saving_off, 0.0);
 }
 
+// Flies `sim` to `to` s, measured from `from` s a snapshot a second as `aeroflock run
+// --structure-from` measures it (run/structure.h): its flocks' figures.
+inline std::vector<FlockStructureSummary> fly_measured(Simulation& sim, double from, double to) {
+  StructureObserver structure({from, to, 1.0});
+  RunLimits limits;
+  limits.frames = uint64_t(std::llround(to / sim.scenario().frame_seconds()));
+  const RunResult run = run_frames(sim, {&structure}, limits);
+  EXPECT_TRUE(run.errors.empty()) << (run.errors.empty() ? "" : run.errors[0]);
+  return structure.flocks();
+}
+
 // `ibis-v` (14 ibises released as a loose group, the paper's fixed-rate turning) from `seed`, its
 // wakes on or off, measured as `aeroflock run ibis-v --structure-from 60` measures it
 // (run/structure.h) to 120 s: the share of its followers in a V place and of those in spatial phase
@@ -194,12 +205,7 @@ GroupFormation fly_ibis_v(uint64_t seed, bool wake, const Make& make) {
   scenario.seed = seed;
   for (Flock& f : scenario.flocks) f.wake = wake;
   std::unique_ptr<Simulation> sim = make(scenario, spawn_birds(scenario));
-  StructureObserver structure({60.0, 120.0, 1.0});
-  RunLimits limits;
-  limits.frames = uint64_t(std::llround(120.0 / scenario.frame_seconds()));
-  const RunResult run = run_frames(*sim, {&structure}, limits);
-  EXPECT_TRUE(run.errors.empty()) << (run.errors.empty() ? "" : run.errors[0]);
-  const FormationMean& f = *structure.flocks().at(0).formation;
+  const FormationMean& f = *fly_measured(*sim, 60.0, 120.0).at(0).formation;
   return {f.in_v(), f.in_phase(), f.follower_power_w(), f.head_power_w()};
 }
 

@@ -18,8 +18,6 @@
 #include "model/formation_figures.h"
 #include "model/simulation.h"
 #include "model/species.h"
-#include "run/run_loop.h"
-#include "run/structure.h"
 
 namespace aeroflock {
 namespace {
@@ -191,24 +189,19 @@ TEST(Formation, ALooseGroupOfIbisesFormsAVAndItsFollowersSpendLess) {
 // a crosswind of 4.8 m/s at 300 m, fixed-rate turning), measured as `aeroflock run geese-migration
 // --structure-from 60` measures it to 120 s: 82.5, 91.8 and 67.0 % of its followers in V places.
 TEST(Formation, TheGeeseSkeinsFlyInV) {
-  const Scenario scenario = load_scenario("geese-migration");
-  CpuSimulation sim(scenario);
-  StructureObserver structure({60.0, 120.0, 1.0});
-  RunLimits limits;
-  limits.frames = uint64_t(std::llround(120.0 / scenario.frame_seconds()));
-  const RunResult run = run_frames(sim, {&structure}, limits);
-  ASSERT_TRUE(run.errors.empty()) << run.errors[0];
+  CpuSimulation sim(load_scenario("geese-migration"));
+  const std::vector<FlockStructureSummary> skeins = testing::fly_measured(sim, 60.0, 120.0);
   double mean = 0.0;
-  for (const FlockStructureSummary& f : structure.flocks()) {
+  for (const FlockStructureSummary& f : skeins) {
     ASSERT_TRUE(f.formation) << f.flock;
     const double in_v = f.formation->in_v();
     std::printf("%s: %.3f of the followers in a V place, %.3f of those in phase\n", f.flock.c_str(),
                 in_v, f.formation->in_phase());
     RecordProperty("in_v_" + f.flock, std::to_string(in_v));
     EXPECT_GE(in_v, 0.5) << f.flock;
-    mean += in_v / double(structure.flocks().size());
+    mean += in_v / double(skeins.size());
   }
-  EXPECT_EQ(structure.flocks().size(), 3u);
+  EXPECT_EQ(skeins.size(), 3u);
   EXPECT_GE(mean, 0.7);
 }
 

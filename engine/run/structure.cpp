@@ -27,7 +27,10 @@ void StructureObserver::start(Simulation& sim) {
 }
 
 bool StructureObserver::wants_forces(uint64_t frame, bool) const {
-  const double t = double(frame) * frame_seconds_;
+  return weighs_power(double(frame) * frame_seconds_);
+}
+
+bool StructureObserver::weighs_power(double t) const {
   return formation_ && t >= window_.from - 1e-9 && t <= window_.to + 1e-9;
 }
 
@@ -39,8 +42,7 @@ bool StructureObserver::due(double t) const {
 
 void StructureObserver::frame(Simulation& sim, uint64_t) {
   const double t = sim.time();
-  const bool snapshot = due(t);
-  if (snapshot) {
+  if (due(t)) {
     const std::vector<BirdState>& birds = sim.birds();
     for (size_t k = 0; k < flocking_.size(); ++k) {
       if (const auto figures = measure_structure(sim.scenario(), birds, flocking_[k]))
@@ -49,19 +51,18 @@ void StructureObserver::frame(Simulation& sim, uint64_t) {
         formation->add(
             measure_formation(sim.scenario(), birds, flocking_[k], formation->optimum, &roles_[k]));
     }
+    // The next sampling time after t, counted from the window's start (no drift, no loop).
+    next_ = window_.from +
+            (std::floor((t - window_.from) / window_.every + 1e-9) + 1.0) * window_.every;
   }
   // The wings' power of this frame (recorded where wants_forces asked), each bird in its role at
   // the last snapshot. Over many ranks the frame's forces are not gathered: no power then.
-  if (formation_ && t >= window_.from - 1e-9 && t <= window_.to + 1e-9) {
+  if (weighs_power(t)) {
     const Snapshot s = sim.snapshot();
     if (s.forces && s.forces->size() == s.birds->size() && !s.ids)
       for (size_t k = 0; k < flocking_.size(); ++k)
         if (auto& formation = flocks_[k].formation) formation->add_power(roles_[k], *s.forces);
   }
-  if (!snapshot) return;
-  // The next sampling time after t, counted from the window's start (no drift, no loop).
-  next_ =
-      window_.from + (std::floor((t - window_.from) / window_.every + 1e-9) + 1.0) * window_.every;
 }
 
 }  // namespace aeroflock

@@ -34,6 +34,10 @@ class StructureObserver final : public RunObserver {
   const std::vector<FlockStructureSummary>& flocks() const { return flocks_; }
 
  private:
+  // Whether a frame at simulated time `t` has its wings' power summed (a flock in formation, t
+  // within the window).
+  bool weighs_power(double t) const;
+
   StructureWindow window_;
   double next_ = 0.0;
   std::vector<uint32_t> flocking_;  // the scenario's flocks that flock
