@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Recomputes a run's formation figures (docs/MODEL.md "Formation flying", Portugal et al. 2014)
-from its VTK export, independently of aeroflock's code, and checks them against the summary's
-`structure[].formation` (one flocking flock meeting wakes, every bird and every frame of the
-window exported, --vtk-precision double): the followers, the shares in V and in phase at the
+from its VTK export, independently of aeroflock's code (who follows whom:
+tools/formation_followers.py, which tools/formation_phase.py shares), and checks them against the
+summary's `structure[].formation` (one flocking flock meeting wakes, every bird and every frame of
+the window exported, --vtk-precision double): the followers, the shares in V and in phase at the
 snapshots, and the wings' power of each role over every frame (`wingbeat_power`), each bird in its
 role at the snapshot before.
 
@@ -18,9 +19,13 @@ otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
 """
 import json
 import math
+import os
 import sys
 
-from vtk_snapshots import dot, frames_between, read, snapshots, sub
+from vtk_snapshots import frames_between, read, snapshots
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from formation_followers import followers, in_v_place  # noqa: E402
 
 
 def frame(path):
@@ -30,10 +35,6 @@ def frame(path):
                                          arrays["frequency"], arrays["wingbeat_power"])]
 
 
-def norm(a):
-    return math.sqrt(dot(a, a))
-
-
 def remainder(x, y):
     return x - y * round(x / y)
 
@@ -41,38 +42,21 @@ def remainder(x, y):
 def figures(birds, span, optimum, roles=None):
     """The snapshot's followers, in V and in phase; `roles` (a list) gets each bird's: "head",
     "follower" or "in_v"."""
-    followers = in_v = in_phase = 0
+    found = followers(birds, span)
+    in_v = in_phase = 0
     if roles is not None:
         roles[:] = ["head"] * len(birds)
-    for i, b in enumerate(birds):
-        ahead_b = [x / norm(b["v"]) for x in b["v"]]
-        lead, nearest = None, 10.0 * span
-        for j, o in enumerate(birds):
-            offset = sub(o["p"], b["p"])
-            d = norm(offset)
-            if j != i and dot(offset, ahead_b) >= 0.25 * span and d <= nearest:
-                lead, nearest = o, d
-        if lead is None:
-            continue
-        followers += 1
+    for i, lead, dx, dy, speed in found:
+        place = in_v_place(dx, dy, optimum)
         if roles is not None:
-            roles[i] = "follower"
-        speed = norm(lead["v"])
-        ahead = [x / speed for x in lead["v"]]
-        across = [-ahead[2], 0.0, ahead[0]]  # ahead x up, normalised below
-        side = [x / norm(across) for x in across]
-        offset = sub(b["p"], lead["p"])
-        dx, dy = -dot(offset, ahead), abs(dot(offset, side))
-        bearing = math.atan2(dx, dy)
-        if bearing < math.pi / 6 or bearing > math.pi / 3 or abs(dy - optimum) > 0.1 * optimum:
+            roles[i] = "in_v" if place else "follower"
+        if not place:
             continue
         in_v += 1
-        if roles is not None:
-            roles[i] = "in_v"
-        lag = lead["phase"] - b["phase"]
+        lag = lead["phase"] - birds[i]["phase"]
         spatial = 2 * math.pi * lead["f"] * dx / speed
         in_phase += abs(remainder(lag - spatial, 2 * math.pi)) <= math.pi / 4
-    return followers, in_v, in_phase
+    return len(found), in_v, in_phase
 
 
 def main():

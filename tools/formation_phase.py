@@ -23,6 +23,8 @@ import math
 import os
 import sys
 
+from formation_followers import followers, in_v_place
+
 try:
     import vtk
 except ImportError as e:
@@ -46,38 +48,18 @@ def frame(path):
              "f": pd.GetArray("frequency").GetTuple1(i)} for i in range(n)]
 
 
-def dot(a, b):
-    return sum(a[k] * b[k] for k in range(3))
-
-
 def points(vtk_dir, span, optimum):  # cm, as the export
     out, fs, us = [], [], []
     for name in sorted(os.listdir(os.path.join(vtk_dir, "frames"))):
         birds = frame(os.path.join(vtk_dir, "frames", name))
-        for i, b in enumerate(birds):
-            own = math.sqrt(dot(b["v"], b["v"]))
-            lead, nearest = None, 10.0 * span
-            for j, o in enumerate(birds):
-                off = [o["p"][k] - b["p"][k] for k in range(3)]
-                d = math.sqrt(dot(off, off))
-                if j != i and dot(off, b["v"]) / own >= 0.25 * span and d <= nearest:
-                    lead, nearest = o, d
-            if lead is None:
-                continue
-            speed = math.sqrt(dot(lead["v"], lead["v"]))
-            ahead = [x / speed for x in lead["v"]]
-            across = math.hypot(ahead[0], ahead[2])
-            side = [-ahead[2] / across, 0.0, ahead[0] / across]
-            off = [b["p"][k] - lead["p"][k] for k in range(3)]
-            dx, dy = -dot(off, ahead), abs(dot(off, side))
-            bearing = math.atan2(dx, dy)
-            if math.pi / 6 <= bearing <= math.pi / 3 and abs(dy - optimum) <= 0.1 * optimum:
+        for i, lead, dx, dy, speed in followers(birds, span):
+            if in_v_place(dx, dy, optimum):
                 kind = "v"
             elif dy <= 0.25 * span:
                 kind = "behind"
             else:
                 kind = "other"
-            out.append((dx / 100.0, (lead["phase"] - b["phase"]) % (2 * math.pi), kind))
+            out.append((dx / 100.0, (lead["phase"] - birds[i]["phase"]) % (2 * math.pi), kind))
             fs.append(lead["f"])
             us.append(speed / 100.0)
     return out, sum(fs) / len(fs), sum(us) / len(us)
