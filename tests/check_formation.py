@@ -4,7 +4,7 @@ from its VTK export, independently of aeroflock's code (who follows whom:
 tools/formation_followers.py, which tools/formation_phase.py shares), and checks them against the
 summary's `structure[].formation` (one flocking flock meeting wakes, every bird and every frame of
 the window exported, --vtk-precision double): the followers, the shares in V and in phase at the
-snapshots, and the wings' power of each role over every frame (`wingbeat_power`), each bird in its
+snapshots, directly behind and in anti-phase, and the wings' power of each role over every frame (`wingbeat_power`), each bird in its
 role at the snapshot before.
 
 usage: python3 tests/check_formation.py VTK_DIR SUMMARY.json
@@ -13,8 +13,11 @@ A follower is a bird with another at least 0.25 spans ahead along its flight thr
 (the export's `air_velocity`), within 10 spans; the nearest such is the bird it follows. In a V
 place: 30-60 degrees behind that bird's wing (in the frame of its flight through the air, level
 across), the lateral offset of centres within 10 % of the summary's `optimum_lateral`. In phase:
-the phase lag within pi/4 of 2 pi f dx / U (f and U, the airspeed, the leader's).
-Exits 0 when the followers a snapshot, the share in V and the share of those in phase agree, 1
+the phase lag within pi/4 of 2 pi f dx / U (f and U, the airspeed, the leader's). Directly
+behind: the lateral offset within a quarter span; in anti-phase: the lag within pi/4 of
+2 pi f dx / U + pi.
+Exits 0 when the followers a snapshot and the shares in V, in phase, directly behind and in
+anti-phase agree, 1
 otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
 """
 import json
@@ -25,7 +28,7 @@ import sys
 from vtk_snapshots import frames_between, read, snapshots
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from formation_followers import followers, in_v_place  # noqa: E402
+from formation_followers import directly_behind, followers, in_v_place  # noqa: E402
 
 
 def frame(path):
@@ -40,23 +43,25 @@ def remainder(x, y):
 
 
 def figures(birds, span, optimum, roles=None):
-    """The snapshot's followers, in V and in phase; `roles` (a list) gets each bird's: "head",
-    "follower" or "in_v"."""
+    """The snapshot's followers, in V, in phase, directly behind and in anti-phase; `roles` (a
+    list) gets each bird's: "head", "follower" or "in_v"."""
     found = followers(birds, span)
-    in_v = in_phase = 0
+    in_v = in_phase = behind = anti_phase = 0
     if roles is not None:
         roles[:] = ["head"] * len(birds)
     for i, lead, dx, dy, speed in found:
         place = in_v_place(dx, dy, optimum)
         if roles is not None:
             roles[i] = "in_v" if place else "follower"
-        if not place:
-            continue
-        in_v += 1
         lag = lead["phase"] - birds[i]["phase"]
-        spatial = 2 * math.pi * lead["f"] * dx / speed
-        in_phase += abs(remainder(lag - spatial, 2 * math.pi)) <= math.pi / 4
-    return len(found), in_v, in_phase
+        off_path = abs(remainder(lag - 2 * math.pi * lead["f"] * dx / speed, 2 * math.pi))
+        if directly_behind(dy, span):
+            behind += 1
+            anti_phase += off_path >= 0.75 * math.pi
+        if place:
+            in_v += 1
+            in_phase += off_path <= math.pi / 4
+    return len(found), in_v, in_phase, behind, anti_phase
 
 
 def main():
@@ -71,7 +76,7 @@ def main():
     except LookupError as e:
         print(f"FAILED: {e}")
         return 1
-    total = [0, 0, 0]
+    total = [0, 0, 0, 0, 0]
     # The wings' power of each role over every exported frame of the window (the export must hold
     # every frame of it), each bird in its role at the snapshot before.
     snapshot_paths = set(paths)
@@ -88,7 +93,9 @@ def main():
                 power[r][1] += 1
     mine = {"followers": total[0] / v["samples"],
             "in_v": total[1] / total[0] if total[0] else None,
-            "in_phase": total[2] / total[1] if total[1] else None}
+            "in_phase": total[2] / total[1] if total[1] else None,
+            "behind": total[3] / total[0] if total[0] else None,
+            "anti_phase": total[4] / total[3] if total[3] else None}
     for role in power:
         mine[f"{role}_power"] = 1e-7 * power[role][0] / power[role][1] if power[role][1] else None
     errors = [f"{key}: recomputed {mine[key]}, summary {v[key]}" for key in mine
@@ -98,7 +105,8 @@ def main():
         print("FAILED:", e)
     if not errors:
         print(f"ok: {v['samples']} snapshots, {mine['followers']:.2f} followers, "
-              f"in V {mine['in_v']}, in phase {mine['in_phase']}; power W: a head "
+              f"in V {mine['in_v']}, in phase {mine['in_phase']}, directly behind "
+              f"{mine['behind']}, in anti-phase {mine['anti_phase']}; power W: a head "
               f"{mine['head_power']}, a follower {mine['follower_power']}, in V {mine['in_v_power']}")
     return 1 if errors else 0
 

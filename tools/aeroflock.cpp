@@ -153,6 +153,10 @@ void print_structure(const FlockStructureSummary& f) {
         v->followers(), fig(100 * v->in_v()).c_str(), v->optimum / 100,
         fig(100 * v->in_phase()).c_str());
     std::printf(
+        "                     %s %% directly behind (within a quarter span across), %s %% of "
+        "those in spatial anti-phase\n",
+        fig(100 * v->behind()).c_str(), fig(100 * v->anti_phase()).c_str());
+    std::printf(
         "  wings' power       a head of the formation %s W, a follower %s W, one in a V place %s "
         "W\n",
         fig(v->head_power_w()).c_str(), fig(v->follower_power_w()).c_str(),

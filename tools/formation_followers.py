@@ -37,6 +37,12 @@ def followers(birds, span):
     return out
 
 
+def directly_behind(dy, span):
+    """Within a quarter span of the lead's track, across its flight: in the downwash between its
+    tip vortices."""
+    return dy < 0.25 * span
+
+
 def in_v_place(dx, dy, optimum):
     """30-60 degrees behind the lead's wing, the lateral offset within 10 % of `optimum`."""
     bearing = math.atan2(dx, dy)

@@ -23,7 +23,7 @@ import math
 import os
 import sys
 
-from formation_followers import followers, in_v_place
+from formation_followers import directly_behind, followers, in_v_place
 
 try:
     import vtk
@@ -55,7 +55,7 @@ def points(vtk_dir, span, optimum):  # cm, as the export
         for i, lead, dx, dy, speed in followers(birds, span):
             if in_v_place(dx, dy, optimum):
                 kind = "v"
-            elif dy <= 0.25 * span:
+            elif directly_behind(dy, span):
                 kind = "behind"
             else:
                 kind = "other"

@@ -106,6 +106,8 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
                    {"followers", f.formation->followers()},
                    {"in_v", f.formation->in_v()},
                    {"in_phase", f.formation->in_phase()},
+                   {"behind", f.formation->behind()},
+                   {"anti_phase", f.formation->anti_phase()},
                    {"head_power", f.formation->head_power_w()},
                    {"follower_power", f.formation->follower_power_w()},
                    {"in_v_power", f.formation->in_v_power_w()}};
@@ -197,6 +199,10 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
        "optimum"},
       {"structure.formation.in_phase",
        "fraction of those in V whose phase lag is within pi/4 of 2 pi f dx / U"},
+      {"structure.formation.behind",
+       "fraction of the followers directly behind (lateral within a quarter span)"},
+      {"structure.formation.anti_phase",
+       "fraction of those directly behind whose phase lag is within pi/4 of 2 pi f dx / U + pi"},
       {"structure.formation.head_power",
        "W: the wings' power against their motion of a bird that follows none, on average over "
        "every frame of the window (null over many ranks)"},

@@ -72,7 +72,7 @@ AF_REAL(kWakeReach, 10.0)
 // kBeatSamples points of its wingbeat kFormationProbe spans to either side and above and below,
 // and kPhaseProbe rad ahead and behind in its wingbeat; it seeks the best within kFormationReach
 // spans and kPhaseReach rad, behind a bird at least kFormationBehind spans ahead of it.
-AF_COUNT(kBeatSamples, 4)
+AF_COUNT(kBeatSamples, 16)
 AF_REAL(kFormationProbe, 0.1)
 AF_REAL(kFormationReach, 0.5)
 AF_REAL(kPhaseProbe, 0.7853981633974483)

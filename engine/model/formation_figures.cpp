@@ -75,14 +75,19 @@ FormationFigures formation_figures(std::span<const BirdState> birds, const Speci
     const dvec3 side = glm::normalize(across);
     const dvec3 offset = b.position - lead->position;
     const double dx = -glm::dot(offset, ahead), dy = std::fabs(glm::dot(offset, side));
+    // The phase lag less the wingtip path's.
+    const double off_path =
+        std::remainder(lead->phase - b.phase - 2.0 * kPi * lead->frequency * dx / speed, 2.0 * kPi);
+    if (dy < kDirectlyBehind * s.box_c) {
+      ++out.behind;
+      out.anti_phase += std::fabs(off_path) >= 0.75 * kPi;
+    }
     const double bearing = std::atan2(dx, dy);
     if (bearing < kPi / 6.0 || bearing > kPi / 3.0 || std::fabs(dy - optimum) > 0.1 * optimum)
       continue;
     ++out.in_v;
     role(i, FormationRole::in_v);
-    const double lag = lead->phase - b.phase;
-    const double spatial = 2.0 * kPi * lead->frequency * dx / speed;
-    out.in_phase += std::fabs(std::remainder(lag - spatial, 2.0 * kPi)) <= kPi / 4.0;
+    out.in_phase += std::fabs(off_path) <= kPi / 4.0;
   }
   return out;
 }
@@ -111,6 +116,8 @@ void FormationMean::add(const FormationFigures& f) {
   sum.followers += f.followers;
   sum.in_v += f.in_v;
   sum.in_phase += f.in_phase;
+  sum.behind += f.behind;
+  sum.anti_phase += f.anti_phase;
 }
 
 void FormationMean::add_power(std::span<const FormationRole> roles,
@@ -148,6 +155,14 @@ double FormationMean::in_v() const {
 double FormationMean::in_phase() const {
   return sum.in_v ? double(sum.in_phase) / double(sum.in_v)
                   : std::numeric_limits<double>::quiet_NaN();
+}
+double FormationMean::behind() const {
+  return sum.followers ? double(sum.behind) / double(sum.followers)
+                       : std::numeric_limits<double>::quiet_NaN();
+}
+double FormationMean::anti_phase() const {
+  return sum.behind ? double(sum.anti_phase) / double(sum.behind)
+                    : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace aeroflock

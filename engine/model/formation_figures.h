@@ -34,8 +34,15 @@ struct FormationFigures {
   size_t in_v =
       0;  // at a bearing of 30-60 degrees behind the wing, lateral within 10 % of `optimum`
   size_t in_phase =
-      0;  // of those in V: phase lag within pi / 4 of 2 pi f dx / U (the wingtip path)
+      0;              // of those in V: phase lag within pi / 4 of 2 pi f dx / U (the wingtip path)
+  size_t behind = 0;  // directly behind: lateral within kDirectlyBehind spans (the downwash)
+  size_t anti_phase = 0;  // of those: phase lag within pi / 4 of 2 pi f dx / U + pi
 };
+
+// A follower whose centre is within a quarter span of its leader's track, across the flight, is
+// directly behind it: its body in the downwash between the leader's tip vortices (pi / 8 of the
+// span either side).
+inline constexpr double kDirectlyBehind = 0.25;
 
 // What a bird is in a snapshot's formation: a head follows none (the formation's heads, and any
 // bird flying alone); `none`: not measured (another flock's, or not flocking now).
@@ -64,9 +71,11 @@ struct FormationMean {
   size_t power_frames[3]{};  // bird-frames summed
   void add(const FormationFigures& f);
   void add_power(std::span<const FormationRole> roles, std::span<const StepForces> forces);
-  double followers() const;  // a snapshot's, on average
-  double in_v() const;       // of the followers (NaN: none)
-  double in_phase() const;   // of those in V (NaN: none)
+  double followers() const;   // a snapshot's, on average
+  double in_v() const;        // of the followers (NaN: none)
+  double in_phase() const;    // of those in V (NaN: none)
+  double behind() const;      // of the followers, directly behind (NaN: none)
+  double anti_phase() const;  // of those directly behind (NaN: none)
   // W, a bird's on average over the frames given (NaN: none)
   double head_power_w() const { return power_w(0); }
   double follower_power_w() const { return power_w(1); }
