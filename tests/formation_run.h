@@ -268,8 +268,12 @@ void expect_ibis_v_forms_a_v_and_saves(const Make& make, uint64_t seeds, uint64_
   ::testing::Test::RecordProperty("behind", std::to_string(behind));
   ::testing::Test::RecordProperty("anti_phase", std::to_string(anti_phase));
   EXPECT_GE(behind, least_behind);
-  if (behind > 0) EXPECT_GE(double(anti_phase), 0.7 * double(behind));
-  if (behind_off > 0) EXPECT_LT(double(anti_phase_off), 0.5 * double(behind_off));
+  if (behind > 0) {
+    EXPECT_GE(double(anti_phase), 0.7 * double(behind));
+  }
+  if (behind_off > 0) {
+    EXPECT_LT(double(anti_phase_off), 0.5 * double(behind_off));
+  }
 }
 
 }  // namespace aeroflock::testing

@@ -25,6 +25,39 @@ namespace {
 using glm::dvec3;
 using testing::formation_scenario;
 
+// A follower `behind` spans behind a leader level with it and `lateral` cm out, both at 10 m/s
+// and the species' middle frequency, amplitude 0.8: the upwash its wings meet over a beat
+// (upwash_met) in each of 72 phases, the best and the worst as the phase lag less the spatial
+// phase 2 pi f dx / U (rad, in [-pi, pi]).
+struct PhaseScan {
+  double best = -1e30, worst = 1e30;  // cm/s
+  double best_from_spatial = 0.0, worst_from_spatial = 0.0;
+};
+PhaseScan scan_phases(const Species& s, double behind, double lateral) {
+  BirdState b;
+  b.frequency = 0.5 * (s.f_min + s.f_max);
+  b.amplitude = 0.8;
+  b.velocity = dvec3{1000.0, 0.0, 0.0};
+  b.position = dvec3{-behind * s.box_c, 0.0, lateral};
+  Perception p;
+  p.wakes = 1;
+  p.wake[0].air_velocity = b.velocity;
+  p.wake[0].lift = s.mass * kGravity;
+  p.wake[0].frequency = b.frequency;
+  p.wake[0].amplitude = b.amplitude;
+  const double spatial = 2.0 * kPi * b.frequency * behind * s.box_c / 1000.0;
+  PhaseScan scan;
+  for (int k = 0; k < 72; ++k) {
+    const double shift = 2.0 * kPi * k / 72.0;
+    const double met = upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0}, shift);
+    // The lag: the leader's phase (0) less the follower's.
+    const double from_spatial = std::remainder(-shift - spatial, 2.0 * kPi);
+    if (met > scan.best) scan.best = met, scan.best_from_spatial = from_spatial;
+    if (met < scan.worst) scan.worst = met, scan.worst_from_spatial = from_spatial;
+  }
+  return scan;
+}
+
 // Outboard of the leader's wake (at the best lateral offset), at 0.5 to 3 spans behind: of 72
 // phases, the follower's wings meet the most upwash over a beat when its wingbeat lags the
 // leader's by 2 pi f dx / U, within pi / 4: its wingtip then traces the leader's wingtip path.
@@ -35,31 +68,12 @@ TEST(Formation, TheBestPhaseOutboardIsTheLeadersWingtipPath) {
     EXPECT_GT(lateral, 0.75 * s.box_c) << s.name;  // the tips overlap a little: vortices pi/4 apart
     EXPECT_LT(lateral, 0.95 * s.box_c) << s.name;
     for (const double behind : {0.5, 1.0, 2.0, 3.0}) {
-      BirdState b;
-      b.frequency = 0.5 * (s.f_min + s.f_max);
-      b.amplitude = 0.8;
-      b.velocity = dvec3{1000.0, 0.0, 0.0};
-      b.position = dvec3{-behind * s.box_c, 0.0, lateral};
-      Perception p;
-      p.wakes = 1;
-      p.wake[0].air_velocity = b.velocity;
-      p.wake[0].lift = s.mass * kGravity;
-      p.wake[0].frequency = b.frequency;
-      p.wake[0].amplitude = b.amplitude;
-      double best = -1e30, best_shift = 0.0;
-      for (int k = 0; k < 72; ++k) {
-        const double shift = 2.0 * kPi * k / 72.0;
-        const double met = upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0}, shift);
-        if (met > best) best = met, best_shift = shift;
-      }
-      const double lag = -best_shift;  // the leader's phase (0) less the follower's
-      const double spatial = 2.0 * kPi * b.frequency * behind * s.box_c / 1000.0;
-      const double error = std::remainder(lag - spatial, 2.0 * kPi);
-      std::printf("%s %.1f spans behind, %.3f out: lag %.0f deg, spatial phase %.0f deg\n",
-                  s.name.c_str(), behind, lateral / s.box_c, degrees(std::remainder(lag, 2 * kPi)),
-                  degrees(std::remainder(spatial, 2 * kPi)));
-      EXPECT_LE(std::fabs(error), kPi / 4.0) << s.name << ", " << behind << " spans behind";
-      EXPECT_GT(best, 0.0) << "upwash outboard";
+      const PhaseScan scan = scan_phases(s, behind, lateral);
+      std::printf("%s %.1f spans behind, %.3f out: best %+.0f deg from the spatial phase\n",
+                  s.name.c_str(), behind, lateral / s.box_c, degrees(scan.best_from_spatial));
+      EXPECT_LE(std::fabs(scan.best_from_spatial), kPi / 4.0)
+          << s.name << ", " << behind << " spans behind";
+      EXPECT_GT(scan.best, 0.0) << "upwash outboard";
     }
   }
 }
@@ -73,32 +87,13 @@ TEST(Formation, TheBestPhaseOutboardIsTheLeadersWingtipPath) {
 TEST(Formation, TheBestPhaseDirectlyBehindIsTheSpatialAntiPhase) {
   for (const Species& s : {starling(), eagle(), ibis(), goose()}) {
     for (const double behind : {0.5, 1.0, 2.0, 3.0}) {
-      BirdState b;
-      b.frequency = 0.5 * (s.f_min + s.f_max);
-      b.amplitude = 0.8;
-      b.velocity = dvec3{1000.0, 0.0, 0.0};
-      b.position = dvec3{-behind * s.box_c, 0.0, 0.0};
-      Perception p;
-      p.wakes = 1;
-      p.wake[0].air_velocity = b.velocity;
-      p.wake[0].lift = s.mass * kGravity;
-      p.wake[0].frequency = b.frequency;
-      p.wake[0].amplitude = b.amplitude;
-      double best = -1e30, best_shift = 0.0, worst = 1e30, worst_shift = 0.0;
-      for (int k = 0; k < 72; ++k) {
-        const double shift = 2.0 * kPi * k / 72.0;
-        const double met = upwash_met(s, b, p, dvec3{0.0, 1.0, 0.0}, dvec3{0.0}, shift);
-        if (met > best) best = met, best_shift = shift;
-        if (met < worst) worst = met, worst_shift = shift;
-      }
-      const double spatial = 2.0 * kPi * b.frequency * behind * s.box_c / 1000.0;
-      auto from_spatial = [&](double shift) { return std::remainder(-shift - spatial, 2.0 * kPi); };
+      const PhaseScan scan = scan_phases(s, behind, 0.0);
       std::printf("%s %.1f spans behind: best %+.0f deg from the spatial phase, worst %+.0f\n",
-                  s.name.c_str(), behind, degrees(from_spatial(best_shift)),
-                  degrees(from_spatial(worst_shift)));
-      EXPECT_GE(std::fabs(from_spatial(best_shift)), 0.75 * kPi) << s.name << ", " << behind;
-      EXPECT_LE(std::fabs(from_spatial(worst_shift)), 0.25 * kPi) << s.name << ", " << behind;
-      EXPECT_LT(best, 0.0) << "downwash behind";
+                  s.name.c_str(), behind, degrees(scan.best_from_spatial),
+                  degrees(scan.worst_from_spatial));
+      EXPECT_GE(std::fabs(scan.best_from_spatial), 0.75 * kPi) << s.name << ", " << behind;
+      EXPECT_LE(std::fabs(scan.worst_from_spatial), 0.25 * kPi) << s.name << ", " << behind;
+      EXPECT_LT(scan.best, 0.0) << "downwash behind";
     }
   }
 }

@@ -145,24 +145,18 @@ double FormationMean::power_w(int k) const {
                          : std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+double share(size_t part, size_t whole) {
+  return whole ? double(part) / double(whole) : std::numeric_limits<double>::quiet_NaN();
+}
+}  // namespace
+
 double FormationMean::followers() const {
   return samples ? double(sum.followers) / double(samples) : 0.0;
 }
-double FormationMean::in_v() const {
-  return sum.followers ? double(sum.in_v) / double(sum.followers)
-                       : std::numeric_limits<double>::quiet_NaN();
-}
-double FormationMean::in_phase() const {
-  return sum.in_v ? double(sum.in_phase) / double(sum.in_v)
-                  : std::numeric_limits<double>::quiet_NaN();
-}
-double FormationMean::behind() const {
-  return sum.followers ? double(sum.behind) / double(sum.followers)
-                       : std::numeric_limits<double>::quiet_NaN();
-}
-double FormationMean::anti_phase() const {
-  return sum.behind ? double(sum.anti_phase) / double(sum.behind)
-                    : std::numeric_limits<double>::quiet_NaN();
-}
+double FormationMean::in_v() const { return share(sum.in_v, sum.followers); }
+double FormationMean::in_phase() const { return share(sum.in_phase, sum.in_v); }
+double FormationMean::behind() const { return share(sum.behind, sum.followers); }
+double FormationMean::anti_phase() const { return share(sum.anti_phase, sum.behind); }
 
 }  // namespace aeroflock
