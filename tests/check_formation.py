@@ -3,9 +3,9 @@
 from its VTK export, independently of aeroflock's code (who follows whom:
 tools/formation_followers.py, which tools/formation_phase.py shares), and checks them against the
 summary's `structure[].formation` (one flocking flock meeting wakes, every bird and every frame of
-the window exported, --vtk-precision double): the followers, the shares in V and in phase at the
-snapshots, directly behind and in anti-phase, and the wings' power of each role over every frame (`wingbeat_power`), each bird in its
-role at the snapshot before.
+the window exported, --vtk-precision double): the followers, the shares in V, in phase, directly
+behind and in anti-phase at the snapshots, and the wings' power of each role over every frame
+(`wingbeat_power`), each bird in its role at the snapshot before.
 
 usage: python3 tests/check_formation.py VTK_DIR SUMMARY.json
 
@@ -17,8 +17,7 @@ the phase lag within pi/4 of 2 pi f dx / U (f and U, the airspeed, the leader's)
 behind: the lateral offset within a quarter span; in anti-phase: the lag within pi/4 of
 2 pi f dx / U + pi.
 Exits 0 when the followers a snapshot and the shares in V, in phase, directly behind and in
-anti-phase agree, 1
-otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
+anti-phase agree, 1 otherwise, 77 (skipped) when VTK's Python modules cannot be imported.
 """
 import json
 import math
