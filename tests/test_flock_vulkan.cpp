@@ -195,15 +195,20 @@ TEST(GpuFlock, ALooseGroupInFormationHoldsItsRoutesHeight) {
 }
 
 // Issue 43's V from a loose start and its energy on the device (formation_run.h), seeds 1-2 and
-// one with the wakes off (the CPU reference flies four and two: test_formation). Whether a
-// follower passes directly behind another is chance: on the device seed 1 may have none.
+// one with the wakes off (the CPU reference flies four and two: test_formation). The followers
+// directly behind are printed, not judged: two seeds hold too few of them. Whether one settles
+// there a span or more back, and locks to the anti-phase, or drifts through at less than a span
+// without, is chance: on the device seed 1 has 42 follower-snapshots there, 21 in anti-phase
+// (one follower drifting back from 0.2 to 1 span over 19 s, 94 degrees from the spatial phase on
+// average, then 14 s at 1.1 spans in anti-phase), seed 2 8 and none; seeds 1-8 and 10 70 of 100
+// (`aeroflock run` of ibis-v with those seeds). The CPU reference's seeds 1-16: 166 of 167.
 TEST(GpuFlock, ALooseGroupOfIbisesFormsAVAndItsFollowersSpendLess) {
   AEROFLOCK_DEVICE_OR_SKIP(device, false);
   testing::expect_ibis_v_forms_a_v_and_saves(
       [&](const Scenario& s, std::vector<BirdState> birds) {
         return std::make_unique<gpu::GpuSimulation>(device, s, std::move(birds));
       },
-      2, 1, 0);
+      2, 1, false);
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -217,7 +217,7 @@ TEST(Formation, ALooseGroupOfIbisesFormsAVAndItsFollowersSpendLess) {
       [](const Scenario& s, std::vector<BirdState> birds) {
         return std::make_unique<CpuSimulation>(s, std::move(birds));
       },
-      4, 2, 20);
+      4, 2, true);
 }
 
 // Each of geese-migration's three skeins (24, 32 and 40 greylag geese released as loose groups in
