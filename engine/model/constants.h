@@ -76,6 +76,8 @@ AF_COUNT(kBeatSamples, 16)
 AF_REAL(kFormationProbe, 0.1)
 AF_REAL(kFormationReach, 0.5)
 AF_REAL(kPhaseProbe, 0.7853981633974483)
+// kPhaseProbe is this many of the kBeatSamples moments: the probes reuse the bird's wing places.
+AF_COUNT(kPhaseProbeSamples, 2)
 AF_REAL(kPhaseReach, 1.5707963267948966)
 AF_REAL(kFormationBehind, 0.25)
 // A bird in formation heads for its route's height too, the route's climb or descent at this

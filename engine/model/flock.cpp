@@ -188,26 +188,63 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   return p;
 }
 
-double upwash_met(const Species& s, const BirdState& b, const Perception& p, const dvec3& up,
-                  const dvec3& offset, double shift) {
-  if (!(b.frequency > 0.0)) return 0.0;
-  const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
-  const dvec3 centre = b.position + offset;
-  double sum = 0.0;
+BeatPlaces beat_places(const Species& s, const BirdState& b, double shift) {
+  BeatPlaces places;
   for (uint32_t k = 0; k < kBeatSamples; ++k) {
     const double beat = 2.0 * kPi * double(k) / double(kBeatSamples);  // of its own wingbeat
-    WingPoint right[2];
-    right_wing_points(s, b.phase + shift + beat, b.amplitude, b.frequency, b.sweep, 0.0, right);
-    const dvec3 at[4] = {right[0].position, right[1].position, mirror_to_left(right[0]).position,
-                         mirror_to_left(right[1]).position};
-    for (uint32_t m = 0; m < p.wakes; ++m) {
-      WakeSource w = p.wake[m];
-      w.phase += beat * w.frequency / b.frequency;  // the same time on, at its own frequency
-      for (const dvec3& point : at)
-        sum += glm::dot(wake_velocity(s, w, centre + to_world * point), up);
+    dvec3 right[2];
+    right_wing_places(s, b.phase + shift + beat, b.amplitude, b.sweep, right);
+    for (int q = 0; q < 2; ++q) {
+      places.at[k][q] = right[q];
+      places.at[k][2 + q] = dvec3{right[q].x, right[q].y, -right[q].z};  // mirror_to_left's
     }
   }
-  return sum / (4.0 * kBeatSamples);
+  return places;
+}
+
+void upwash_met_at(const Species& s, const BirdState& b, const Perception& p, const dvec3& up,
+                   const BeatPlaces& places, uint32_t lead, std::span<const dvec3> offsets,
+                   uint32_t square_to, std::span<double> met) {
+  std::fill(met.begin(), met.end(), 0.0);
+  if (!(b.frequency > 0.0) || offsets.empty()) return;
+  const glm::dmat3 to_world = glm::mat3_cast(b.attitude);
+  for (uint32_t k = 0; k < kBeatSamples; ++k) {
+    const double beat = 2.0 * kPi * double(k) / double(kBeatSamples);  // of its own wingbeat
+    const dvec3(&at)[4] = places.at[(k + lead) % kBeatSamples];
+    auto now = [&](uint32_t m) {
+      WakeSource w = p.wake[m];
+      w.phase += beat * w.frequency / b.frequency;  // the same time on, at its own frequency
+      return w;
+    };
+    // The wake square_to: one pair of vortices serves every place.
+    if (p.wakes > 0) {
+      const WakeSource w = now(square_to);
+      for (const dvec3& point : at) {
+        const dvec3 station = b.position + offsets[0] + to_world * point;
+        const VortexPair pair = vortex_pair(s, w, station);
+        for (size_t o = 0; o < offsets.size(); ++o)
+          met[o] += glm::dot(pair_velocity(pair, station + (offsets[o] - offsets[0])), up);
+      }
+    }
+    // The others: a pair for each place.
+    for (uint32_t m = 1; m < p.wakes; ++m) {
+      const WakeSource w = now(m == square_to ? 0 : m);
+      for (const dvec3& point : at) {
+        const dvec3 station = b.position + offsets[0] + to_world * point;
+        for (size_t o = 0; o < offsets.size(); ++o)
+          met[o] += glm::dot(wake_velocity(s, w, station + (offsets[o] - offsets[0])), up);
+      }
+    }
+  }
+  for (double& m : met) m /= 4.0 * kBeatSamples;
+}
+
+double upwash_met(const Species& s, const BirdState& b, const Perception& p, const dvec3& up,
+                  const dvec3& offset, double shift) {
+  double met = 0.0;
+  upwash_met_at(s, b, p, up, beat_places(s, b, shift), 0, std::span<const dvec3>(&offset, 1), 0,
+                std::span<double>(&met, 1));
+  return met;
 }
 
 namespace {
@@ -242,6 +279,7 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   }
   if (!leader && !abreast) return f;
   const WakeSource& lead = leader ? *leader : *abreast;
+  const uint32_t lead_index = static_cast<uint32_t>(&lead - p.wake);
   const double speed = glm::length(lead.air_velocity);
   const dvec3 ahead = lead.air_velocity / speed;
   // Across the flight: `side` level, `up` the vertical's part square to the flight.
@@ -249,23 +287,36 @@ Formation formation(const Species& s, const BirdState& b, const dvec3& wind, con
   if (glm::length(side) < 1e-6) return f;
   side = glm::normalize(side);
   const dvec3 up = glm::cross(side, ahead);
-  auto met = [&](const dvec3& offset, double shift) {
-    return upwash_met(s, b, p, up, offset, shift);
+  // The bird's wing places over its beat, for every probe: a phase probe's are theirs
+  // kPhaseProbeSamples moments on or back.
+  const BeatPlaces own = beat_places(s, b, 0.0);
+  auto met = [&](const dvec3& offset, uint32_t lead) {
+    double upwash = 0.0;
+    upwash_met_at(s, b, p, up, own, lead, std::span<const dvec3>(&offset, 1), 0,
+                  std::span<double>(&upwash, 1));
+    return upwash;
   };
-  const double here = met(dvec3{0.0}, 0.0);
   const double step = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
+  // Here and a step to either side and above and below, square to the flight of the bird ahead:
+  // they meet its wake at the same stations behind it (upwash_met_at).
+  const dvec3 places[5] = {dvec3{0.0}, -step * side, step * side, -step * up, step * up};
+  double around[5];
+  upwash_met_at(s, b, p, up, own, 0, std::span<const dvec3>(places, leader ? 5 : 1), lead_index,
+                std::span<double>(around, leader ? 5 : 1));
+  const double here = around[0];
   const dvec3 across_air = (b.velocity - wind) - lead.air_velocity;
   if (abreast) {
     const double back =
-        parabola_peak(met(step * ahead, 0.0), here, met(-step * ahead, 0.0), step, most);
+        parabola_peak(met(step * ahead, 0), here, met(-step * ahead, 0), step, most);
     f.fall_back = std::max(back, 0.0) / s.formation_time;
   }
   if (!leader) return f;
-  const double across =
-      parabola_peak(met(-step * side, 0.0), here, met(step * side, 0.0), step, most);
-  const double above = parabola_peak(met(-step * up, 0.0), here, met(step * up, 0.0), step, most);
-  const double shift = parabola_peak(met(dvec3{0.0}, -kPhaseProbe), here,
-                                     met(dvec3{0.0}, kPhaseProbe), kPhaseProbe, kPhaseReach);
+  const double across = parabola_peak(around[1], here, around[2], step, most);
+  const double above = parabola_peak(around[3], here, around[4], step, most);
+  static_assert(kPhaseProbe * kBeatSamples == 2.0 * kPi * kPhaseProbeSamples,
+                "kPhaseProbe is kPhaseProbeSamples of the beat's moments");
+  const double shift = parabola_peak(met(dvec3{0.0}, kBeatSamples - kPhaseProbeSamples), here,
+                                     met(dvec3{0.0}, kPhaseProbeSamples), kPhaseProbe, kPhaseReach);
   // Closing on that place over formation_time: across the flight less how fast it already moves
   // there; up and down by the offset alone. Two birds' vertical velocities at an instant differ
   // mostly by their wingbeats' heave, about opposite at the wingtip path's phase: fed back, that

@@ -63,6 +63,24 @@ Formation formation(const Species& s, const BirdState& b, const glm::dvec3& wind
 double upwash_met(const Species& s, const BirdState& b, const Perception& p, const glm::dvec3& up,
                   const glm::dvec3& offset, double shift);
 
+// Bird b's four wing points (body frame: right arm, right hand, left arm, left hand) at the
+// kBeatSamples moments of one of its wingbeats that upwash_met samples, its wingbeat `shift` (rad)
+// ahead of its own.
+struct BeatPlaces {
+  glm::dvec3 at[kBeatSamples][4];
+};
+BeatPlaces beat_places(const Species& s, const BirdState& b, double shift);
+
+// upwash_met at each of `offsets` at once (into `met`, as many), the bird's wings at `places`
+// `lead` moments on (its wingbeat lead x 2 pi / kBeatSamples ahead of theirs). Where the offsets
+// differ from the first only square to the flight of the bird whose wake is `p.wake[square_to]`
+// (formation's probes across the flight of the bird ahead), they meet that wake at the first's
+// stations behind it: its vortices' places and strength there serve them all (the most of the
+// cost). `square_to` < p.wakes, or 0 where there is one offset.
+void upwash_met_at(const Species& s, const BirdState& b, const Perception& p, const glm::dvec3& up,
+                   const BeatPlaces& places, uint32_t lead, std::span<const glm::dvec3> offsets,
+                   uint32_t square_to, std::span<double> met);
+
 // A wake source seen at step `seen_step` (low 32 bits) as it is at step `step`, `dt` apart: moved
 // by its velocity over the ground (its air velocity and the `wind`), its wingbeat advanced by its
 // frequency.

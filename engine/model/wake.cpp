@@ -43,23 +43,32 @@ dvec3 half_line(const dvec3& r, const dvec3& along, double circulation, double c
 }
 }  // namespace
 
-dvec3 wake_velocity(const Species& s, const WakeSource& src, const dvec3& point) {
+VortexPair vortex_pair(const Species& s, const WakeSource& src, const dvec3& station) {
+  VortexPair pair;
   const double airspeed = glm::length(src.air_velocity);
-  if (!(airspeed > 0.0) || src.lift == 0.0) return dvec3{0.0};
-  const dvec3 back = -src.air_velocity / airspeed;  // the wake's way
-  const dvec3 offset = point - src.position;
-  const double behind = std::max(glm::dot(offset, back), 0.0);
+  if (!(airspeed > 0.0) || src.lift == 0.0) return pair;
+  pair.back = -src.air_velocity / airspeed;
+  const double behind = std::max(glm::dot(station - src.position, pair.back), 0.0);
   const dvec3 place = vortex_place(s, src, behind);
   const dvec3 up = src.attitude * dvec3{0.0, 1.0, 0.0};
   const dvec3 right = src.attitude * dvec3{0.0, 0.0, 1.0};
-  const double circulation = wake_circulation(s, src.lift, airspeed);
-  const double core = wake_core(s);
+  pair.right_start = src.position + up * place.y + right * place.z;
+  pair.left_start = src.position + up * place.y - right * place.z;
+  pair.circulation = wake_circulation(s, src.lift, airspeed);
+  pair.core = wake_core(s);
+  return pair;
+}
+
+dvec3 pair_velocity(const VortexPair& pair, const dvec3& point) {
+  if (pair.circulation == 0.0) return dvec3{0.0};
   // The right vortex turns so that it blows down inboard and up outboard of it; the left the
   // other way round.
-  const dvec3 right_start = src.position + up * place.y + right * place.z;
-  const dvec3 left_start = src.position + up * place.y - right * place.z;
-  return half_line(point - right_start, back, circulation, core) +
-         half_line(point - left_start, back, -circulation, core);
+  return half_line(point - pair.right_start, pair.back, pair.circulation, pair.core) +
+         half_line(point - pair.left_start, pair.back, -pair.circulation, pair.core);
+}
+
+dvec3 wake_velocity(const Species& s, const WakeSource& src, const dvec3& point) {
+  return pair_velocity(vortex_pair(s, src, point), point);
 }
 
 }  // namespace aeroflock

@@ -48,4 +48,15 @@ glm::dvec3 vortex_place(const Species& s, const WakeSource& src, double distance
 // the air, each through its place (vortex_place) at the point's own station behind the bird.
 glm::dvec3 wake_velocity(const Species& s, const WakeSource& src, const glm::dvec3& point);
 
+// wake_velocity in two halves, for several points at one station behind the bird (formation
+// flying's probes across the flight share their station): the two vortex lines there, then the
+// velocity they induce at a point.
+struct VortexPair {
+  glm::dvec3 right_start{0.0}, left_start{0.0};  // where the lines pass the station, cm
+  glm::dvec3 back{0.0};                          // the wake's way, unit (0: no wake)
+  double circulation = 0.0, core = 0.0;          // the right line's, cm^2/s; cm
+};
+VortexPair vortex_pair(const Species& s, const WakeSource& src, const glm::dvec3& station);
+glm::dvec3 pair_velocity(const VortexPair& pair, const glm::dvec3& point);
+
 }  // namespace aeroflock

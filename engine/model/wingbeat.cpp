@@ -55,6 +55,12 @@ WingFrames wing_frames(const Species& s, const WingbeatAngles& a) {
   return w;
 }
 
+// The middles of the arm and the hand: the wing's force points.
+void segment_middles(const WingFrames& w, dvec3& arm, dvec3& hand) {
+  arm = w.shoulder_pos + w.arm.z * (0.5 * w.arm_length);
+  hand = w.wrist + w.hand.z * (0.5 * w.hand_length);
+}
+
 }  // namespace
 
 WingbeatAngles wingbeat_angles(const Species& s, double phase, double amp, double sweep,
@@ -87,8 +93,7 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
 
   WingPoint& pa = out[0];
   WingPoint& ph = out[1];
-  pa.position = shoulder_pos + arm.z * (0.5 * arm_length);
-  ph.position = wrist + hand.z * (0.5 * hand_length);
+  segment_middles(w, pa.position, ph.position);
   // Joint angular velocities: lead-lag about body y, flapping about -x of the parent frame.
   const dvec3 omega_shoulder = dvec3{0, leadlag_rate, 0} - shoulder.x * flap_arm_rate;
   const dvec3 omega_wrist = -arm.x * flap_hand_rate;
@@ -99,6 +104,10 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
   feather(hand, a.feather_arm + a.feather_hand, ph.chord, ph.normal);
   pa.area = s.arm_area_fraction * wing_area;
   ph.area = wing_area - pa.area;
+}
+
+void right_wing_places(const Species& s, double phase, double amp, double sweep, dvec3 out[2]) {
+  segment_middles(wing_frames(s, wingbeat_angles(s, phase, amp, sweep, 0.0)), out[0], out[1]);
 }
 
 dvec3 right_wingtip(const Species& s, double phase, double amp, double sweep) {

@@ -32,6 +32,9 @@ struct WingPoint {
 // slowly against the wingbeat: its rate is left out of the points' velocities.
 void right_wing_points(const Species& s, double phase, double amp, double frequency, double sweep,
                        double incidence, WingPoint out[2]);
+// Where right_wing_points places the right wing's two points, alone (cheaper: no velocities, no
+// feathering; the incidence moves neither).
+void right_wing_places(const Species& s, double phase, double amp, double sweep, glm::dvec3 out[2]);
 // The right wingtip at phase psi, body frame, relative to the centre of mass, cm (the end of the
 // hand, as right_wing_points places it).
 glm::dvec3 right_wingtip(const Species& s, double phase, double amp, double sweep);

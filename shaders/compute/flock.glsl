@@ -193,27 +193,75 @@ void see_wakes(GpuSpecies s, GpuBird b, uint step, inout GpuPerception p) {
   }
 }
 
-// flock.cpp: upwash_met.
-float upwash_met(GpuSpecies s, GpuBird b, GpuPerception p, vec3 up, vec3 offset, float shift) {
-  if (!(b.frequency > 0.0)) return 0.0;
-  precise vec3 centre = b.position + offset;
-  precise float sum = 0.0;
+// flock.cpp: BeatPlaces, kept here for the bird whose formation() this is.
+vec3 beat_at[kBeatSamples * 4u];
+
+// flock.cpp: beat_places.
+void beat_places(GpuSpecies s, GpuBird b, float shift) {
   for (uint k = 0u; k < kBeatSamples; ++k) {
     precise float beat = 2.0 * kPi * float(k) / float(kBeatSamples);
-    WingPoint right[2];
-    right_wing_points(s, b.phase + shift + beat, b.amplitude, b.frequency, b.sweep, 0.0, right);
-    vec3 at[4] = vec3[4](right[0].position, right[1].position, mirror_to_left(right[0]).position,
-                         mirror_to_left(right[1]).position);
-    for (uint m = 0u; m < p.wakes; ++m) {
-      GpuWakeSource w = p.wake[m];
+    vec3 right[2];
+    right_wing_places(s, b.phase + shift + beat, b.amplitude, b.sweep, right);
+    beat_at[4u * k] = right[0];
+    beat_at[4u * k + 1u] = right[1];
+    beat_at[4u * k + 2u] = right[0] * vec3(1.0, 1.0, -1.0);
+    beat_at[4u * k + 3u] = right[1] * vec3(1.0, 1.0, -1.0);
+  }
+}
+
+// flock.cpp: upwash_met_at, for up to kUpwashPlaces offsets, the wing places beat_at's.
+const uint kUpwashPlaces = 5u;
+void upwash_met_at(GpuSpecies s, GpuBird b, GpuPerception p, vec3 up, uint lead,
+                   vec3 offsets[kUpwashPlaces], uint places, uint square_to,
+                   out float met[kUpwashPlaces]) {
+  for (uint o = 0u; o < kUpwashPlaces; ++o) met[o] = 0.0;
+  if (!(b.frequency > 0.0)) return;
+  for (uint k = 0u; k < kBeatSamples; ++k) {
+    precise float beat = 2.0 * kPi * float(k) / float(kBeatSamples);
+    uint at = 4u * ((k + lead) % kBeatSamples);
+    // The wake square_to: one pair of vortices serves every place. (Not an `if` in the loop
+    // below: lavapipe runs both sides of a branch.)
+    if (p.wakes > 0u) {
+      GpuWakeSource w = p.wake[square_to];
       precise float phase = w.position_phase.w + beat * w.air_velocity_frequency.w / b.frequency;
       w.position_phase.w = phase;
-      for (int q = 0; q < 4; ++q)
-        sum += dot(wake_velocity(s, w, centre + rotate(b.attitude, at[q])), up);
+      for (uint q = 0u; q < 4u; ++q) {
+        precise vec3 station = b.position + offsets[0] + rotate(b.attitude, beat_at[at + q]);
+        VortexPair pair = vortex_pair(s, w, station);
+        for (uint o = 0u; o < places; ++o) {
+          precise float upwash = dot(pair_velocity(pair, station + (offsets[o] - offsets[0])), up);
+          met[o] += upwash;
+        }
+      }
+    }
+    // The others: a pair for each place.
+    for (uint m = 1u; m < p.wakes; ++m) {
+      GpuWakeSource w = p.wake[m == square_to ? 0u : m];
+      precise float phase = w.position_phase.w + beat * w.air_velocity_frequency.w / b.frequency;
+      w.position_phase.w = phase;
+      for (uint q = 0u; q < 4u; ++q) {
+        precise vec3 station = b.position + offsets[0] + rotate(b.attitude, beat_at[at + q]);
+        for (uint o = 0u; o < places; ++o) {
+          precise vec3 at_offset = station + (offsets[o] - offsets[0]);
+          precise float upwash = dot(wake_velocity(s, w, at_offset), up);
+          met[o] += upwash;
+        }
+      }
     }
   }
-  precise float mean = sum / (4.0 * float(kBeatSamples));
-  return mean;
+  for (uint o = 0u; o < kUpwashPlaces; ++o) {
+    precise float mean = met[o] / (4.0 * float(kBeatSamples));
+    met[o] = mean;
+  }
+}
+
+// flock.cpp: formation's met, at one offset.
+float upwash_met(GpuSpecies s, GpuBird b, GpuPerception p, vec3 up, vec3 offset, uint lead) {
+  vec3 offsets[kUpwashPlaces] =
+      vec3[kUpwashPlaces](offset, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+  float met[kUpwashPlaces];
+  upwash_met_at(s, b, p, up, lead, offsets, 1u, 0u, met);
+  return met[0];
 }
 
 // flock.cpp: parabola_peak.
@@ -257,22 +305,27 @@ Formation formation(GpuSpecies s, GpuBird b, vec3 wind, GpuPerception p) {
   if (length(side) < 1e-6) return f;
   side = normalize(side);
   vec3 up = cross(side, ahead);
-  float here = upwash_met(s, b, p, up, vec3(0.0), 0.0);
   float probe = kFormationProbe * s.box_c, most = kFormationReach * s.box_c;
+  // flock.cpp: here and around, square to the flight ahead.
+  vec3 places[kUpwashPlaces] =
+      vec3[kUpwashPlaces](vec3(0.0), -probe * side, probe * side, -probe * up, probe * up);
+  float around[kUpwashPlaces];
+  beat_places(s, b, 0.0);  // a phase probe's are kPhaseProbeSamples moments on or back
+  upwash_met_at(s, b, p, up, 0u, places, kUpwashPlaces, uint(leader >= 0 ? leader : abreast),
+                around);
+  float here = around[0];
   precise vec3 across_air = (b.velocity - wind) - lead_air;
   if (abreast >= 0) {
-    float back = parabola_peak(upwash_met(s, b, p, up, probe * ahead, 0.0), here,
-                               upwash_met(s, b, p, up, -probe * ahead, 0.0), probe, most);
+    float back = parabola_peak(upwash_met(s, b, p, up, probe * ahead, 0u), here,
+                               upwash_met(s, b, p, up, -probe * ahead, 0u), probe, most);
     f.fall_back = max(back, 0.0) / s.formation_time;
   }
   if (leader < 0) return f;
-  float across = parabola_peak(upwash_met(s, b, p, up, -probe * side, 0.0), here,
-                               upwash_met(s, b, p, up, probe * side, 0.0), probe, most);
-  float above = parabola_peak(upwash_met(s, b, p, up, -probe * up, 0.0), here,
-                              upwash_met(s, b, p, up, probe * up, 0.0), probe, most);
-  float shift =
-      parabola_peak(upwash_met(s, b, p, up, vec3(0.0), -kPhaseProbe), here,
-                    upwash_met(s, b, p, up, vec3(0.0), kPhaseProbe), kPhaseProbe, kPhaseReach);
+  float across = parabola_peak(around[1], here, around[2], probe, most);
+  float above = parabola_peak(around[3], here, around[4], probe, most);
+  float shift = parabola_peak(upwash_met(s, b, p, up, vec3(0.0), kBeatSamples - kPhaseProbeSamples),
+                              here, upwash_met(s, b, p, up, vec3(0.0), kPhaseProbeSamples),
+                              kPhaseProbe, kPhaseReach);
   precise float closing_side = across / s.formation_time - dot(across_air, side);
   precise float closing_up = above / s.formation_time;  // by the offset alone (flock.cpp)
   f.heading = normalize(ahead + (side * closing_side + up * closing_up) / speed);

@@ -30,23 +30,41 @@ vec3 half_line(vec3 r, vec3 along, float circulation, float core) {
   return v;
 }
 
-vec3 wake_velocity(GpuSpecies s, GpuWakeSource src, vec3 point) {
+// wake.cpp: VortexPair (back 0: no wake).
+struct VortexPair {
+  vec3 right_start, left_start, back;
+  float circulation, core;
+};
+
+VortexPair vortex_pair(GpuSpecies s, GpuWakeSource src, vec3 station) {
+  VortexPair pair = VortexPair(vec3(0.0), vec3(0.0), vec3(0.0), 0.0, 0.0);
   vec3 air = src.air_velocity_frequency.xyz;
   float airspeed = length(air);
   float lift = src.lift_amplitude.x;
-  if (!(airspeed > 0.0) || lift == 0.0) return vec3(0.0);
-  vec3 back = -air / airspeed;
+  if (!(airspeed > 0.0) || lift == 0.0) return pair;
+  pair.back = -air / airspeed;
   vec3 position = src.position_phase.xyz;
-  precise vec3 offset = point - position;
-  float behind = max(dot(offset, back), 0.0);
+  precise vec3 offset = station - position;
+  float behind = max(dot(offset, pair.back), 0.0);
   vec3 place = vortex_place(s, src, behind);
   vec3 up = rotate(src.attitude, vec3(0.0, 1.0, 0.0));
   vec3 right = rotate(src.attitude, vec3(0.0, 0.0, 1.0));
-  float circulation = wake_circulation(s, lift, airspeed);
-  float core = wake_core(s);
   precise vec3 right_start = position + up * place.y + right * place.z;
   precise vec3 left_start = position + up * place.y - right * place.z;
-  precise vec3 v = half_line(point - right_start, back, circulation, core) +
-                   half_line(point - left_start, back, -circulation, core);
+  pair.right_start = right_start;
+  pair.left_start = left_start;
+  pair.circulation = wake_circulation(s, lift, airspeed);
+  pair.core = wake_core(s);
+  return pair;
+}
+
+vec3 pair_velocity(VortexPair pair, vec3 point) {
+  if (pair.circulation == 0.0) return vec3(0.0);
+  precise vec3 v = half_line(point - pair.right_start, pair.back, pair.circulation, pair.core) +
+                   half_line(point - pair.left_start, pair.back, -pair.circulation, pair.core);
   return v;
+}
+
+vec3 wake_velocity(GpuSpecies s, GpuWakeSource src, vec3 point) {
+  return pair_velocity(vortex_pair(s, src, point), point);
 }

@@ -54,6 +54,19 @@ void right_wing_points(GpuSpecies s, float phase, float amp, float frequency, fl
   points[1].area = s.hand_area;
 }
 
+// wingbeat.cpp: right_wing_places (the frames as right_wing_points builds them).
+void right_wing_places(GpuSpecies s, float phase, float amp, float sweep, out vec3 places[2]) {
+  WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, 0.0);
+  vec2 l = sin_cos(a.leadlag);
+  Frame shoulder = Frame(vec3(l.y, 0.0, -l.x), vec3(0.0, 1.0, 0.0), vec3(l.x, 0.0, l.y));
+  Frame arm = flap(shoulder, a.flap_arm);
+  Frame hand = flap(arm, a.flap_hand);
+  vec3 shoulder_pos = vec3(s.shoulder_x, 0.0, s.shoulder_z);
+  vec3 wrist = shoulder_pos + arm.z * s.arm_length;
+  places[0] = shoulder_pos + arm.z * (0.5 * s.arm_length);
+  places[1] = wrist + hand.z * (0.5 * s.hand_length);
+}
+
 // wingbeat.cpp: right_wingtip (the frames as right_wing_points builds them).
 vec3 right_wingtip(GpuSpecies s, float phase, float amp, float sweep) {
   WingbeatAngles a = wingbeat_angles(s, phase, amp, sweep, 0.0);
