@@ -7,8 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
+#include <span>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "formation_run.h"
 #include "io/scenario_file.h"
@@ -102,6 +105,68 @@ TEST(Formation, TheBestPhaseDirectlyBehindIsTheSpatialAntiPhase) {
 // not to its track over the ground. A follower set at the V place behind a leader, in the frame of
 // their flight through the air, in a crosswind of 4 m/s at 14 m/s (a crab of 16 degrees), is in
 // its V place and in phase measured so (`world` given), and out of it measured along the track.
+// The probes formation() takes together (upwash_met_at: the places square to the leader's flight
+// at once, the phase probes from the bird's own places moments on) give each probe's upwash as
+// upwash_met gives it alone: 500 followers behind two birds whose flights cross it by up to 11
+// degrees, each wake in turn the leader's.
+TEST(Formation, TheProbesTakenTogetherAreEachProbeAlone) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const Species& s : {ibis(), starling()}) {
+    double worst = 0.0, largest = 0.0;
+    for (int n = 0; n < 500; ++n) {
+      BirdState b;
+      b.frequency = 0.5 * (s.f_min + s.f_max);
+      b.amplitude = 0.8;
+      b.phase = 3.0 * u(random);
+      b.velocity = dvec3{1000.0, 20.0 * u(random), 30.0 * u(random)};
+      b.position = dvec3{-s.box_c * (1.5 + u(random)), 10.0 * u(random), 0.8 * s.box_c * u(random)};
+      b.attitude = glm::angleAxis(0.1 * u(random),
+                                  glm::normalize(dvec3{u(random), u(random), u(random)} + 1e-3));
+      Perception p;
+      p.wakes = 2;
+      for (uint32_t m = 0; m < 2; ++m) {
+        WakeSource& w = p.wake[m];
+        w.position =
+            dvec3{m * s.box_c * (1.0 + 0.5 * u(random)), 5.0 * u(random), m * s.box_c * u(random)};
+        w.air_velocity = dvec3{1000.0, 0.0, 200.0 * u(random)};
+        w.attitude =
+            glm::angleAxis(std::atan2(-w.air_velocity.z, w.air_velocity.x), dvec3{0.0, 1.0, 0.0});
+        w.lift = s.mass * kGravity;
+        w.frequency = b.frequency * (1.0 + 0.05 * u(random));
+        w.amplitude = 0.8;
+        w.phase = 3.0 * u(random);
+      }
+      const uint32_t lead = static_cast<uint32_t>(n % 2);
+      const dvec3 ahead = glm::normalize(p.wake[lead].air_velocity);
+      const dvec3 side = glm::normalize(glm::cross(ahead, dvec3{0.0, 1.0, 0.0}));
+      const dvec3 up = glm::cross(side, ahead);
+      const double step = kFormationProbe * s.box_c;
+      const dvec3 places[5] = {dvec3{0.0}, -step * side, step * side, -step * up, step * up};
+      const BeatPlaces own = beat_places(s, b, 0.0);
+      double together[5];
+      upwash_met_at(s, b, p, up, own, 0, places, lead, together);
+      for (int o = 0; o < 5; ++o) {
+        const double alone = upwash_met(s, b, p, up, places[o], 0.0);
+        worst = std::max(worst, std::fabs(together[o] - alone));
+        largest = std::max(largest, std::fabs(alone));
+      }
+      for (const int sign : {-1, 1}) {
+        double moments_on = 0.0;
+        upwash_met_at(s, b, p, up, own,
+                      sign > 0 ? kPhaseProbeSamples : kBeatSamples - kPhaseProbeSamples,
+                      std::span<const dvec3>(places, 1), 0, std::span<double>(&moments_on, 1));
+        worst = std::max(
+            worst, std::fabs(moments_on - upwash_met(s, b, p, up, dvec3{0.0}, sign * kPhaseProbe)));
+      }
+    }
+    std::printf("%s: at most %.2g cm/s apart, of upwashes up to %.1f cm/s\n", s.name.c_str(), worst,
+                largest);
+    EXPECT_GT(largest, 10.0) << s.name;
+    EXPECT_LT(worst, 1e-9 * largest) << s.name;
+  }
+}
+
 TEST(Formation, TheVPlaceIsMeasuredInTheFlightThroughTheAir) {
   const Species s = ibis();
   const double optimum = best_lateral_offset(s, s.box_c);
