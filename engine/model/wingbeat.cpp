@@ -87,7 +87,6 @@ void right_wing_points(const Species& s, double phase, double amp, double freque
 
   const WingFrames w = wing_frames(s, a);
   const Frame &shoulder = w.shoulder, &arm = w.arm, &hand = w.hand;
-  const double arm_length = w.arm_length, hand_length = w.hand_length;
   const double wing_area = 0.5 * s.wing_area;
   const dvec3 &shoulder_pos = w.shoulder_pos, &wrist = w.wrist;
 
