@@ -219,8 +219,8 @@ void upwash_met_at(GpuSpecies s, GpuBird b, GpuPerception p, vec3 up, uint lead,
   for (uint k = 0u; k < kBeatSamples; ++k) {
     precise float beat = 2.0 * kPi * float(k) / float(kBeatSamples);
     uint at = 4u * ((k + lead) % kBeatSamples);
-    // The wake square_to: one pair of vortices serves every place. (Not an `if` in the loop
-    // below: lavapipe runs both sides of a branch.)
+    // The wake square_to: one pair of vortices serves every place. (A block of its own: chosen
+    // by an `if` inside the loop below, lavapipe was no faster.)
     if (p.wakes > 0u) {
       GpuWakeSource w = p.wake[square_to];
       precise float phase = w.position_phase.w + beat * w.air_velocity_frequency.w / b.frequency;
