@@ -960,12 +960,12 @@ TEST(BranchLanding, TheGripEndsTheFlightWithoutAJump) {
   }
 }
 
-// Issue 40's last criteria, disabled until they hold: the feet, under the centre as when the bird
-// stands, meet the branch within a few centimetres as it grips, at a mean speed over the ground of
-// at most touchdown_speed over the wingbeat (or 100 ms) before. Today its centre is 63 and 83 cm
-// from the perch point and it grips at the first instant its speed dips to touchdown_speed, at a
-// mean of 2.45 and 2.46 m/s (docs/VALIDATION.md).
-TEST(BranchLanding, DISABLED_TheFeetMeetTheBranchPointSlowly) {
+// Issue 40: the feet, under the centre as when the bird stands, meet the branch within a few
+// centimetres as it grips (it hovers onto the branch point: Species::hover_final), at a mean speed
+// over the ground of at most touchdown_speed over the wingbeat (or 100 ms) before. Before, its
+// centre was 63 and 83 cm from the perch point and it gripped at the first instant its speed
+// dipped to touchdown_speed, at a mean of 2.45 and 2.46 m/s.
+TEST(BranchLanding, TheFeetMeetTheBranchPointSlowly) {
   if (!backend_available()) GTEST_SKIP() << backend_name() << " is not available here";
   const Species sp = starling();
   for (const char* name : {"fig18-branch-path-control", "fig18-branch-direct"}) {

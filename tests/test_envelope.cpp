@@ -213,7 +213,7 @@ TEST_P(WholeGrid, EveryCaseSucceeds) {
     worst_bank = std::max(worst_bank, r.worst_bank);
     worst_pitch = std::max(worst_pitch, r.worst_pitch);
     EXPECT_EQ(r.outcome, Outcome::reached) << r.c.describe() << ": " << name(r.outcome);
-    expect_smooth_touchdown(r);
+    expect_smooth_touchdown(r, species);
   }
   RecordProperty("reached", std::to_string(reached) + " of " + std::to_string(cases.size()));
   RecordProperty("worst_bank_deg", std::to_string(degrees(worst_bank)));

@@ -462,7 +462,7 @@ TEST(Steering, AGoalInsideTheFullBankCircleIsNotCircled) {
       << "a wind drifts the circle";
   // Behind (179 degrees off) the goal is outside the circle however near: the bird turns round.
   EXPECT_FALSE(circles_goal(radians(179.0), 0.1 * radius, radius, v, 0.0, calm));
-  EXPECT_EQ(heading_bank(s, radians(179.0), 0.1 * radius, v), s.bank_max);
+  EXPECT_EQ(heading_bank(s, radians(179.0), 0.1 * radius, v, s.dead_band), s.bank_max);
   // 30 degrees off: inside within 2 R sin(30) = R.
   EXPECT_TRUE(circles_goal(radians(30.0), 0.45 * circle, radius, v, 0.0, calm));
   EXPECT_FALSE(circles_goal(radians(30.0), 0.55 * circle, radius, v, 0.0, calm));
@@ -482,7 +482,7 @@ TEST(Steering, AGoalBehindIsTurnedToTheWayTheBirdBanks) {
   };
   expect_rel(turned(-behind, banked), 2.0 * kPi - behind);  // the long way round, to the right
   expect_rel(turned(behind, -banked), behind - 2.0 * kPi);
-  EXPECT_GT(heading_bank(s, turned(-behind, banked), 1000.0, 1000.0), 0.0)
+  EXPECT_GT(heading_bank(s, turned(-behind, banked), 1000.0, 1000.0, s.dead_band), 0.0)
       << "banks on the way it turns";
   expect_rel(turned(behind, banked), behind);                    // already turning towards it
   expect_rel(turned(-behind, 0.4 * s.bank_max), -behind);        // hardly banked: the short way

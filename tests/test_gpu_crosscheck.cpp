@@ -25,6 +25,7 @@
 #include "io/scenario_file.h"
 #include "model/body.h"
 #include "model/constants.h"
+#include "model/control.h"
 #include "model/route.h"
 #include "model/simulation.h"
 #include "model/step.h"
@@ -103,6 +104,9 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
     // the draws above so as not to change the birds drawn after it: every other bird has begun one.
     b.beat_airspeed = i % 2 == 0 ? 0.0 : 0.97 * glm::length(b.velocity);
     b.airspeed_rate = (b.phase - kPi) * 50.0;
+    // Its path through this wingbeat so far and its mean speed over the last (last_beat_speed).
+    b.beat_speed = i % 2 == 0 ? 0.0 : 0.9 * glm::length(b.velocity);
+    b.beat_path = b.beat_speed * b.phase / (2.0 * kPi * b.frequency);
     // Past a quarter turn (2.4 s at 10 m/s) the wings level for a goal inside.
     b.circling_steps = uint32_t(in(0.0, 5.0) / s.dt);
     b.airspeed = i % 3 == 0 ? 0.0 : in(sp.min_speed, sp.max_speed);  // 0: the species' cruise
@@ -135,11 +139,15 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
           b.mode_steps = uint32_t(in(0, 2.0 * sp.bank_time) / s.dt);  // the brake incidence ramping
         }
         if (u(rng) < 0.4) {
-          // Braking within perch_radius at about touchdown_speed: some grip the branch in this
-          // step, some not yet.
+          // Braking within perch_radius at about touchdown_speed (hovering onto the point: within
+          // twice the reach of its feet, as slow over its last wingbeat): some grip the branch in
+          // this step, some not yet.
           b.mode = FlightMode::landing;
-          b.position = perch + dvec3{in(-0.5, 0.5), in(-0.5, 0.5), in(-0.5, 0.5)} * sp.perch_radius;
+          const double near = hovers(sp) ? 2.0 * kGripReach * sp.stand_height : sp.perch_radius;
+          b.position = perch + dvec3{in(-0.5, 0.5), in(-0.5, 0.5), in(-0.5, 0.5)} * near;
           b.velocity = glm::normalize(perch - b.position) * sp.touchdown_speed * in(0.7, 1.3);
+          b.beat_speed = glm::length(b.velocity);
+          b.beat_path = b.beat_speed * b.phase / (2.0 * kPi * b.frequency);
         }
         break;
       }
@@ -224,6 +232,8 @@ const std::map<std::string, double> kStateTolerance = {
     {"lift", 0.5},               // dyn: up to 2e6 (an eagle's), whose float ulp is 0.125
     {"beat_airspeed", 1e-2},     // cm/s, as velocity
     {"airspeed_rate", 0.2},      // cm/s^2: a difference of airspeeds (1e-2) times f (up to 19 Hz)
+    {"beat_path", 1e-3},         // cm: a wingbeat's path, as position
+    {"beat_speed", 2e-2},        // cm/s: that path (1e-3) times f (up to 19 Hz), or as velocity
     {"landing_start", 1e-3},     // cm: placed at the bird's position
     {"landing_progress", 1e-6},  // of the curve
     {"via_point", 0.05},         // cm: the middle of a curve tens of metres long, its crossing
@@ -491,12 +501,12 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
       for (const EnvelopeResult* r : {&a[i], &b[i]})
         EXPECT_TRUE(r->outcome == Outcome::reached || r->outcome == Outcome::late)
             << cases[i].describe() << ": " << name(r->outcome);
-      expect_smooth_touchdown(b[i]);
+      expect_smooth_touchdown(b[i], sp);
       continue;
     }
     EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome)
                                           << ", vulkan " << name(b[i].outcome);
-    expect_smooth_touchdown(b[i]);
+    expect_smooth_touchdown(b[i], sp);
   }
   RecordProperty("same_outcomes", std::to_string(same) + " of " + std::to_string(cases.size()));
   EXPECT_EQ(device.validation_errors(), 0u);

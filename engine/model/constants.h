@@ -100,6 +100,56 @@ AF_REAL(kSteerAirspeed, 100.0)
 AF_REAL(kTouchdownAim, 0.5)
 // A bird flares once it must brake at this share of its full flare to stop in time (route.h).
 AF_REAL(kBrakeShare, 0.5)
+// The hovering final (Species::hover_final, docs/MODEL.md "Take-off and landing"): braking begins
+// kHoverBrakeDistances brake_distance out; the bird approaches kApproachAbove perch radii above the
+// perch point, and braking it aims kApproachAbove radii above it from kFinalFrom radii out,
+// falling smoothly to kEndAbove radii at kFinalTo radii (control.h: final_aim).
+AF_REAL(kHoverBrakeDistances, 2.0)
+AF_REAL(kApproachAbove, 0.25)
+AF_REAL(kEndAbove, 0.03)
+AF_REAL(kFinalFrom, 4.0)
+AF_REAL(kFinalTo, 0.5)
+// Its speed over the ground falls towards the point at kFinalDecel brake_decel to kFinalSpeed
+// touchdown_speed there (control.h: final_speed); past the point it wants that speed back.
+AF_REAL(kFinalDecel, 0.5)
+AF_REAL(kFinalSpeed, 0.6)
+// Its height: a climb of kFinalClimbGain (1/s) per cm below its aim, at most kFinalClimbMax (cm/s),
+// a sink no faster than it can stop at kFinalSinkDecel (cm/s^2) by its aim; the wingbeat's error
+// is the height that climb's error makes in kFinalLead (s). The amplitude answers it at once by
+// kFinalAmplitudeGain per cm, about a part that integrates it at kFinalAmplitudeRate K_a within a
+// band of kFinalBand perch radii; the frequency rises at kFinalFrequencyRate K_f hovering, else
+// trims at kFinalTrimRate K_f to keep the amplitude kFinalTrimLow of its range above amp_min.
+AF_REAL(kFinalClimbGain, 4.0)
+AF_REAL(kFinalClimbMax, 100.0)
+AF_REAL(kFinalSinkDecel, 50.0)
+AF_REAL(kFinalLead, 0.25)
+AF_REAL(kFinalAmplitudeGain, 0.03)
+AF_REAL(kFinalAmplitudeRate, 2.0)
+AF_REAL(kFinalBand, 0.1)
+AF_REAL(kFinalFrequencyRate, 10.0)
+AF_REAL(kFinalTrimRate, 2.0)
+AF_REAL(kFinalTrimLow, 0.15)
+// It hovers below kHoverAirspeed (cm/s, fully kHoverBand below it): the pitch at which the full
+// wingbeat's force points up (trim.h: about atan(kHoverLift / (airspeed + kHoverLiftSpeed)),
+// alike for the presets), at most kHoverBasePitch, plus kHoverPitchGain (rad per cm/s) of its
+// speed along its head beyond the profile's, at most kHoverPitchMax; its pitch damping falls by
+// kHoverDamping (the wingbeat swings the pitch rate within each beat); it banks up to kHoverBank
+// steep as it is, and heads on within kHoldHeading perch radii of the point in calm air.
+AF_REAL(kHoverAirspeed, 400.0)
+AF_REAL(kHoverBand, 150.0)
+AF_REAL(kHoverLift, 510.0)
+AF_REAL(kHoverLiftSpeed, 86.0)
+AF_REAL(kHoverBasePitch, 0.9599310885968813)
+AF_REAL(kHoverPitchGain, 0.0026)
+AF_REAL(kHoverPitchMax, 1.1344640137963142)
+AF_REAL(kHoverDamping, 0.8)
+AF_REAL(kHoverBank, 0.20943951023931956)
+AF_REAL(kHoldHeading, 0.1)
+// It grips where its feet meet the branch point: within kGripReach stand_height of the perch
+// point, at a mean speed over the ground of at most touchdown_speed over its last wingbeat or
+// kTouchdownWindow (s), whichever is longer (route.h: last_beat_speed).
+AF_REAL(kGripReach, 0.4)
+AF_REAL(kTouchdownWindow, 0.1)
 // A bird that lands on the ground (Species::perches 0) comes in on a glide path this steep (rad)
 // that ends on its site (route.h: route_goal), sinking at its speed over the ground times its
 // tangent (1.2 m/s for the ibis, 1.4 for the goose at their slowest airspeeds in calm air).

@@ -180,6 +180,63 @@ double flare_pitch(const Species& s, double pitch_trim, double share) {
   return std::clamp(pitch_trim + (s.brake_pitch - pitch_trim) * share, s.pitch_min, s.brake_pitch);
 }
 
+bool hovers(const Species& s) { return s.hover_final != 0.0; }
+
+double final_aim(const Species& s, double to_point) {
+  const double u =
+      std::clamp((to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo), 0.0, 1.0);
+  return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
+}
+
+double final_aim_rate(const Species& s, const dvec3& way, const dvec3& velocity) {
+  const double d = glm::length(horizontal(way));
+  const double u = (d / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+  if (!(u > 0.0 && u < 1.0)) return 0.0;
+  const double closing = glm::dot(horizontal(way), horizontal(velocity)) / d;
+  return -(kApproachAbove - kEndAbove) * 6.0 * u * (1.0 - u) / (kFinalFrom - kFinalTo) * closing;
+}
+
+double final_speed(const Species& s, double to_perch, double to_point) {
+  const double end = kFinalSpeed * s.touchdown_speed;
+  return std::min(approach_speed(s, to_perch),
+                  std::sqrt(end * end + 2.0 * kFinalDecel * s.brake_decel * to_point));
+}
+
+double final_climb(double height_error, double aim_rate) {
+  const double sink = std::sqrt(2.0 * kFinalSinkDecel * std::max(-height_error, 0.0));
+  return std::clamp(kFinalClimbGain * height_error, -sink, kFinalClimbMax) + aim_rate;
+}
+
+double hover_share(double airspeed) {
+  return std::clamp((kHoverAirspeed - airspeed) / kHoverBand, 0.0, 1.0);
+}
+
+double hover_pitch(double airspeed, double along, double wanted) {
+  const double up = std::min(std::atan(kHoverLift / (airspeed + kHoverLiftSpeed)), kHoverBasePitch);
+  return std::clamp(up + kHoverPitchGain * (along - wanted), 0.0, kHoverPitchMax);
+}
+
+double final_amplitude(const Species& s, double amplitude, double energy_error) {
+  return std::clamp(amplitude + kFinalAmplitudeGain * energy_error, s.amp_min, s.amp_max);
+}
+
+void final_wingbeat(const Species& s, double energy_error, double used, double hover,
+                    double& frequency, double& amplitude, double dt) {
+  const double share = std::clamp(energy_error / (kFinalBand * s.perch_radius), -1.0, 1.0);
+  amplitude =
+      std::clamp(amplitude + kFinalAmplitudeRate * s.K_a * share * dt, s.amp_min, s.amp_max);
+  const double range = s.amp_max - s.amp_min;
+  const double trim =
+      std::clamp((used - s.amp_min - kFinalTrimLow * range) / (0.1 * range), -1.0, 1.0);
+  const double rate = hover > 0.5 ? kFinalFrequencyRate : kFinalTrimRate * trim;
+  frequency = std::clamp(frequency + rate * s.K_f * dt, s.f_min, s.f_max);
+}
+
+double go_round_pitch(const Species& s, double airspeed) {
+  const double share = 1.0 - airspeed / (0.5 * s.min_speed);
+  return share > 0.0 ? s.brake_pitch * std::min(share, 1.0) : -kPi;
+}
+
 PitchControl pitch_control(const Species& s, double pitch_command, double pitch, double rate) {
   const double error = pitch_command - pitch - s.pitch_damping * rate;
   const double beyond = error - std::clamp(error, -s.pitch_band, s.pitch_band);
@@ -231,8 +288,9 @@ bool circles_goal(double heading_error, double distance, double radius, double s
          distance < 2.0 * radius * std::fabs(std::sin(heading_error));
 }
 
-double heading_bank(const Species& s, double heading_error, double distance, double speed) {
-  if (std::fabs(heading_error) <= s.dead_band) return 0.0;
+double heading_bank(const Species& s, double heading_error, double distance, double speed,
+                    double dead_band) {
+  if (std::fabs(heading_error) <= dead_band) return 0.0;
   if (std::fabs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
   double rate = heading_error / s.turn_time;
   // Pure pursuit, curvature 2 sin(phi) / distance: the circle through a near goal.

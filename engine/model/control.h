@@ -86,8 +86,10 @@ double approach(double angle, double command, double rate, double dt);
 
 // Tail model: the bank that turns the heading at heading_error / turn_time (however far the goal
 // is), or tighter onto the pure-pursuit circle through a near goal (curvature 2 sin(phi) /
-// distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band.
-double heading_bank(const Species& s, double heading_error, double distance, double speed);
+// distance), at most bank_max; bank_max with the goal behind, 0 inside the dead band (`dead_band`:
+// the species', or 0 hovering onto the branch point).
+double heading_bank(const Species& s, double heading_error, double distance, double speed,
+                    double dead_band);
 
 // The radius of the circle a bird flies at full bank: kWideTurn times v^2 / (g tan bank_max).
 double full_bank_radius(const Species& s, double speed);
@@ -177,6 +179,42 @@ double flare_share(const Species& s, double airspeed, double to_airspeed, double
 // The flare's pitch: from the pitch trim towards brake_pitch by the share; within
 // [pitch_min, brake_pitch].
 double flare_pitch(const Species& s, double pitch_trim, double share);
+
+// The hovering final (Species::hover_final; constants.h has its numbers). Whether the species
+// lands so.
+bool hovers(const Species& s);
+// How far above the perch point it aims braking, `to_point` (cm) from it horizontally: a smoothstep
+// from kApproachAbove perch radii at kFinalFrom radii to kEndAbove radii at kFinalTo radii.
+double final_aim(const Species& s, double to_point);
+// How fast that aim moves up (cm/s, < 0 as it falls) for a bird flying at `velocity`, `way` from
+// the point.
+double final_aim_rate(const Species& s, const glm::dvec3& way, const glm::dvec3& velocity);
+// The speed over the ground it brakes to (cm/s), `to_perch` from the perch and `to_point` from the
+// point horizontally: approach_speed's, or less, falling at kFinalDecel brake_decel to kFinalSpeed
+// touchdown_speed at the point.
+double final_speed(const Species& s, double to_perch, double to_point);
+// The climb it commands (cm/s) `height_error` (cm) below its aim, which moves at `aim_rate`.
+double final_climb(double height_error, double aim_rate);
+// How much it hovers, in [0, 1], at `airspeed` (cm/s, over its last wingbeat): 1 below
+// kHoverAirspeed - kHoverBand, 0 above kHoverAirspeed.
+double hover_share(double airspeed);
+// Its pitch hovering at `airspeed` (cm/s), its speed along its head over the ground `along` where
+// the profile wants `wanted`: the pitch at which the full wingbeat's force points up, at most
+// kHoverBasePitch, plus kHoverPitchGain per cm/s too fast, within [0, kHoverPitchMax].
+double hover_pitch(double airspeed, double along, double wanted);
+// Its wingbeat amplitude this step: its amplitude now and kFinalAmplitudeGain of the wingbeat's
+// error (cm), within the species' range.
+double final_amplitude(const Species& s, double amplitude, double energy_error);
+// Its wingbeat after a step `dt`: the amplitude's integral part follows the error (cm) at
+// kFinalAmplitudeRate K_a within kFinalBand perch radii; the frequency rises at
+// kFinalFrequencyRate K_f hovering (share > 0.5), else trims the amplitude used (`used`) towards
+// kFinalTrimLow of its range at kFinalTrimRate K_f.
+void final_wingbeat(const Species& s, double energy_error, double used, double hover,
+                    double& frequency, double& amplitude, double dt);
+// The lowest pitch it commands going round from a hover at `airspeed` (cm/s): brake_pitch at
+// rest, falling to none (-pi) at half min_speed, so that it beats on to speed up nose high rather
+// than fall through nose down.
+double go_round_pitch(const Species& s, double airspeed);
 
 // The tail bend (the elevator) and the sweep that hold `pitch_command`, from the pitch error
 // less pitch_damping times the pitch rate: the sweep sweep_gain times it (within sweep_max), the

@@ -134,7 +134,7 @@ std::vector<EnvelopeCase> envelope_sample(size_t every, double farthest) {
 }
 
 FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
-                           double ground_height) {
+                           double ground_height, bool flaring) {
   FlightFaults f;
   if (!is_finite(b)) {
     f.not_finite = true;
@@ -143,7 +143,8 @@ FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
   f.below_ground = b.position.y < ground_height;
   if (t >= kSettleTime && b.mode != FlightMode::perched) {
     f.over_bank = std::fabs(bank_angle(b.attitude)) > species.bank_max + kBankMargin;
-    f.over_pitch = std::fabs(pitch_angle(b.attitude)) > kPitchLimit;
+    f.over_pitch = std::fabs(pitch_angle(b.attitude)) >
+                   (flaring || b.mode == FlightMode::landing ? kFlarePitchLimit : kPitchLimit);
   }
   return f;
 }
@@ -221,7 +222,8 @@ bool judge_envelope(EnvelopeResult& r, const BirdState& b, const Species& specie
     r.time = t;
     return true;
   };
-  const FlightFaults faults = flight_faults(b, species, t, ground_height);
+  if (b.mode == FlightMode::landing) r.flaring_until = t + kGoRoundGrace;
+  const FlightFaults faults = flight_faults(b, species, t, ground_height, t <= r.flaring_until);
   if (faults.not_finite) return verdict(Outcome::not_finite);
   r.lowest = std::min(r.lowest, b.position.y - ground_height);
   if (faults.below_ground) return verdict(Outcome::below_ground);

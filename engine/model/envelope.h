@@ -32,6 +32,10 @@ struct EnvelopeCase {
 inline constexpr double kSettleTime = 3.0;           // s: the limits hold from then on
 inline constexpr double kBankMargin = radians(5.0);  // beyond the species' bank_max
 inline constexpr double kPitchLimit = radians(60.0);
+// Braking towards its branch a bird pitches up to stop (landing pigeons' body nearly vertical:
+// Berg and Biewener 2010), and still so as it goes round from the flare, for kGoRoundGrace.
+inline constexpr double kFlarePitchLimit = radians(85.0);
+inline constexpr double kGoRoundGrace = 1.0;  // s
 
 enum class Outcome {
   reached,       // the target passed (landing: perched) in time, within the limits throughout
@@ -52,7 +56,7 @@ struct FlightFaults {
   bool any() const { return not_finite || below_ground || over_bank || over_pitch; }
 };
 FlightFaults flight_faults(const BirdState& b, const Species& species, double t,
-                           double ground_height);
+                           double ground_height, bool flaring = false);
 
 struct EnvelopeResult {
   EnvelopeCase c;
@@ -65,6 +69,7 @@ struct EnvelopeResult {
   // for kSettleWatch after it, by 30 ms frames (touchdown.h); and its go-rounds before it.
   std::optional<Touchdown> touchdown;
   size_t go_rounds = 0;
+  double flaring_until = -1.0;  // s: braking, or going round from it (kGoRoundGrace), until then
 };
 
 // The grid: every combination of start speed 5-20 m/s, pitch -30..30 and bank -60..60 degrees,

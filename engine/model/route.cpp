@@ -1,5 +1,6 @@
 #include "route.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -216,6 +217,14 @@ std::optional<dvec3> way_to_perch(const BirdState& b, const Species& s, const Wo
   return perch_point(s, *br) - b.position;
 }
 
+double last_beat_speed(const BirdState& b) {
+  if (!(b.frequency > 0.0)) return glm::length(b.velocity);
+  const double period = 1.0 / b.frequency;
+  const double window = std::max(period, kTouchdownWindow);
+  const double into = std::min(b.phase / (2.0 * kPi) * period, period);
+  return (b.beat_path + b.beat_speed * (window - into)) / window;
+}
+
 namespace {
 // Whether the flare needs starting now to touch down at perch_radius (the wind where the bird is).
 bool braking_due(const Species& s, const BirdState& b, const dvec3& to_perch, const dvec3& wind,
@@ -231,7 +240,12 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
   if (!br || lands_on_ground(s)) return false;
   const dvec3 to_perch = perch_point(s, *br) - b.position;
   const double distance = glm::length(to_perch);
-  if (distance <= s.perch_radius && glm::length(b.velocity) <= s.touchdown_speed) {
+  // Hovering onto it, it grips where its feet meet the branch point, slowly over its last
+  // wingbeat; flaring, anywhere within perch_radius once it is slow.
+  const bool grips =
+      hovers(s) ? distance <= kGripReach * s.stand_height && last_beat_speed(b) <= s.touchdown_speed
+                : distance <= s.perch_radius && glm::length(b.velocity) <= s.touchdown_speed;
+  if (grips) {
     perch(b, s, *br);
     return true;
   }
@@ -243,7 +257,7 @@ bool approach_branch(BirdState& b, const Species& s, const World& w) {
     b.mode_steps = 0;
     b.landing_stage = LandingStage::none;
   } else if (b.mode == FlightMode::flying && closing && b.landing_stage != LandingStage::gate &&
-             (distance <= s.brake_distance ||
+             (distance <= (hovers(s) ? kHoverBrakeDistances : 1.0) * s.brake_distance ||
               braking_due(s, b, to_perch, wind_at(w, b.position.y), distance))) {
     b.mode = FlightMode::landing;
     b.mode_steps = 0;

@@ -50,7 +50,14 @@ bool at_landing_site(const BirdState& b, const Species& s, const World& w, const
 // brake_distance, or sooner where it must already brake at kBrakeShare of its full flare; goes
 // round when it overshoots (flown past, out of perch_radius) or has sunk under the branch still
 // sinking fast (kSunkPerchRadii, kSunkTouchdowns); perches within perch_radius at
-// touchdown_speed or slower. Returns true once perched.
+// touchdown_speed or slower, or hovering onto the branch point (Species::hover_final) where its
+// feet meet it (kGripReach), at touchdown_speed or slower over its last wingbeat
+// (last_beat_speed). Returns true once perched.
 bool approach_branch(BirdState& b, const Species& s, const World& w);
+
+// Its mean speed over the ground over its last wingbeat period, or kTouchdownWindow when that is
+// longer: this wingbeat's path so far, and the rest of the window at the last whole wingbeat's
+// mean.
+double last_beat_speed(const BirdState& b);
 
 }  // namespace aeroflock

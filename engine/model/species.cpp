@@ -91,6 +91,7 @@ Species starling() {
   s.brake_distance = 400;
   s.brake_pitch = radians(45);
   s.perch_radius = 100;
+  s.hover_final = 1;  // it hovers onto the branch point (issue 40)
   return s;
 }
 
@@ -192,6 +193,7 @@ Species european_starling() {
   // envelope. The paper's `starling` is six times heavier and 2.6 times wider.
   Species s = starling();
   s.name = "european_starling";
+  s.hover_final = 0;  // it flares: hovering, it went round in calm air (issue 40's note)
   s.mass = 80;        // 75-90 g
   s.box_c = 39;       // wingspan 37-42 cm
   s.wing_area = 217;  // the span at aspect ratio 7 (no measured area found): 36 N/m2

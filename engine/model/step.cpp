@@ -32,6 +32,9 @@ struct Commands {
   double bend, twist;   // where the tail moves to
   double sweep;         // where the wings' sweep moves to
   double incidence;     // the arms' added incidence (braking)
+  bool final;           // hovering onto the perch point (Species::hover_final)
+  double hover;         // how much, in [0, 1] (control.h: hover_share)
+  double amplitude;     // the wingbeat's amplitude this step (the final's answers at once)
   double opening;       // the tail's opening now, eq. 10 (fully open while braking)
   dvec3 omega;          // body rates used this step, with the controller's kinematic ones
   bool circling;        // the goal lies inside the full-bank circle
@@ -48,15 +51,31 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   const bool on_legs = b.mode == FlightMode::taking_off;
   const bool braking = b.mode == FlightMode::landing;
   // Braking, the bird aims above the perch: slowing, it sinks onto it (below, it could not climb).
-  if (braking) goal.y += kFlareAimAbove * sp.perch_radius;
+  // Hovering onto it (the final), it aims above by less and less, and on its way in already above.
+  const bool final = braking && way && hovers(sp);
+  const double to_point = way ? glm::length(horizontal(*way)) : -1.0;
+  if (final)
+    goal.y += final_aim(sp, to_point);
+  else if (braking)
+    goal.y += kFlareAimAbove * sp.perch_radius;
+  else if (way && hovers(sp) && !in_air)
+    goal.y += kApproachAbove * sp.perch_radius;
   const bool fixed_rate = w.turning == TurningModel::fixed_rate && !braking;
   const double to_perch = way ? glm::length(*way) : -1.0;
   const dvec3 wind = wind_at(w, b.position.y);
   Commands c;
+  c.final = final;
   // On its legs a bird's air is the wind alone: it has no airspeed yet to hold a track at.
-  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind,
-                             approach_speed(sp, to_perch), braking,
-                             airspeed_command > 0.0 && !on_legs, in_air);
+  const double ground_speed =
+      final ? final_speed(sp, to_perch, to_point) : approach_speed(sp, to_perch);
+  c.steering = steer_towards(sp, b.attitude, b.position, b.velocity, goal, wind, ground_speed,
+                             braking, airspeed_command > 0.0 && !on_legs, in_air);
+  // Close by the point in calm air it heads on (steering for the point it would turn about it).
+  if (final && to_point < kHoldHeading * sp.perch_radius &&
+      !heeds_wind(sp, glm::length(horizontal(wind)))) {
+    c.steering.heading_error = 0.0;
+    c.steering.heading_error_ahead = 0.0;
+  }
   // The tail twist steers the tail model; with fixed-rate turning it only shows the turn. It
   // twists towards the turn but never stands on edge: bank plus twist stay within
   // tail_roll_max, so that the tail still holds the body's pitch in a steep turn.
@@ -81,13 +100,18 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   // Braking, the flare sets the pitch and the air slows the bird: the wingbeat holds its height
   // (eqs. 4, 5 as the paper has them). Otherwise it looks ahead by what the bird sinks while it
   // answers (spool_lead).
-  c.energy_error = braking ? c.steering.height_error
-                           : e.total + spool_lead(sp, b.amplitude, air_climb) +
-                                 (in_air ? speed_lead_error(sp, airspeed, b.airspeed_rate) : 0.0);
+  // The final: the height a commanded climb's error makes in kFinalLead (control.h: final_climb).
+  c.energy_error =
+      final
+          ? kFinalLead * (final_climb(goal.y - b.position.y, final_aim_rate(sp, *way, b.velocity)) -
+                          b.velocity.y)
+      : braking ? c.steering.height_error
+                : e.total + spool_lead(sp, b.amplitude, air_climb) +
+                      (in_air ? speed_lead_error(sp, airspeed, b.airspeed_rate) : 0.0);
   // Pitched up well past the most it commands, the wingbeat's nose-up moment is winning: the
   // bird beats no harder (eqs. 4, 5 hold frequency and amplitude) rather than loop. Easing it
   // would stall the climb of a bird whose shoulder sits forward: a nose-high climb needs it.
-  if (pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun)
+  if (!final && pitch > (braking ? sp.brake_pitch : sp.pitch_max) + kPitchOverrun)
     c.energy_error = std::min(c.energy_error, 0.0);
   // Pitched down well past the least it commands, the glide's nose-down moment is winning: the
   // bird beats its wings harder rather than dive on.
@@ -97,16 +121,42 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   // up: the arms' incidence rises by brake_incidence at full flare, over bank_time.
   const double flare =
       braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, wind), to_perch) : 0.0;
-  c.incidence = sp.brake_incidence * flare * std::min(mode_time(b, dt) / sp.bank_time, 1.0);
+  // The final at a low airspeed hovers: its pitch holds its speed over the ground along its head
+  // to the profile's (final_speed: towards the point, or back to it once past), with the wings at
+  // their own incidence; faster through the air it flares. Both read the ground velocity over its
+  // last wingbeat (its speed then, its direction now), not a wingbeat's surge.
+  const dvec3 track = horizontal(b.velocity);
+  const double track_speed = glm::length(track);
+  const dvec3 beat_track =
+      track_speed > 0.0 ? track * (last_beat_speed(b) / glm::length(b.velocity)) : track;
+  c.hover = final ? hover_share(glm::length(beat_track - horizontal(wind))) : 0.0;
+  c.incidence =
+      (1.0 - c.hover) * sp.brake_incidence * flare * std::min(mode_time(b, dt) / sp.bank_time, 1.0);
+  double hovering = 0.0;
+  if (c.hover > 0.0) {
+    const dvec3 head = horizontal(b.attitude * dvec3{1.0, 0.0, 0.0});
+    const dvec3 along = glm::length(head) > 0.0 ? head / glm::length(head) : head;
+    const double wanted =
+        glm::dot(horizontal(*way), along) < 0.0 ? -kFinalSpeed * sp.touchdown_speed : ground_speed;
+    hovering = hover_pitch(glm::length(beat_track - horizontal(wind)), glm::dot(beat_track, along),
+                           wanted);
+  }
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
-  // the ground trimmed rather than wound up to pitch up.
-  const double pitch_command = on_legs   ? pitch
-                               : braking ? flare_pitch(sp, b.pitch_trim, flare)
-                                         : commanded_pitch(sp, b.pitch_trim, e.balance,
-                                                           b.position.y - ground, goal.y - ground);
-  const PitchControl p = pitch_control(sp, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
+  // the ground trimmed rather than wound up to pitch up. Going round from a hover it keeps its
+  // nose up until it has speed (control.h: go_round_pitch).
+  const double pitch_command =
+      on_legs   ? pitch
+      : braking ? c.hover * hovering + (1.0 - c.hover) * flare_pitch(sp, b.pitch_trim, flare)
+                : std::max(hovers(sp) ? go_round_pitch(sp, airspeed) : -kPi,
+                           commanded_pitch(sp, b.pitch_trim, e.balance, b.position.y - ground,
+                                           goal.y - ground));
+  // Hovering, the wingbeat swings the pitch rate within each beat: damped on it in full, the
+  // tail and sweep would chatter between their limits.
+  const PitchControl p = pitch_control(
+      sp, pitch_command, pitch, (1.0 - kHoverDamping * c.hover) * pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
   c.sweep = p.sweep;
+  c.amplitude = final ? final_amplitude(sp, b.amplitude, c.energy_error) : b.amplitude;
 
   // Kinematic body rates: the bank (both turning models), the yaw at the standard rate R
   // (fixed-rate model, eq. 3). Pitch and the rest come from the torque.
@@ -131,11 +181,14 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
     // until it can turn onto the goal. Sooner, it would not turn onto a goal it only just missed
     // (Fig. 16's eagle would fly off its circle of targets).
     if (!(c.circling && b.circling_steps * dt > kCirclingTurn * 2.0 * kPi * circle / speed))
-      bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed);
+      bank_cmd = heading_bank(sp, c.steering.heading_error_ahead, distance, speed,
+                              c.hover > 0.5 ? 0.0 : sp.dead_band);
   }
+  // Hovering, its body is steep: banked a little, it turns about the vertical.
   const double most =
       std::min(ground_bank(sp, b.position.y - w.ground_height),
-               recovery_bank(sp, pitch, descent_angle(air_climb, airspeed), airspeed));
+               std::max(recovery_bank(sp, pitch, descent_angle(air_climb, airspeed), airspeed),
+                        c.hover * kHoverBank));
   bank_cmd = std::clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     // eq. 3: the heading turns at -sgn(phi) R about the vertical.
@@ -191,7 +244,7 @@ StepForces forces(const BirdState& b, const Species& sp, const World& w, double 
   const dvec3 body_wind = to_body * wind_at(w, b.position.y);
   const TailGeometry tg = tail_geometry(sp, b.tail_bend, b.tail_twist);
   WingPoint right[2];
-  right_wing_points(sp, b.phase, b.amplitude, beat_frequency(b, seen), b.sweep, c.incidence, right);
+  right_wing_points(sp, b.phase, c.amplitude, beat_frequency(b, seen), b.sweep, c.incidence, right);
   const bool wakes = seen && seen->wakes > 0;
   const WakeAir wake =
       wakes ? wake_air(b, sp, w, *seen, step, dt, right, tg.position, to_world, to_body)
@@ -295,14 +348,24 @@ void touch_down(BirdState& b, const Species& sp, const World& w, double dt) {
 
 // As a wingbeat begins (its phase passing 2 pi at `beat` Hz), the airspeed's rate over the beat
 // that ended (speed_lead_error); on its legs none.
-void time_the_beat(BirdState& b, const World& w, double phase_before, double beat, bool on_legs) {
+// Its path over the ground through the beat, and as a beat ends its mean speed over it
+// (route.h: last_beat_speed).
+void time_the_beat(BirdState& b, const World& w, double phase_before, double beat, bool on_legs,
+                   double dt) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
-  } else if (b.phase < phase_before) {
+    b.beat_path = 0.0;
+    b.beat_speed = 0.0;
+    return;
+  }
+  b.beat_path += glm::length(b.velocity) * dt;
+  if (b.phase < phase_before) {
     const double airspeed = glm::length(b.velocity - wind_at(w, b.position.y));
     if (b.beat_airspeed > 0.0) b.airspeed_rate = (airspeed - b.beat_airspeed) * beat;
     b.beat_airspeed = airspeed;
+    b.beat_speed = b.beat_path * beat;
+    b.beat_path = 0.0;
   }
 }
 
@@ -368,9 +431,13 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
   const double phase_before = b.phase, beat = beat_frequency(b, social ? seen : nullptr);
   b.phase = std::fmod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
-  time_the_beat(b, w, phase_before, beat, on_legs);
-  b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
-  b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
+  time_the_beat(b, w, phase_before, beat, on_legs, dt);
+  if (c.final) {
+    final_wingbeat(sp, c.energy_error, c.amplitude, c.hover, b.frequency, b.amplitude, dt);
+  } else {
+    b.frequency = on_legs ? sp.f_max : frequency_step(sp, b.frequency, c.energy_error, dt);
+    b.amplitude = on_legs ? sp.amp_max : amplitude_step(sp, b.amplitude, c.energy_error, dt);
+  }
   // The pitch trim integrates the energy balance.
   if (!on_legs)
     b.pitch_trim = std::clamp(b.pitch_trim + sp.balance_gain * c.balance / sp.trim_time * dt,

@@ -74,7 +74,16 @@ void TouchdownWatch::sample(double t, const BirdState& b) {
       d.on_branch = b.mode == FlightMode::perched;
       d.time = t;
       d.at = now.position;
-      if (d.on_branch) d.reach = glm::length(now.position - b.via_point);
+      // Its feet met the branch on its path in that frame: the chord's nearest pass of the point.
+      if (d.on_branch) {
+        const glm::dvec3 chord = now.position - before.position;
+        const double length2 = glm::dot(chord, chord);
+        const double u =
+            length2 > 0.0
+                ? std::clamp(glm::dot(b.via_point - before.position, chord) / length2, 0.0, 1.0)
+                : 0.0;
+        d.reach = glm::length(before.position + u * chord - b.via_point);
+      }
       d.jump = glm::length(now.position - before.position) -
                glm::length(before.velocity) * (t - before.t);
       d.turn_jump =

@@ -13,12 +13,12 @@
 #include <glm/vec3.hpp>
 
 #include "bird.h"
+#include "constants.h"
 
 namespace aeroflock {
 
-// The shortest time the speed before a touch-down is averaged over: a wingbeat period, or this
-// when that is shorter.
-inline constexpr double kTouchdownWindow = 0.1;  // s
+// The speed before a touch-down is averaged over a wingbeat period, or kTouchdownWindow
+// (constants.h) when that is longer.
 // How long after a touch-down its settling is followed.
 inline constexpr double kSettleWatch = 1.0;  // s
 
@@ -26,8 +26,8 @@ struct Touchdown {
   bool on_branch = false;   // perched; else it stood on the ground
   double time = 0.0;        // s: the first sample that holds on
   glm::dvec3 at{0.0};       // cm: its centre then
-  double reach = 0.0;       // cm: on a branch, its centre's distance then from the perch point
-                            // (its feet's from the branch point)
+  double reach = 0.0;       // cm: on a branch, its path's nearest pass of the perch point in the
+                            // frame it gripped in (its feet's of the branch point)
   double jump = 0.0;        // cm: its centre's move into that sample beyond speed x interval
   double mean_speed = 0.0;  // cm/s: its path over the ground over the window before, by its time
   double window = 0.0;      // s: that window, max(1 / frequency, kTouchdownWindow)

@@ -17,6 +17,9 @@ struct Commands {
   float bend, twist;   // where the tail moves to
   float sweep;         // where the wings' sweep moves to
   float incidence;     // the arms' added incidence (braking)
+  bool final;          // hovering onto the perch point (Species::hover_final)
+  float hover;         // how much, in [0, 1] (control.h: hover_share)
+  float amplitude;     // the wingbeat's amplitude this step (the final's answers at once)
   float opening;       // the tail's, eq. 10
   vec3 omega;          // the body rates this step, with the controller's kinematic ones
   bool circling;       // the goal lies inside the full-bank circle
@@ -32,14 +35,26 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   if (!(way.w >= 0.0 && lands_on_ground(s) && !in_air)) goal.y = max(goal.y, ground);
   bool on_legs = b.mode == mode_taking_off;
   bool braking = b.mode == mode_landing;
-  if (braking) goal.y += kFlareAimAbove * s.perch_radius;
+  bool final = braking && way.w >= 0.0 && hovers(s);
+  float to_point = way.w >= 0.0 ? length(way.xz) : -1.0;
+  if (final)
+    goal.y += final_aim(s, to_point);
+  else if (braking)
+    goal.y += kFlareAimAbove * s.perch_radius;
+  else if (way.w >= 0.0 && hovers(s) && !in_air)
+    goal.y += kApproachAbove * s.perch_radius;
   bool fixed_rate = pc.turning == 1u && !braking;
   float to_perch = way.w;  // -1: none
   vec3 wind = step_wind;
   Commands c;
-  c.steering =
-      steer_towards(s, b.attitude, b.position, b.velocity, goal, wind, approach_speed(s, to_perch),
-                    braking, airspeed_command > 0.0 && !on_legs, in_air);
+  c.final = final;
+  float ground_speed = final ? final_speed(s, to_perch, to_point) : approach_speed(s, to_perch);
+  c.steering = steer_towards(s, b.attitude, b.position, b.velocity, goal, wind, ground_speed,
+                             braking, airspeed_command > 0.0 && !on_legs, in_air);
+  if (final && to_point < kHoldHeading * s.perch_radius && !heeds_wind(s, length(wind.xz))) {
+    c.steering.heading_error = 0.0;  // heads on close by the point in calm air
+    c.steering.heading_error_ahead = 0.0;
+  }
   float bank = bank_angle(b.attitude);
   float pitch = pitch_angle(b.attitude);
   bool to_target = to_perch < 0.0 && b.landing_stage == stage_none;
@@ -53,24 +68,43 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   float commanded = commanded_airspeed(s, airspeed_command, c.steering.aim_speed, to_perch >= 0.0);
   Energy e = energy_errors(s, c.steering.height_error, airspeed, commanded, b.position.y - ground,
                            goal.y - ground);
-  c.energy_error = braking ? c.steering.height_error
-                           : e.total + spool_lead(s, b.amplitude, air_climb) +
-                                 (in_air ? speed_lead_error(s, airspeed, b.airspeed_rate) : 0.0);
-  if (pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
+  c.energy_error = final     ? kFinalLead * (final_climb(goal.y - b.position.y,
+                                                         final_aim_rate(s, way.xyz, b.velocity)) -
+                                         b.velocity.y)
+                   : braking ? c.steering.height_error
+                             : e.total + spool_lead(s, b.amplitude, air_climb) +
+                                   (in_air ? speed_lead_error(s, airspeed, b.airspeed_rate) : 0.0);
+  if (!final && pitch > (braking ? s.brake_pitch : s.pitch_max) + kPitchOverrun)
     c.energy_error = min(c.energy_error, 0.0);
   if (pitch < s.pitch_min - kPitchOverrun) c.energy_error = max(c.energy_error, 1.0);
   c.balance = e.balance;
   float flare = braking && to_perch >= 0.0
                     ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
                     : 0.0;
-  c.incidence = s.brake_incidence * flare * min(mode_time(b) / s.bank_time, 1.0);
-  float pitch_command = on_legs   ? pitch  // leaves the ground trimmed
-                        : braking ? flare_pitch(s, b.pitch_trim, flare)
-                                  : commanded_pitch(s, b.pitch_trim, e.balance,
-                                                    b.position.y - ground, goal.y - ground);
-  PitchControl p = pitch_control(s, pitch_command, pitch, pitch_rate(b.attitude, b.omega));
+  // The final hovers at a low airspeed, reading the ground velocity over the last wingbeat.
+  vec2 track = b.velocity.xz;
+  float track_speed = length(track);
+  vec2 beat_track = track_speed > 0.0 ? track * (last_beat_speed(b) / length(b.velocity)) : track;
+  c.hover = final ? hover_share(length(beat_track - wind.xz)) : 0.0;
+  c.incidence = (1.0 - c.hover) * s.brake_incidence * flare * min(mode_time(b) / s.bank_time, 1.0);
+  float hovering = 0.0;
+  if (c.hover > 0.0) {
+    vec2 head = rotate(b.attitude, vec3(1, 0, 0)).xz;
+    vec2 along = length(head) > 0.0 ? head / length(head) : head;
+    float wanted = dot(way.xz, along) < 0.0 ? -kFinalSpeed * s.touchdown_speed : ground_speed;
+    hovering = hover_pitch(length(beat_track - wind.xz), dot(beat_track, along), wanted);
+  }
+  float pitch_command =
+      on_legs   ? pitch  // leaves the ground trimmed
+      : braking ? c.hover * hovering + (1.0 - c.hover) * flare_pitch(s, b.pitch_trim, flare)
+                : max(hovers(s) ? go_round_pitch(s, airspeed) : -kPi,
+                      commanded_pitch(s, b.pitch_trim, e.balance, b.position.y - ground,
+                                      goal.y - ground));
+  PitchControl p = pitch_control(s, pitch_command, pitch,
+                                 (1.0 - kHoverDamping * c.hover) * pitch_rate(b.attitude, b.omega));
   c.bend = p.bend;
   c.sweep = p.sweep;
+  c.amplitude = final ? final_amplitude(s, b.amplitude, c.energy_error) : b.amplitude;
 
   c.omega = b.omega;
   c.circling = false;
@@ -90,10 +124,12 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
                                            goal.y - b.position.y, length(wind.xz));
     if (!(c.circling &&
           float(b.circling_steps) * pc.dt > kCirclingTurn * 2.0 * kPi * circle / speed))
-      bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed);
+      bank_cmd = heading_bank(s, c.steering.heading_error_ahead, distance, speed,
+                              c.hover > 0.5 ? 0.0 : s.dead_band);
   }
   float most = min(ground_bank(s, b.position.y - pc.wind_ground.w),
-                   recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed));
+                   max(recovery_bank(s, pitch, descent_angle(air_climb, airspeed), airspeed),
+                       c.hover * kHoverBank));
   bank_cmd = clamp(bank_cmd, -most, most);
   if (fixed_rate) {
     vec3 world_rate = rotate(b.attitude, c.omega);
@@ -148,7 +184,7 @@ GpuForces forces(GpuBird b, GpuSpecies s, Commands c, GpuPerception seen, bool s
   GpuForces f;
   vec3 body_air = rotate_back(b.attitude, step_wind - b.velocity);
   WingPoint right[2];
-  right_wing_points(s, b.phase, b.amplitude, beat_frequency(b, seen, social), b.sweep, c.incidence,
+  right_wing_points(s, b.phase, c.amplitude, beat_frequency(b, seen, social), b.sweep, c.incidence,
                     right);
   TailGeometry tg = tail_geometry(s, b.tail_bend, b.tail_twist);
   vec3 wake_wing[4] = vec3[4](vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
@@ -289,17 +325,26 @@ void touch_down(inout GpuBird b, GpuSpecies s, GpuRoute r) {
 }
 
 // step.cpp: time_the_beat.
-void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs) {
+void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs, float dt) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
-  } else if (b.phase < phase_before) {
+    b.beat_path = 0.0;
+    b.beat_speed = 0.0;
+    return;
+  }
+  precise float path = b.beat_path + length(b.velocity) * dt;
+  b.beat_path = path;
+  if (b.phase < phase_before) {
     float airspeed = length(b.velocity - wind_at(b.position.y));
     if (b.beat_airspeed > 0.0) {
       precise float rate = (airspeed - b.beat_airspeed) * beat;
       b.airspeed_rate = rate;
     }
     b.beat_airspeed = airspeed;
+    precise float mean = b.beat_path * beat;
+    b.beat_speed = mean;
+    b.beat_path = 0.0;
   }
 }
 
@@ -372,9 +417,16 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
 
   float phase_before = b.phase, beat = beat_frequency(b, seen, social);
   b.phase = mod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
-  time_the_beat(b, phase_before, beat, on_legs);
-  b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
-  b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
+  time_the_beat(b, phase_before, beat, on_legs, dt);
+  if (c.final) {
+    float frequency = b.frequency, amplitude = b.amplitude;
+    final_wingbeat(s, c.energy_error, c.amplitude, c.hover, frequency, amplitude, dt);
+    b.frequency = frequency;
+    b.amplitude = amplitude;
+  } else {
+    b.frequency = on_legs ? s.f_max : frequency_step(s, b.frequency, c.energy_error, dt);
+    b.amplitude = on_legs ? s.amp_max : amplitude_step(s, b.amplitude, c.energy_error, dt);
+  }
   if (!on_legs)
     b.pitch_trim = clamp(b.pitch_trim + s.balance_gain * c.balance / s.trim_time * dt, s.pitch_min,
                          s.pitch_max);

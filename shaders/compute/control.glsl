@@ -155,6 +155,61 @@ float flare_pitch(GpuSpecies s, float pitch_trim, float share) {
   return clamp(pitch_trim + (s.brake_pitch - pitch_trim) * share, s.pitch_min, s.brake_pitch);
 }
 
+// control.h: the hovering final.
+bool hovers(GpuSpecies s) { return s.hover_final != 0.0; }
+
+float final_aim(GpuSpecies s, float to_point) {
+  float u = clamp((to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo), 0.0, 1.0);
+  return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
+}
+
+float final_aim_rate(GpuSpecies s, vec3 way, vec3 velocity) {
+  float d = length(way.xz);
+  float u = (d / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+  if (!(u > 0.0 && u < 1.0)) return 0.0;
+  float closing = dot(way.xz, velocity.xz) / d;
+  return -(kApproachAbove - kEndAbove) * 6.0 * u * (1.0 - u) / (kFinalFrom - kFinalTo) * closing;
+}
+
+float final_speed(GpuSpecies s, float to_perch, float to_point) {
+  float end = kFinalSpeed * s.touchdown_speed;
+  return min(approach_speed(s, to_perch),
+             sqrt(end * end + 2.0 * kFinalDecel * s.brake_decel * to_point));
+}
+
+float final_climb(float height_error, float aim_rate) {
+  float sink = sqrt(2.0 * kFinalSinkDecel * max(-height_error, 0.0));
+  return clamp(kFinalClimbGain * height_error, -sink, kFinalClimbMax) + aim_rate;
+}
+
+float hover_share(float airspeed) {
+  return clamp((kHoverAirspeed - airspeed) / kHoverBand, 0.0, 1.0);
+}
+
+float hover_pitch(float airspeed, float along, float wanted) {
+  float up = min(atan_p(kHoverLift / (airspeed + kHoverLiftSpeed)), kHoverBasePitch);
+  return clamp(up + kHoverPitchGain * (along - wanted), 0.0, kHoverPitchMax);
+}
+
+float final_amplitude(GpuSpecies s, float amplitude, float energy_error) {
+  return clamp(amplitude + kFinalAmplitudeGain * energy_error, s.amp_min, s.amp_max);
+}
+
+void final_wingbeat(GpuSpecies s, float energy_error, float used, float hover,
+                    inout float frequency, inout float amplitude, float dt) {
+  float share = clamp(energy_error / (kFinalBand * s.perch_radius), -1.0, 1.0);
+  amplitude = clamp(amplitude + kFinalAmplitudeRate * s.K_a * share * dt, s.amp_min, s.amp_max);
+  float range = s.amp_max - s.amp_min;
+  float trim = clamp((used - s.amp_min - kFinalTrimLow * range) / (0.1 * range), -1.0, 1.0);
+  float rate = hover > 0.5 ? kFinalFrequencyRate : kFinalTrimRate * trim;
+  frequency = clamp(frequency + rate * s.K_f * dt, s.f_min, s.f_max);
+}
+
+float go_round_pitch(GpuSpecies s, float airspeed) {
+  float share = 1.0 - airspeed / (0.5 * s.min_speed);
+  return share > 0.0 ? s.brake_pitch * min(share, 1.0) : -kPi;
+}
+
 PitchControl pitch_control(GpuSpecies s, float pitch_command, float pitch, float rate) {
   float error = pitch_command - pitch - s.pitch_damping * rate;
   float beyond = error - clamp(error, -s.pitch_band, s.pitch_band);
@@ -197,8 +252,9 @@ bool circles_goal(float heading_error, float distance, float radius, float speed
 }
 
 float coordinated_bank(GpuSpecies s, float turn_rate, float speed);  // declared ahead (control.h)
-float heading_bank(GpuSpecies s, float heading_error, float distance, float speed) {
-  if (abs(heading_error) <= s.dead_band) return 0.0;
+float heading_bank(GpuSpecies s, float heading_error, float distance, float speed,
+                   float dead_band) {
+  if (abs(heading_error) <= dead_band) return 0.0;
   if (abs(heading_error) >= 0.5 * kPi) return heading_error > 0.0 ? s.bank_max : -s.bank_max;
   float rate = heading_error / s.turn_time;
   float tightest = speed * speed / (kGravity * s.tan_bank_max);

@@ -187,6 +187,14 @@ vec4 way_to_perch(GpuBird b, GpuSpecies s, GpuRoute r) {
   return vec4(way, length(way));
 }
 
+float last_beat_speed(GpuBird b) {
+  if (!(b.frequency > 0.0)) return length(b.velocity);
+  float period = 1.0 / b.frequency;
+  float window = max(period, kTouchdownWindow);
+  float into = min(b.phase / (2.0 * kPi) * period, period);
+  return (b.beat_path + b.beat_speed * (window - into)) / window;
+}
+
 bool braking_due(GpuSpecies s, GpuBird b, vec3 to_perch, vec3 wind, float distance) {
   return flare_share(s, length(b.velocity - wind), perch_airspeed(s, to_perch, wind), distance) >=
          kBrakeShare;
@@ -198,7 +206,10 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
   uint branch = br - 1u;
   vec3 to_perch = perch_point(b, s, branch) - b.position;
   float d = length(to_perch);
-  if (d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed) {
+  bool grips = hovers(s)
+                   ? d <= kGripReach * s.stand_height && last_beat_speed(b) <= s.touchdown_speed
+                   : d <= s.perch_radius && length(b.velocity) <= s.touchdown_speed;
+  if (grips) {
     perch(b, s, branch);
     return true;
   }
@@ -208,7 +219,8 @@ bool approach_branch(inout GpuBird b, GpuSpecies s, GpuRoute r) {
     b.mode_steps = 0u;
     b.landing_stage = stage_none;
   } else if (b.mode == mode_flying && closing && b.landing_stage != stage_gate &&
-             (d <= s.brake_distance || braking_due(s, b, to_perch, step_wind, d))) {
+             (d <= (hovers(s) ? kHoverBrakeDistances : 1.0) * s.brake_distance ||
+              braking_due(s, b, to_perch, step_wind, d))) {
     b.mode = mode_landing;
     b.mode_steps = 0u;
   }
