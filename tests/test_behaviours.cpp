@@ -1089,8 +1089,10 @@ TEST(BranchLanding, LandsIntoTheWind) {
     int go_rounds = 0;
     FlightMode last_mode = FlightMode::flying;
     dvec3 last_velocity{0.0};
+    TouchdownWatch watch;
     run(sim, 60.0, [&](Simulation& s) {
       const BirdState& b = s.birds()[0];
+      watch.sample(s.time(), b);
       go_rounds += last_mode == FlightMode::landing && b.mode == FlightMode::flying;
       touched_down = touched_down || b.mode == FlightMode::standing;
       last_mode = b.mode;
@@ -1128,6 +1130,21 @@ TEST(BranchLanding, LandsIntoTheWind) {
     EXPECT_LE(slowest_grip, scenario.species[0].touchdown_speed)
         << "a frame (0.03 s) before the grip it is already slow";
     EXPECT_LT(degrees(worst_pitch), 60.0);
+    // Issue 40: its feet meet the branch point, slowly over its last wingbeat, and it settles
+    // without a jump.
+    ASSERT_FALSE(watch.touchdowns().empty()) << wind_speed << " cm/s";
+    const Touchdown& d = watch.touchdowns()[0];
+    const Species& sp = scenario.species[0];
+    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_reach_cm",
+                   std::to_string(d.reach));
+    RecordProperty("wind_" + std::to_string(int(wind_speed / 100.0)) + "_mean_speed_m_s",
+                   std::to_string(d.mean_speed / 100.0));
+    EXPECT_TRUE(d.on_branch) << wind_speed << " cm/s";
+    EXPECT_LE(d.reach, kGripReach * sp.stand_height) << wind_speed << " cm/s";
+    EXPECT_LE(d.mean_speed, sp.touchdown_speed) << wind_speed << " cm/s";
+    EXPECT_LE(d.jump, 1.0) << wind_speed << " cm/s";
+    EXPECT_LE(d.speed_fall, 3000.0) << wind_speed << " cm/s";
+    EXPECT_LE(d.turn_rate, radians(90.0)) << wind_speed << " cm/s";
   }
 }
 
