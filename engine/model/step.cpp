@@ -125,10 +125,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   // to the profile's (final_speed: towards the point, or back to it once past), with the wings at
   // their own incidence; faster through the air it flares. Both read the ground velocity over its
   // last wingbeat (its speed then, its direction now), not a wingbeat's surge.
-  const dvec3 track = horizontal(b.velocity);
-  const double track_speed = glm::length(track);
-  const dvec3 beat_track =
-      track_speed > 0.0 ? track * (last_beat_speed(b) / glm::length(b.velocity)) : track;
+  dvec3 beat_track = horizontal(b.velocity);
+  if (final && glm::length(beat_track) > 0.0)
+    beat_track *= last_beat_speed(b) / glm::length(b.velocity);
   c.hover = final ? hover_share(glm::length(beat_track - horizontal(wind))) : 0.0;
   c.incidence =
       (1.0 - c.hover) * sp.brake_incidence * flare * std::min(mode_time(b, dt) / sp.bank_time, 1.0);
@@ -348,10 +347,10 @@ void touch_down(BirdState& b, const Species& sp, const World& w, double dt) {
 
 // As a wingbeat begins (its phase passing 2 pi at `beat` Hz), the airspeed's rate over the beat
 // that ended (speed_lead_error); on its legs none.
-// Its path over the ground through the beat, and as a beat ends its mean speed over it
-// (route.h: last_beat_speed).
+// A bird that hovers onto its branch (`hovers`): its path over the ground through the beat, and
+// as a beat ends its mean speed over it (route.h: last_beat_speed).
 void time_the_beat(BirdState& b, const World& w, double phase_before, double beat, bool on_legs,
-                   double dt) {
+                   bool hovers, double dt) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
@@ -359,7 +358,7 @@ void time_the_beat(BirdState& b, const World& w, double phase_before, double bea
     b.beat_speed = 0.0;
     return;
   }
-  b.beat_path += glm::length(b.velocity) * dt;
+  if (hovers) b.beat_path += glm::length(b.velocity) * dt;
   if (b.phase < phase_before) {
     const double airspeed = glm::length(b.velocity - wind_at(w, b.position.y));
     if (b.beat_airspeed > 0.0) b.airspeed_rate = (airspeed - b.beat_airspeed) * beat;
@@ -431,7 +430,7 @@ void advance(BirdState& b, const Species& sp, const World& w, uint64_t step, dou
   // The wingbeat, eqs. 4, 5 (wings at full power on the legs) and the tail, to t + dt.
   const double phase_before = b.phase, beat = beat_frequency(b, social ? seen : nullptr);
   b.phase = std::fmod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
-  time_the_beat(b, w, phase_before, beat, on_legs, dt);
+  time_the_beat(b, w, phase_before, beat, on_legs, hovers(sp), dt);
   if (c.final) {
     final_wingbeat(sp, c.energy_error, c.amplitude, c.hover, b.frequency, b.amplitude, dt);
   } else {

@@ -82,9 +82,8 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
                     ? flare_share(s, airspeed, perch_airspeed(s, way.xyz, wind), to_perch)
                     : 0.0;
   // The final hovers at a low airspeed, reading the ground velocity over the last wingbeat.
-  vec2 track = b.velocity.xz;
-  float track_speed = length(track);
-  vec2 beat_track = track_speed > 0.0 ? track * (last_beat_speed(b) / length(b.velocity)) : track;
+  vec2 beat_track = b.velocity.xz;
+  if (final && length(beat_track) > 0.0) beat_track *= last_beat_speed(b) / length(b.velocity);
   c.hover = final ? hover_share(length(beat_track - wind.xz)) : 0.0;
   c.incidence = (1.0 - c.hover) * s.brake_incidence * flare * min(mode_time(b) / s.bank_time, 1.0);
   float hovering = 0.0;
@@ -325,7 +324,8 @@ void touch_down(inout GpuBird b, GpuSpecies s, GpuRoute r) {
 }
 
 // step.cpp: time_the_beat.
-void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs, float dt) {
+void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs, bool hovers,
+                   float dt) {
   if (on_legs) {
     b.beat_airspeed = 0.0;
     b.airspeed_rate = 0.0;
@@ -333,8 +333,10 @@ void time_the_beat(inout GpuBird b, float phase_before, float beat, bool on_legs
     b.beat_speed = 0.0;
     return;
   }
-  precise float path = b.beat_path + length(b.velocity) * dt;
-  b.beat_path = path;
+  if (hovers) {
+    precise float path = b.beat_path + length(b.velocity) * dt;
+    b.beat_path = path;
+  }
   if (b.phase < phase_before) {
     float airspeed = length(b.velocity - wind_at(b.position.y));
     if (b.beat_airspeed > 0.0) {
@@ -417,7 +419,7 @@ GpuForces step_bird(inout GpuBird b, GpuSpecies s, inout Leg leg, float dt, GpuP
 
   float phase_before = b.phase, beat = beat_frequency(b, seen, social);
   b.phase = mod(b.phase + 2.0 * kPi * beat * dt, 2.0 * kPi);
-  time_the_beat(b, phase_before, beat, on_legs, dt);
+  time_the_beat(b, phase_before, beat, on_legs, hovers(s), dt);
   if (c.final) {
     float frequency = b.frequency, amplitude = b.amplitude;
     final_wingbeat(s, c.energy_error, c.amplitude, c.hover, frequency, amplitude, dt);
