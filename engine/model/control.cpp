@@ -182,15 +182,22 @@ double flare_pitch(const Species& s, double pitch_trim, double share) {
 
 bool hovers(const Species& s) { return s.hover_final != 0.0; }
 
+namespace {
+// How far along the final's aim a bird `to_point` from the point is: 0 at kFinalTo perch radii, 1
+// at kFinalFrom (unclamped).
+double final_share(const Species& s, double to_point) {
+  return (to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+}
+}  // namespace
+
 double final_aim(const Species& s, double to_point) {
-  const double u =
-      std::clamp((to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo), 0.0, 1.0);
+  const double u = std::clamp(final_share(s, to_point), 0.0, 1.0);
   return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
 }
 
 double final_aim_rate(const Species& s, const dvec3& way, const dvec3& velocity) {
   const double d = glm::length(horizontal(way));
-  const double u = (d / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+  const double u = final_share(s, d);
   if (!(u > 0.0 && u < 1.0)) return 0.0;
   const double closing = glm::dot(horizontal(way), horizontal(velocity)) / d;
   return -(kApproachAbove - kEndAbove) * 6.0 * u * (1.0 - u) / (kFinalFrom - kFinalTo) * closing;
@@ -225,6 +232,7 @@ void final_wingbeat(const Species& s, double energy_error, double used, double h
   const double share = std::clamp(energy_error / (kFinalBand * s.perch_radius), -1.0, 1.0);
   amplitude =
       std::clamp(amplitude + kFinalAmplitudeRate * s.K_a * share * dt, s.amp_min, s.amp_max);
+  // The frequency trims within a band a tenth of the amplitude's range wide.
   const double range = s.amp_max - s.amp_min;
   const double trim =
       std::clamp((used - s.amp_min - kFinalTrimLow * range) / (0.1 * range), -1.0, 1.0);

@@ -128,7 +128,8 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   dvec3 beat_track = horizontal(b.velocity);
   if (final && glm::length(beat_track) > 0.0)
     beat_track *= last_beat_speed(b) / glm::length(b.velocity);
-  c.hover = final ? hover_share(glm::length(beat_track - horizontal(wind))) : 0.0;
+  const double hover_airspeed = glm::length(beat_track - horizontal(wind));
+  c.hover = final ? hover_share(hover_airspeed) : 0.0;
   c.incidence =
       (1.0 - c.hover) * sp.brake_incidence * flare * std::min(mode_time(b, dt) / sp.bank_time, 1.0);
   double hovering = 0.0;
@@ -137,8 +138,7 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
     const dvec3 along = glm::length(head) > 0.0 ? head / glm::length(head) : head;
     const double wanted =
         glm::dot(horizontal(*way), along) < 0.0 ? -kFinalSpeed * sp.touchdown_speed : ground_speed;
-    hovering = hover_pitch(glm::length(beat_track - horizontal(wind)), glm::dot(beat_track, along),
-                           wanted);
+    hovering = hover_pitch(hover_airspeed, glm::dot(beat_track, along), wanted);
   }
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up. Going round from a hover it keeps its

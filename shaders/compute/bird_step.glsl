@@ -84,14 +84,15 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   // The final hovers at a low airspeed, reading the ground velocity over the last wingbeat.
   vec2 beat_track = b.velocity.xz;
   if (final && length(beat_track) > 0.0) beat_track *= last_beat_speed(b) / length(b.velocity);
-  c.hover = final ? hover_share(length(beat_track - wind.xz)) : 0.0;
+  float hover_airspeed = length(beat_track - wind.xz);
+  c.hover = final ? hover_share(hover_airspeed) : 0.0;
   c.incidence = (1.0 - c.hover) * s.brake_incidence * flare * min(mode_time(b) / s.bank_time, 1.0);
   float hovering = 0.0;
   if (c.hover > 0.0) {
     vec2 head = rotate(b.attitude, vec3(1, 0, 0)).xz;
     vec2 along = length(head) > 0.0 ? head / length(head) : head;
     float wanted = dot(way.xz, along) < 0.0 ? -kFinalSpeed * s.touchdown_speed : ground_speed;
-    hovering = hover_pitch(length(beat_track - wind.xz), dot(beat_track, along), wanted);
+    hovering = hover_pitch(hover_airspeed, dot(beat_track, along), wanted);
   }
   float pitch_command =
       on_legs   ? pitch  // leaves the ground trimmed

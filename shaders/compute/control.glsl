@@ -158,14 +158,18 @@ float flare_pitch(GpuSpecies s, float pitch_trim, float share) {
 // control.h: the hovering final.
 bool hovers(GpuSpecies s) { return s.hover_final != 0.0; }
 
+float final_share(GpuSpecies s, float to_point) {
+  return (to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+}
+
 float final_aim(GpuSpecies s, float to_point) {
-  float u = clamp((to_point / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo), 0.0, 1.0);
+  float u = clamp(final_share(s, to_point), 0.0, 1.0);
   return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
 }
 
 float final_aim_rate(GpuSpecies s, vec3 way, vec3 velocity) {
   float d = length(way.xz);
-  float u = (d / s.perch_radius - kFinalTo) / (kFinalFrom - kFinalTo);
+  float u = final_share(s, d);
   if (!(u > 0.0 && u < 1.0)) return 0.0;
   float closing = dot(way.xz, velocity.xz) / d;
   return -(kApproachAbove - kEndAbove) * 6.0 * u * (1.0 - u) / (kFinalFrom - kFinalTo) * closing;
