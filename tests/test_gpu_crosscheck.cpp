@@ -41,7 +41,8 @@ using glm::dvec3;
 // The state as the GPU holds it: every value rounded to float.
 BirdState rounded(const BirdState& b) { return gpu::unpack(gpu::pack(b)); }
 
-// A world with a target route and a landing route, for both species.
+// A world with a target route and a landing route, for the paper starling and the real one (its
+// hovering final steers against its drift and quickens its wingbeat: Species::final_track_lead).
 Scenario probe_scenario() {
   return parse_scenario(R"(
 [[targets]]
@@ -68,6 +69,10 @@ branch = "oak"
 species = "starling"
 route = "tour"
 centre = [0.0, 3000.0, 0.0]
+[[flocks]]
+species = "european_starling"
+route = "perch"
+centre = [0.0, 3000.0, 0.0]
 )",
                         "probe.toml");
 }
@@ -82,7 +87,7 @@ std::vector<BirdState> random_birds(const Scenario& s, size_t count, uint64_t se
   std::vector<BirdState> birds;
   for (size_t i = 0; i < count; ++i) {
     BirdState b;
-    b.species = static_cast<uint32_t>(i % s.species.size());
+    b.species = static_cast<uint32_t>(i / 12 % s.species.size());  // each kind below for each
     const Species& sp = s.species[b.species];
     b.route = 0;
     b.target = static_cast<uint32_t>(i / 2 % 2);
@@ -495,15 +500,6 @@ TEST_P(GpuEnvelope, SameOutcomesAsTheReference) {
   size_t same = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     same += a[i].outcome == b[i].outcome;
-    if (pass_decided_by_rounding(b[i], sp)) {
-      // Going round again and again for up to 60 s, the two backends' rounding flips which pass
-      // perches: each within the limits, perched or still trying.
-      for (const EnvelopeResult* r : {&a[i], &b[i]})
-        EXPECT_TRUE(r->outcome == Outcome::reached || r->outcome == Outcome::late)
-            << cases[i].describe() << ": " << name(r->outcome);
-      expect_smooth_touchdown(b[i], sp);
-      continue;
-    }
     EXPECT_EQ(a[i].outcome, b[i].outcome) << cases[i].describe() << ": cpu " << name(a[i].outcome)
                                           << ", vulkan " << name(b[i].outcome);
     expect_smooth_touchdown(b[i], sp);

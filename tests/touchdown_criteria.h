@@ -3,7 +3,7 @@
 // the body turning at no more than 90 degrees/s over each 30 ms frame. A bird that hovers onto its
 // branch (Species::hover_final) grips where its feet meet the branch point (its path within
 // kGripReach stand_height of the perch point) at a mean speed over the ground of at most
-// touchdown_speed over the wingbeat (or 100 ms) before it. Not yet: the flaring species' grip
+// touchdown_speed over the wingbeat (or 100 ms) before it. Not yet: the flaring eagle's grip
 // (docs/VALIDATION.md).
 #pragma once
 
@@ -19,15 +19,6 @@ namespace aeroflock {
 // site and touch down on it (route.h: lands_on_ground).
 inline bool ground_landing(const EnvelopeResult& r, const Species& species) {
   return r.c.kind == EnvelopeCase::Kind::landing && species.perches == 0.0;
-}
-
-// Landings that go round and round, so that which pass perches within the 60 s is a matter of
-// rounding between the backends: the real starling's on a branch in calm air (issue 41: on Vulkan
-// at the fast step 2 of its 16 were still going round at 60 s where the CPU perched;
-// docs/MODEL.md "The European starling"). Each is held to the limits, perched or still trying.
-inline bool pass_decided_by_rounding(const EnvelopeResult& r, const Species& species) {
-  return r.c.kind == EnvelopeCase::Kind::landing && species.name == "european_starling" &&
-         r.c.crosswind == 0.0;
 }
 
 // The first touch-down's, on a branch or on the ground (a migrant's landings too: since its legs

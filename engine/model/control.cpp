@@ -195,6 +195,16 @@ double final_aim(const Species& s, double to_point) {
   return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
 }
 
+dvec3 final_track(const Species& s, const dvec3& way, const dvec3& velocity) {
+  const double d = glm::length(horizontal(way));
+  // Within kHoldHeading radii it heads on (in a wind, for the point itself).
+  if (!(s.final_track_lead > 0.0 && d > kHoldHeading * s.perch_radius)) return dvec3{0.0};
+  const dvec3 to = horizontal(way) / d;
+  const dvec3 across = horizontal(velocity) - to * glm::dot(horizontal(velocity), to);
+  return -across *
+         std::min(s.final_track_lead, d / std::max(glm::length(horizontal(velocity)), 1.0));
+}
+
 double final_aim_rate(const Species& s, const dvec3& way, const dvec3& velocity) {
   const double d = glm::length(horizontal(way));
   const double u = final_share(s, d);
@@ -236,7 +246,9 @@ void final_wingbeat(const Species& s, double energy_error, double used, double h
   const double range = s.amp_max - s.amp_min;
   const double trim =
       std::clamp((used - s.amp_min - kFinalTrimLow * range) / (0.1 * range), -1.0, 1.0);
-  const double rate = hover > 0.5 ? kFinalFrequencyRate : kFinalTrimRate * trim;
+  // At full amplitude and still short of its climb, a bird that may (final_beats_faster) quickens.
+  const bool quickens = s.final_beats_faster != 0.0 && used >= s.amp_max && share > 0.0;
+  const double rate = hover > 0.5 || quickens ? kFinalFrequencyRate : kFinalTrimRate * trim;
   frequency = std::clamp(frequency + rate * s.K_f * dt, s.f_min, s.f_max);
 }
 

@@ -186,6 +186,9 @@ bool hovers(const Species& s);
 // How far above the perch point it aims braking, `to_point` (cm) from it horizontally: a smoothstep
 // from kApproachAbove perch radii at kFinalFrom radii to kEndAbove radii at kFinalTo radii.
 double final_aim(const Species& s, double to_point);
+// Where it aims across its way to the point (cm, horizontal, added to the point): against its drift
+// across that way, by where the drift takes it in final_track_lead (or before it arrives).
+glm::dvec3 final_track(const Species& s, const glm::dvec3& way, const glm::dvec3& velocity);
 // How fast that aim moves up (cm/s, < 0 as it falls) for a bird flying at `velocity`, `way` from
 // the point.
 double final_aim_rate(const Species& s, const glm::dvec3& way, const glm::dvec3& velocity);

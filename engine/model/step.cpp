@@ -54,9 +54,10 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
   // Hovering onto it (the final), it aims above by less and less, and on its way in already above.
   const bool final = braking && way && hovers(sp);
   const double to_point = way ? glm::length(horizontal(*way)) : -1.0;
-  if (final)
+  if (final) {
     goal.y += final_aim(sp, to_point);
-  else if (braking)
+    goal += final_track(sp, *way, b.velocity);
+  } else if (braking)
     goal.y += kFlareAimAbove * sp.perch_radius;
   else if (way && hovers(sp) && !in_air)
     goal.y += kApproachAbove * sp.perch_radius;

@@ -37,9 +37,10 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   bool braking = b.mode == mode_landing;
   bool final = braking && way.w >= 0.0 && hovers(s);
   float to_point = way.w >= 0.0 ? length(way.xz) : -1.0;
-  if (final)
+  if (final) {
     goal.y += final_aim(s, to_point);
-  else if (braking)
+    goal += final_track(s, way.xyz, b.velocity);
+  } else if (braking)
     goal.y += kFlareAimAbove * s.perch_radius;
   else if (way.w >= 0.0 && hovers(s) && !in_air)
     goal.y += kApproachAbove * s.perch_radius;

@@ -167,6 +167,15 @@ float final_aim(GpuSpecies s, float to_point) {
   return s.perch_radius * (kEndAbove + (kApproachAbove - kEndAbove) * u * u * (3.0 - 2.0 * u));
 }
 
+vec3 final_track(GpuSpecies s, vec3 way, vec3 velocity) {
+  float d = length(way.xz);
+  // Within kHoldHeading radii it heads on (in a wind, for the point itself).
+  if (!(s.final_track_lead > 0.0 && d > kHoldHeading * s.perch_radius)) return vec3(0.0);
+  vec3 to = horizontal(way) / d;
+  vec3 across = horizontal(velocity) - to * dot(horizontal(velocity), to);
+  return -across * min(s.final_track_lead, d / max(length(velocity.xz), 1.0));
+}
+
 float final_aim_rate(GpuSpecies s, vec3 way, vec3 velocity) {
   float d = length(way.xz);
   float u = final_share(s, d);
@@ -205,7 +214,9 @@ void final_wingbeat(GpuSpecies s, float energy_error, float used, float hover,
   amplitude = clamp(amplitude + kFinalAmplitudeRate * s.K_a * share * dt, s.amp_min, s.amp_max);
   float range = s.amp_max - s.amp_min;
   float trim = clamp((used - s.amp_min - kFinalTrimLow * range) / (0.1 * range), -1.0, 1.0);
-  float rate = hover > 0.5 ? kFinalFrequencyRate : kFinalTrimRate * trim;
+  // At full amplitude and still short of its climb, a bird that may (final_beats_faster) quickens.
+  bool quickens = s.final_beats_faster != 0.0 && used >= s.amp_max && share > 0.0;
+  float rate = hover > 0.5 || quickens ? kFinalFrequencyRate : kFinalTrimRate * trim;
   frequency = clamp(frequency + rate * s.K_f * dt, s.f_min, s.f_max);
 }
 
