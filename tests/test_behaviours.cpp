@@ -1015,6 +1015,7 @@ TEST(BranchLanding, TheRealStarlingHoversOntoThePointFromEverySide) {
       ASSERT_TRUE(is_finite(b)) << cases[i].describe();
     }
   }
+  EXPECT_TRUE(done()) << "every bird judged and settled";
   double reach = 0.0, mean = 0.0;
   for (size_t i = 0; i < cases.size(); ++i) {
     EnvelopeResult& r = results[i];

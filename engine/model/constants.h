@@ -117,8 +117,9 @@ AF_REAL(kFinalSpeed, 0.6)
 // a sink no faster than it can stop at kFinalSinkDecel (cm/s^2) by its aim; the wingbeat's error
 // is the height that climb's error makes in kFinalLead (s). The amplitude answers it at once by
 // kFinalAmplitudeGain per cm, about a part that integrates it at kFinalAmplitudeRate K_a within a
-// band of kFinalBand perch radii; the frequency rises at kFinalFrequencyRate K_f hovering, else
-// trims at kFinalTrimRate K_f to keep the amplitude kFinalTrimLow of its range above amp_min.
+// band of kFinalBand perch radii; the frequency rises at kFinalFrequencyRate K_f hovering (and at
+// full amplitude short of its climb, Species::final_beats_faster), else trims at kFinalTrimRate K_f
+// to keep the amplitude kFinalTrimLow of its range above amp_min.
 AF_REAL(kFinalClimbGain, 4.0)
 AF_REAL(kFinalClimbMax, 100.0)
 AF_REAL(kFinalSinkDecel, 50.0)

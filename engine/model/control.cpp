@@ -197,11 +197,14 @@ double final_aim(const Species& s, double to_point) {
 
 dvec3 final_track(const Species& s, const dvec3& way, const dvec3& velocity) {
   const double d = glm::length(horizontal(way));
-  // Within kHoldHeading radii it heads on (in a wind, for the point itself).
-  if (!(s.final_track_lead > 0.0 && d > kHoldHeading * s.perch_radius)) return dvec3{0.0};
+  // Within kHoldHeading radii it heads on (in a wind, for the point itself); the aim fades in over
+  // the next kHoldHeading radii out.
+  const double hold = kHoldHeading * s.perch_radius;
+  const double fade = std::clamp((d - hold) / hold, 0.0, 1.0);
+  if (!(s.final_track_lead > 0.0 && fade > 0.0)) return dvec3{0.0};
   const dvec3 to = horizontal(way) / d;
   const dvec3 across = horizontal(velocity) - to * glm::dot(horizontal(velocity), to);
-  return -across *
+  return -across * fade *
          std::min(s.final_track_lead, d / std::max(glm::length(horizontal(velocity)), 1.0));
 }
 

@@ -187,7 +187,8 @@ bool hovers(const Species& s);
 // from kApproachAbove perch radii at kFinalFrom radii to kEndAbove radii at kFinalTo radii.
 double final_aim(const Species& s, double to_point);
 // Where it aims across its way to the point (cm, horizontal, added to the point): against its drift
-// across that way, by where the drift takes it in final_track_lead (or before it arrives).
+// across that way, by where the drift takes it in final_track_lead (or before it arrives); none
+// within kHoldHeading perch radii, fading in over as many again.
 glm::dvec3 final_track(const Species& s, const glm::dvec3& way, const glm::dvec3& velocity);
 // How fast that aim moves up (cm/s, < 0 as it falls) for a bird flying at `velocity`, `way` from
 // the point.
@@ -210,8 +211,9 @@ double hover_pitch(double airspeed, double along, double wanted);
 double final_amplitude(const Species& s, double amplitude, double energy_error);
 // Its wingbeat after a step `dt`: the amplitude's integral part follows the error (cm) at
 // kFinalAmplitudeRate K_a within kFinalBand perch radii; the frequency rises at
-// kFinalFrequencyRate K_f hovering (share > 0.5), else trims the amplitude used (`used`) towards
-// kFinalTrimLow of its range at kFinalTrimRate K_f.
+// kFinalFrequencyRate K_f hovering (share > 0.5) or, with final_beats_faster, at full amplitude
+// short of its climb; else trims the amplitude used (`used`) towards kFinalTrimLow of its range at
+// kFinalTrimRate K_f.
 void final_wingbeat(const Species& s, double energy_error, double used, double hover,
                     double& frequency, double& amplitude, double dt);
 // The lowest pitch it commands going round from a hover at `airspeed` (cm/s): brake_pitch at

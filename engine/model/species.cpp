@@ -195,8 +195,8 @@ Species european_starling() {
   s.name = "european_starling";
   // It hovers onto the branch point as the paper starling does; its grip's reach (2 cm) is 0.4 of
   // the paper starling's: it steers against its drift across its way in (at 0.6 s of lead; without,
-  // 12 cm wide of the point in calm air from 45 degrees off), and at full amplitude still short of
-  // its climb it beats faster (without, 4 of its 48 landings went round for good).
+  // 12 cm wide of the point in calm air from 45-135 degrees off), and at full amplitude still short
+  // of its climb it beats faster (without, 4 of its 48 landings went round for good).
   s.hover_final = 1;
   s.final_track_lead = 0.6;
   s.final_beats_faster = 1;

@@ -169,11 +169,14 @@ float final_aim(GpuSpecies s, float to_point) {
 
 vec3 final_track(GpuSpecies s, vec3 way, vec3 velocity) {
   float d = length(way.xz);
-  // Within kHoldHeading radii it heads on (in a wind, for the point itself).
-  if (!(s.final_track_lead > 0.0 && d > kHoldHeading * s.perch_radius)) return vec3(0.0);
+  // Within kHoldHeading radii it heads on (in a wind, for the point itself); the aim fades in over
+  // the next kHoldHeading radii out.
+  float hold = kHoldHeading * s.perch_radius;
+  float fade = clamp((d - hold) / hold, 0.0, 1.0);
+  if (!(s.final_track_lead > 0.0 && fade > 0.0)) return vec3(0.0);
   vec3 to = horizontal(way) / d;
   vec3 across = horizontal(velocity) - to * dot(horizontal(velocity), to);
-  return -across * min(s.final_track_lead, d / max(length(velocity.xz), 1.0));
+  return -across * fade * min(s.final_track_lead, d / max(length(velocity.xz), 1.0));
 }
 
 float final_aim_rate(GpuSpecies s, vec3 way, vec3 velocity) {
