@@ -277,8 +277,9 @@ TEST_P(MovedCalibrations, StillFliesTheGrid) {
   ASSERT_EQ(cases.size(), 396u);
   Species s = GetParam().preset();
   GetParam().apply(s);
-  // The hovering final is calibrated for the starling as it is: moved, it flares (hovering, 0-14
-  // of its 16 landings in calm air perched: docs/MODEL.md "The hovering final").
+  // The hovering final is calibrated for each preset as it is: moved, it flares (hovering, 0-14 of
+  // the starling's 16 landings in calm air perched, and 41-44 of the eagle's 48 with its mass or
+  // its lead-lag moved: docs/MODEL.md "The hovering final").
   s.hover_final = 0;
   for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
     EXPECT_EQ(r.outcome, Outcome::reached)

@@ -133,19 +133,23 @@ AF_REAL(kFinalTrimLow, 0.15)
 // It hovers below kHoverAirspeed (cm/s, fully kHoverBand below it): the pitch at which the full
 // wingbeat's force points up (trim.h: about atan(kHoverLift / (airspeed + kHoverLiftSpeed)),
 // alike for the presets), at most kHoverBasePitch, plus kHoverPitchGain (rad per cm/s) of its
-// speed along its head beyond the profile's, at most kHoverPitchMax; its pitch damping falls by
-// kHoverDamping (the wingbeat swings the pitch rate within each beat); it banks up to kHoverBank
-// steep as it is, and heads on within kHoldHeading perch radii of the point in calm air.
+// speed along its head beyond the profile's, at most Species::hover_pitch_max; its pitch damping
+// falls by kHoverDamping (the wingbeat swings the pitch rate within each beat); it banks up to
+// kHoverBank steep as it is, and heads on within kHoldHeading perch radii of the point in calm air.
 AF_REAL(kHoverAirspeed, 400.0)
 AF_REAL(kHoverBand, 150.0)
 AF_REAL(kHoverLift, 510.0)
 AF_REAL(kHoverLiftSpeed, 86.0)
 AF_REAL(kHoverBasePitch, 0.9599310885968813)
 AF_REAL(kHoverPitchGain, 0.0026)
-AF_REAL(kHoverPitchMax, 1.1344640137963142)
 AF_REAL(kHoverDamping, 0.8)
 AF_REAL(kHoverBank, 0.20943951023931956)
 AF_REAL(kHoldHeading, 0.1)
+// A species with hover_incidence brakes with its wings too: its arms' incidence, that much at the
+// profile's speed, rises by kHoverIncidenceGain (rad per cm/s) of its speed beyond it, within [0,
+// kHoverIncidenceMax] (the eagle's: docs/MODEL.md "The hovering final").
+AF_REAL(kHoverIncidenceGain, 0.0031415926535897933)
+AF_REAL(kHoverIncidenceMax, 0.6981317007977318)
 // It grips where its feet meet the branch point: within kGripReach stand_height of the perch
 // point, at a mean speed over the ground of at most touchdown_speed over its last wingbeat or
 // kTouchdownWindow (s), whichever is longer (route.h: last_beat_speed).

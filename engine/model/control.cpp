@@ -231,9 +231,15 @@ double hover_share(double airspeed) {
   return std::clamp((kHoverAirspeed - airspeed) / kHoverBand, 0.0, 1.0);
 }
 
-double hover_pitch(double airspeed, double along, double wanted) {
+double hover_pitch(const Species& s, double airspeed, double along, double wanted) {
   const double up = std::min(std::atan(kHoverLift / (airspeed + kHoverLiftSpeed)), kHoverBasePitch);
-  return std::clamp(up + kHoverPitchGain * (along - wanted), 0.0, kHoverPitchMax);
+  return std::clamp(up + kHoverPitchGain * (along - wanted), 0.0, s.hover_pitch_max);
+}
+
+double hover_incidence(const Species& s, double along, double wanted) {
+  if (!(s.hover_incidence > 0.0)) return 0.0;
+  return std::clamp(s.hover_incidence + kHoverIncidenceGain * (along - wanted), 0.0,
+                    kHoverIncidenceMax);
 }
 
 double final_amplitude(const Species& s, double amplitude, double energy_error) {

@@ -204,8 +204,11 @@ double final_climb(double height_error, double aim_rate);
 double hover_share(double airspeed);
 // Its pitch hovering at `airspeed` (cm/s), its speed along its head over the ground `along` where
 // the profile wants `wanted`: the pitch at which the full wingbeat's force points up, at most
-// kHoverBasePitch, plus kHoverPitchGain per cm/s too fast, within [0, kHoverPitchMax].
-double hover_pitch(double airspeed, double along, double wanted);
+// kHoverBasePitch, plus kHoverPitchGain per cm/s too fast, within [0, hover_pitch_max].
+double hover_pitch(const Species& s, double airspeed, double along, double wanted);
+// Its arms' added incidence hovering so (Species::hover_incidence; 0 without it): the species'
+// plus kHoverIncidenceGain per cm/s too fast, within [0, kHoverIncidenceMax].
+double hover_incidence(const Species& s, double along, double wanted);
 // Its wingbeat amplitude this step: its amplitude now and kFinalAmplitudeGain of the wingbeat's
 // error (cm), within the species' range.
 double final_amplitude(const Species& s, double amplitude, double energy_error);

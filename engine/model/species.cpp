@@ -9,7 +9,11 @@
 
 namespace aeroflock {
 
-Species eagle() {
+namespace {
+
+// The eagle's body and controller with the flaring final it was calibrated with: the ibis and the
+// goose, which land on the ground, are built on it.
+Species flaring_eagle() {
   Species s;
   s.name = "eagle";
   s.wing_area = 7200;
@@ -57,6 +61,22 @@ Species eagle() {
   return s;
 }
 
+}  // namespace
+
+Species eagle() {
+  Species s = flaring_eagle();
+  // It hovers onto the branch point (issue 40), braking with its wings as well as its pitch: its
+  // pitch is slow to answer, and pitched at the 40-50 degrees it holds its full wingbeat drives it
+  // on at 3-4 m/s (trim.h: the force points up only at 87 degrees at rest, at 50 with 20 degrees
+  // more incidence). Pitched at up to 65 degrees it overshot to 85; at the default 15 degrees of
+  // flare incidence it porpoised in an 8 m/s headwind and sank under the branch.
+  s.hover_final = 1;
+  s.hover_incidence = radians(5);
+  s.hover_pitch_max = radians(50);
+  s.brake_incidence = radians(26);
+  return s;
+}
+
 Species starling() {
   Species s;
   s.name = "starling";
@@ -99,7 +119,7 @@ Species ibis() {
   // Beyond the paper: the northern bald ibis (Geronticus eremita) of Portugal et al. 2014's V
   // formations, from published morphometrics (docs/MODEL.md "The presets" gives the sources),
   // with the eagle's controller; what differs from it was calibrated on the envelope.
-  Species s = eagle();
+  Species s = flaring_eagle();
   s.name = "ibis";
   s.mass = 1300;       // adults 1.0-1.5 kg
   s.box_c = 130;       // wingspan 125-135 cm
@@ -141,7 +161,7 @@ Species goose() {
   // Beyond the paper: the greylag goose (Anser anser), whose skeins fly in V and echelon, from
   // published morphometrics (docs/MODEL.md "The presets"), with the eagle's controller; what
   // differs from it was calibrated on the envelope.
-  Species s = eagle();
+  Species s = flaring_eagle();
   s.name = "goose";
   s.mass = 3300;       // males 3.5 kg, females 3.1 kg
   s.box_c = 160;       // wingspan 149-168 cm

@@ -124,8 +124,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
       braking && way ? flare_share(sp, airspeed, perch_airspeed(sp, *way, wind), to_perch) : 0.0;
   // The final at a low airspeed hovers: its pitch holds its speed over the ground along its head
   // to the profile's (final_speed: towards the point, or back to it once past), with the wings at
-  // their own incidence; faster through the air it flares. Both read the ground velocity over its
-  // last wingbeat (its speed then, its direction now), not a wingbeat's surge.
+  // their own incidence (or braking too: hover_incidence); faster through the air it flares. Both
+  // read the ground velocity over its last wingbeat (its speed then, its direction now), not a
+  // wingbeat's surge.
   dvec3 beat_track = horizontal(b.velocity);
   if (final && glm::length(beat_track) > 0.0)
     beat_track *= last_beat_speed(b) / glm::length(b.velocity);
@@ -139,7 +140,9 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
     const dvec3 along = glm::length(head) > 0.0 ? head / glm::length(head) : head;
     const double wanted =
         glm::dot(horizontal(*way), along) < 0.0 ? -kFinalSpeed * sp.touchdown_speed : ground_speed;
-    hovering = hover_pitch(hover_airspeed, glm::dot(beat_track, along), wanted);
+    hovering = hover_pitch(sp, hover_airspeed, glm::dot(beat_track, along), wanted);
+    // A heavy bird brakes with its wings as well: its pitch is slow to answer.
+    c.incidence += c.hover * hover_incidence(sp, glm::dot(beat_track, along), wanted);
   }
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up. Going round from a hover it keeps its

@@ -202,9 +202,14 @@ float hover_share(float airspeed) {
   return clamp((kHoverAirspeed - airspeed) / kHoverBand, 0.0, 1.0);
 }
 
-float hover_pitch(float airspeed, float along, float wanted) {
+float hover_pitch(GpuSpecies s, float airspeed, float along, float wanted) {
   float up = min(atan_p(kHoverLift / (airspeed + kHoverLiftSpeed)), kHoverBasePitch);
-  return clamp(up + kHoverPitchGain * (along - wanted), 0.0, kHoverPitchMax);
+  return clamp(up + kHoverPitchGain * (along - wanted), 0.0, s.hover_pitch_max);
+}
+
+float hover_incidence(GpuSpecies s, float along, float wanted) {
+  if (!(s.hover_incidence > 0.0)) return 0.0;
+  return clamp(s.hover_incidence + kHoverIncidenceGain * (along - wanted), 0.0, kHoverIncidenceMax);
 }
 
 float final_amplitude(GpuSpecies s, float amplitude, float energy_error) {
