@@ -984,6 +984,7 @@ TEST(BranchLanding, TheFeetMeetTheBranchPointSlowly) {
 // touchdown_speed, with no jump, and settles within issue 40's limits; the judge holds every
 // flight above the ground and within the envelope's limits until it perches.
 void expect_calm_landings_on_the_point(const Species& s) {
+  ASSERT_TRUE(hovers(s)) << s.name;
   std::vector<EnvelopeCase> cases;
   for (const EnvelopeCase& c : envelope_cases())
     if (c.kind == EnvelopeCase::Kind::landing && c.crosswind == 0.0) cases.push_back(c);

@@ -279,7 +279,8 @@ TEST_P(MovedCalibrations, StillFliesTheGrid) {
   GetParam().apply(s);
   // The hovering final is calibrated for each preset as it is: moved, it flares (hovering, 0-14 of
   // the starling's 16 landings in calm air perched, and 41-44 of the eagle's 48 with its mass or
-  // its lead-lag moved: docs/MODEL.md "The hovering final").
+  // its lead-lag moved: docs/MODEL.md "The hovering final"), the eagle at its flare's incidence of
+  // 26 degrees (15 when it was calibrated on the flare).
   s.hover_final = 0;
   for (const EnvelopeResult& r : fly_envelope(s, cases, cpu()))
     EXPECT_EQ(r.outcome, Outcome::reached)

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "model/aerodynamics.h"
@@ -1059,6 +1060,44 @@ TEST(Wind, ProfilesAtGivenHeights) {
               1e-3);                                                    // 500 ln(15000) / ln(333.3)
   EXPECT_NEAR(glm::length(wind_at(w, 1000.0 + 30.0)), 198.1863, 1e-3);  // 500 ln(10) / ln(333.3)
   EXPECT_EQ(wind_at(w, 1000.0 + 2.0), glm::dvec3(0.0));                 // below z0
+}
+
+// Issue 40: hovering at rest, pitched 50 degrees at full wingbeat, the eagle's wings drive it
+// forward at about its weight; 20 degrees more incidence on its arms turns their force back to
+// straight up, 40 degrees back against its way (docs/MODEL.md "The hovering final": why the eagle
+// brakes with its wings). Wingbeat-averaged, as trim.h averages.
+TEST(HoveringFinal, TheArmsIncidenceTurnsTheWingbeatsForceBack) {
+  const Species s = eagle();
+  const double pitch = radians(50.0), weight = s.mass * kGravity;
+  auto forward = [&](double incidence) {
+    const int phases = 240;
+    double x = 0.0, y = 0.0;
+    for (int k = 0; k < phases; ++k) {
+      const WingForces w = wing_forces(s, 2.0 * kPi * k / phases, s.amp_max, s.f_max, 0.0,
+                                       incidence, glm::dvec3(0.0), glm::dvec3(0.0));
+      glm::dvec3 f(0.0);
+      for (const glm::dvec3& p : w.force) f += p;
+      x += (std::cos(pitch) * f.x - std::sin(pitch) * f.y) / phases;  // body to world, about z
+      y += (std::sin(pitch) * f.x + std::cos(pitch) * f.y) / phases;
+    }
+    return glm::dvec2(x, y) / weight;
+  };
+  EXPECT_GT(forward(0.0).x, 0.8);
+  EXPECT_NEAR(forward(radians(20.0)).x, 0.0, 0.1);
+  EXPECT_GT(forward(radians(20.0)).y, 1.0) << "still holds its weight";
+  EXPECT_LT(forward(radians(40.0)).x, -0.7);
+}
+
+// The arms' added incidence hovering (control.h: hover_incidence): the species' at the profile's
+// speed, 18 degrees more per m/s faster, within 0-40 degrees; none for a species without it.
+TEST(HoveringFinal, TheWingsBrakeByTheSpeedBeyondTheProfile) {
+  const Species e = eagle();
+  EXPECT_NEAR(degrees(hover_incidence(e, 120.0, 120.0)), 5.0, 1e-9);
+  EXPECT_NEAR(degrees(hover_incidence(e, 170.0, 120.0)), 14.0, 1e-9);
+  EXPECT_NEAR(degrees(hover_incidence(e, 500.0, 120.0)), 40.0, 1e-9);
+  EXPECT_EQ(hover_incidence(e, 0.0, 120.0), 0.0);
+  for (double along : {-200.0, 0.0, 120.0, 500.0})
+    EXPECT_EQ(hover_incidence(starling(), along, 120.0), 0.0);
 }
 
 }  // namespace

@@ -3,8 +3,7 @@
 // the body turning at no more than 90 degrees/s over each 30 ms frame. A bird that hovers onto its
 // branch (Species::hover_final) grips where its feet meet the branch point (its path within
 // kGripReach stand_height of the perch point) at a mean speed over the ground of at most
-// touchdown_speed over the wingbeat (or 100 ms) before it. Not yet: the flaring eagle's grip
-// (docs/VALIDATION.md).
+// touchdown_speed over the wingbeat (or 100 ms) before it: every preset that perches does.
 #pragma once
 
 #include <gtest/gtest.h>
