@@ -140,9 +140,10 @@ Commands control(const BirdState& b, const Species& sp, const World& w, double d
     const dvec3 along = glm::length(head) > 0.0 ? head / glm::length(head) : head;
     const double wanted =
         glm::dot(horizontal(*way), along) < 0.0 ? -kFinalSpeed * sp.touchdown_speed : ground_speed;
-    hovering = hover_pitch(sp, hover_airspeed, glm::dot(beat_track, along), wanted);
+    const double speed_along = glm::dot(beat_track, along);
+    hovering = hover_pitch(sp, hover_airspeed, speed_along, wanted);
     // A heavy bird brakes with its wings as well: its pitch is slow to answer.
-    c.incidence += c.hover * hover_incidence(sp, glm::dot(beat_track, along), wanted);
+    c.incidence += c.hover * hover_incidence(sp, speed_along, wanted);
   }
   // On its legs the bird cannot pitch: it holds its tail and sweep neutral, so that it leaves
   // the ground trimmed rather than wound up to pitch up. Going round from a hover it keeps its

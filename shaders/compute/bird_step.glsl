@@ -93,8 +93,9 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
     vec2 head = rotate(b.attitude, vec3(1, 0, 0)).xz;
     vec2 along = length(head) > 0.0 ? head / length(head) : head;
     float wanted = dot(way.xz, along) < 0.0 ? -kFinalSpeed * s.touchdown_speed : ground_speed;
-    hovering = hover_pitch(s, hover_airspeed, dot(beat_track, along), wanted);
-    c.incidence += c.hover * hover_incidence(s, dot(beat_track, along), wanted);
+    float speed_along = dot(beat_track, along);
+    hovering = hover_pitch(s, hover_airspeed, speed_along, wanted);
+    c.incidence += c.hover * hover_incidence(s, speed_along, wanted);
   }
   float pitch_command =
       on_legs   ? pitch  // leaves the ground trimmed
