@@ -37,12 +37,11 @@ double seconds_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
 
-// This frame's reads (the bird buffer, the renderer's targets, poses and indirect draws) before
-// the next frame writes them: its compute step and the renderer's updates and pose pass.
+// This frame's reads of the bird buffer before the next frame's step writes it. Only the
+// renderer's pose pass (compute) reads the birds; its draws read the poses, which the renderer
+// guards itself (Renderer::record). So the next frame's step may run while this one is drawn.
 void barrier_reads_to_next_writes(VkCommandBuffer cmd) {
-  vkCmdPipelineBarrier(cmd,
-                       VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
-                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT,
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                        nullptr, 0, nullptr, 0, nullptr);
 }
