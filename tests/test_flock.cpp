@@ -52,14 +52,16 @@ void expect_grid_matches_brute_force(const std::vector<BirdState>& birds,
 TEST(NeighbourGrid, FindsWhatBruteForceFindsOnRandomFlocks) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  const std::vector<Species> species = {starling(), eagle()};
+  Species all_round = starling();
+  all_round.separation_all_round = 1;  // its k nearest from all round, the blind sector too
+  const std::vector<Species> species = {starling(), eagle(), all_round};
   for (const double size : {500.0, 3000.0, 20000.0}) {  // denser and sparser than the grid's cell
     std::vector<BirdState> birds;
     for (int i = 0; i < 1500; ++i) {
       BirdState b = flocking_bird(size * dvec3{unit(rng), 0.3 * unit(rng), unit(rng)},
                                   1000.0 * glm::normalize(dvec3{1.0, 0.2 * unit(rng), unit(rng)}),
                                   i % 3 == 0 ? 1 : 0);
-      b.species = i % 5 == 0 ? 1 : 0;
+      b.species = i % 5 == 0 ? 1 : i % 7 == 0 ? 2 : 0;
       if (i % 11 == 0) b.mode = FlightMode::landing;  // neither sees nor is seen
       if (i % 13 == 0) b.flocking = 0;
       birds.push_back(b);
@@ -167,6 +169,58 @@ TEST(Perception, SeesTheNearestOutsideTheBlindSectorWithinTheRadius) {
     birds.push_back(flocking_bird(dvec3{100.0 * ((i + 1) / 2), 0.0, 0.0}, dvec3{1000.0, 0.0, 0.0}));
   const std::vector<uint32_t> seen = seen_by_brute_force(0, birds, {s}, dvec3{0.0});
   EXPECT_EQ(seen, (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7}));
+}
+
+// Issue 41: a species whose separation heeds all round (separation_all_round, StarDisplay's) takes
+// its k nearest from all round it, the blind sector too; a bird there pushes its goal away but
+// neither turns it (alignment, cohesion) nor changes its airspeed. Without, the same bird is not
+// among its k nearest at all.
+TEST(Perception, ABirdInTheBlindSectorCountsInTheSeparationAloneWhenItHeedsAllRound) {
+  Species s = starling();
+  s.separation_all_round = 1;
+  const dvec3 ahead{1.0, 0.0, 0.0};
+  const dvec3 behind{-100.0, 0.0, 20.0};  // 11 degrees off straight back: inside the blind sector
+  EXPECT_TRUE(sees(s, ahead, behind));
+  EXPECT_FALSE(outside_blind(s, ahead, behind));
+  EXPECT_TRUE(outside_blind(s, ahead, dvec3{0.0, 0.0, 100.0}));
+  EXPECT_FALSE(sees(s, ahead, dvec3{-s.perception_radius - 1.0, 0.0, 0.0}));
+  // Its 7 nearest: the 3 behind (nearest) and 4 of the 10 ahead; without, the 7 nearest ahead.
+  const dvec3 forward{1000.0, 0.0, 0.0};
+  std::vector<BirdState> birds = {flocking_bird(dvec3{0.0}, forward)};
+  for (int i = 1; i <= 10; ++i) birds.push_back(flocking_bird(dvec3{100.0 * i, 0.0, 0.0}, forward));
+  for (int i = 1; i <= 3; ++i) birds.push_back(flocking_bird(dvec3{-50.0 * i, 0.0, 0.0}, forward));
+  EXPECT_EQ(seen_by_brute_force(0, birds, {s}, dvec3{0.0}),
+            (std::vector<uint32_t>{11, 1, 12, 13, 2, 3, 4}));
+  Species sighted = s;
+  sighted.separation_all_round = 0;
+  EXPECT_EQ(seen_by_brute_force(0, birds, {sighted}, dvec3{0.0}),
+            (std::vector<uint32_t>{1, 2, 3, 4, 5, 6, 7}));
+  // One close behind in the blind sector, flying faster and to the left: its goal is the route's
+  // and the separation's alone, at cruise_speed.
+  const std::vector<BirdState> two = {flocking_bird(dvec3{0.0}, forward),
+                                      flocking_bird(behind, dvec3{1100.0, 0.0, -500.0})};
+  ASSERT_LT(glm::length(behind), s.separation_radius);
+  ASSERT_EQ(s.separation_lookahead, 0.0);
+  ASSERT_EQ(s.separation_front, 1.0);
+  const dvec3 route{10000.0, 0.0, 0.0};
+  const Perception p =
+      social_goal(s, two[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, two);
+  const dvec3 separation =
+      -glm::normalize(behind) * std::pow(1.0 - glm::length(behind) / s.separation_radius, 2.0);
+  const dvec3 expected =
+      glm::normalize(s.w_route * route_heading(s, route, dvec3{0.0}, glm::length(forward)) +
+                     s.w_separation * separation);
+  EXPECT_EQ(p.neighbours, 1u);
+  EXPECT_NEAR(glm::length(p.direction - expected), 0.0, 1e-12);
+  EXPECT_LT(p.direction.z, -0.01);  // pushed away from it, to the left
+  EXPECT_DOUBLE_EQ(p.airspeed, s.cruise_speed);
+  // Outside the blind sector the same bird, beside, turns it to its heading and speeds it up.
+  const std::vector<BirdState> beside = {two[0],
+                                         flocking_bird(dvec3{0.0, 0.0, 100.0}, two[1].velocity)};
+  const Perception q =
+      social_goal(s, beside[0], dvec3{0.0}, route, false, std::vector<uint32_t>{1}, beside);
+  EXPECT_GT(q.airspeed, s.cruise_speed);
+  EXPECT_LT(q.direction.z, p.direction.z);
 }
 
 TEST(Perception, SocialGoalSeparatesAlignsAndCoheres) {

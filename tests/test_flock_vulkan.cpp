@@ -86,6 +86,12 @@ TEST(GpuFlock, SameNeighboursAndSocialGoalFromOneState) {
   CpuSimulation flown(scenario);
   while (flown.time() < 5.0) flown.step_frame();
   expect_same_perception(perceive_on_both(device, scenario, flown.birds()));
+  // Issue 41: the same with the separation heeding all round if the preset's does not, or not if
+  // it does (separation_all_round): the k nearest sought all round, the blind sector then hiding
+  // them from all but the separation.
+  Scenario flipped = scenario;
+  for (Species& s : flipped.species) s.separation_all_round = s.separation_all_round != 0.0 ? 0 : 1;
+  expect_same_perception(perceive_on_both(device, flipped, flown.birds()));
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 
@@ -351,6 +357,7 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
   Scenario unlike = scenario;
   unlike.species[1].neighbours = 3;
   unlike.species[1].perception_radius = 0.5 * unlike.species[0].perception_radius;
+  unlike.species[1].separation_all_round = unlike.species[0].separation_all_round != 0.0 ? 0 : 1;
   std::vector<BirdState> two_species = two_flocks;
   for (size_t n = 0; n < two_species.size(); ++n) two_species[n].species = uint32_t(n % 2);
   const Compared mixed = perceive_on_both(device, unlike, two_species);

@@ -89,12 +89,16 @@ bool flocks_now(const BirdState& b) {
   return b.flocking != 0 && b.mode == FlightMode::flying && b.landing_stage == LandingStage::none;
 }
 
-bool sees(const Species& s, const dvec3& ahead, const dvec3& offset) {
-  const double distance2 = glm::dot(offset, offset);
-  if (distance2 > s.perception_radius * s.perception_radius) return false;
+bool outside_blind(const Species& s, const dvec3& ahead, const dvec3& offset) {
   // Blind within half the blind angle of straight back: cos(angle from straight back) > cos(blind /
   // 2).
-  return -glm::dot(offset, ahead) <= std::cos(0.5 * s.blind_angle) * std::sqrt(distance2);
+  return -glm::dot(offset, ahead) <=
+         std::cos(0.5 * s.blind_angle) * std::sqrt(glm::dot(offset, offset));
+}
+
+bool sees(const Species& s, const dvec3& ahead, const dvec3& offset) {
+  if (glm::dot(offset, offset) > s.perception_radius * s.perception_radius) return false;
+  return s.separation_all_round != 0.0 || outside_blind(s, ahead, offset);
 }
 
 uint32_t reaction_frames(const Species& s, double frame_seconds) {
@@ -131,7 +135,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
   dvec3 separation{0.0}, heading_sum{0.0}, cohesion_sum{0.0};
   double ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   int beyond = 0;
-  uint32_t ahead_count = 0;
+  uint32_t ahead_count = 0, heeded = 0;
   for (const uint32_t j : seen) {
     const dvec3 offset = birds[j].position - b.position;
     const double distance = glm::length(offset);
@@ -139,6 +143,8 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
     const double zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
       separation -= unit_or_zero(nearest) * std::pow(1.0 - zone / s.separation_radius, 2.0);
+    if (s.separation_all_round != 0.0 && !outside_blind(s, ahead, offset)) continue;
+    ++heeded;
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity - wind);
     if (glm::dot(offset, ahead) > 0.0) ++ahead_count;
@@ -168,7 +174,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
     return p;
   }
   const double along_total = close_sum + (beyond > 0 ? ahead_sum / beyond : 0.0);
-  const double faster = faster_sum / double(seen.size());
+  const double faster = heeded > 0 ? faster_sum / double(heeded) : 0.0;
   const double pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
   p.airspeed =
       std::clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,

@@ -92,9 +92,15 @@ WakeSource wake_now(const WakeSource& seen, uint32_t seen_step, uint64_t step, d
 bool flocks_now(const BirdState& b);
 
 // Whether a bird flying along `ahead` (unit: through the air, where its head points) sees one at
-// `offset` (cm) from it: within perception_radius and outside the blind sector, blind_angle wide,
-// centred straight behind it.
+// `offset` (cm) from it, one its k nearest are chosen from: within perception_radius and outside
+// the blind sector (outside_blind); anywhere within that radius for a species whose separation
+// heeds all round (separation_all_round), its blind sector then hiding a bird from the rest of its
+// social goal alone (social_goal).
 bool sees(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
+
+// Whether `offset` is outside the blind sector of a bird flying along `ahead`: blind_angle wide,
+// centred straight behind it.
+bool outside_blind(const Species& s, const glm::dvec3& ahead, const glm::dvec3& offset);
 
 // How often a bird of species `s` perceives: every this many frames (at least 1), from
 // reaction_time and the frame's length.
@@ -159,6 +165,8 @@ glm::dvec3 nearest_offset(const Species& s, const glm::dvec3& offset, const glm:
 // formation alone, at the formation's airspeed: the bird ahead whose wake it rides flies the route
 // for it. A bird of a formation species that sees none of them ahead of it heads the formation: it
 // flies the route at its own airspeed (0: none commanded), heeding only the separation.
+// A species whose separation heeds all round (separation_all_round, StarDisplay's): the seen birds
+// in its blind sector count in the separation alone, not in the alignment, cohesion or airspeed.
 Perception social_goal(const Species& s, const BirdState& b, const glm::dvec3& wind,
                        const glm::dvec3& route_goal, bool route_done,
                        std::span<const uint32_t> seen, const std::vector<BirdState>& birds,

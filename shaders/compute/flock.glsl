@@ -15,10 +15,14 @@ vec3 flight_direction(GpuBird b, vec3 wind) {
   return length(air) > 0.0 ? normalize(air) : rotate(b.attitude, vec3(1, 0, 0));
 }
 
-// Outside the blind sector (flock.cpp: sees, less the radius): `cos_blind` = cos(blind_angle / 2).
+// Outside the blind sector (flock.cpp: outside_blind): `cos_blind` = cos(blind_angle / 2).
 bool outside_blind(vec3 ahead, vec3 offset, float distance2, float cos_blind) {
   return -dot(offset, ahead) <= cos_blind * sqrt(distance2);
 }
+
+// Its k nearest are sought all round, the blind sector hiding them from all but the separation
+// (flock.cpp: sees, social_goal).
+bool all_round(GpuSpecies s) { return s.separation_all_round != 0.0; }
 
 // The k nearest found (search), nearest first, ties by index, for the social goal.
 uint near_index[kMaxNeighbours];
@@ -101,6 +105,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   ivec3 home = grid_cell(b, cell, inside);
   float radius2 = s.perception_radius * s.perception_radius;
   float cos_blind = cos(0.5 * s.blind_angle);
+  bool sought_all_round = all_round(s);
   const int parts = int(kSearchParts);
   int cells = int(pc.search_cells);  // the list of the bird's part of its cell, for this cell
   ivec3 part = min(ivec3(inside * (float(parts) / cell)),
@@ -122,9 +127,10 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
       uint j = floatBitsToUint(point.w);
       vec3 offset = low + point.xyz - inside;
       float d2 = dot(offset, offset);
-      // Within sight, not itself, nearer than the k-th kept, not in the blind sector.
+      // Within sight, not itself, nearer than the k-th kept, not in the blind sector (flock.cpp:
+      // sees).
       bool sees = d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) &&
-                  outside_blind(ahead, offset, d2, cos_blind);
+                  (sought_all_round || outside_blind(ahead, offset, d2, cos_blind));
       [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
         bool takes = sees && m < k && nearer(d2, j, kept_d2[m], kept[m]);
         float was_d2 = kept_d2[m];
@@ -389,7 +395,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   vec3 ahead = flight_direction(b, wind);
   vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
   float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
-  uint beyond = 0u, ahead_count = 0u;
+  uint beyond = 0u, ahead_count = 0u, heeded = 0u;
+  float cos_blind = cos(0.5 * s.blind_angle);
   for (uint e = 0u; e < near_count; ++e) {
     vec4 place = texelFetch(grid_seen, int(2u * near_index[e]));
     vec4 motion = texelFetch(grid_seen, int(2u * near_index[e] + 1u));
@@ -400,6 +407,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     float zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
       separation -= unit_or_zero(nearest) * square(1.0 - zone / s.separation_radius);
+    if (all_round(s) && !outside_blind(ahead, offset, dot(offset, offset), cos_blind)) continue;
+    ++heeded;
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(motion.xyz - wind);
     if (dot(offset, ahead) > 0.0) ++ahead_count;
@@ -427,7 +436,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     return p;
   }
   float along_total = close_sum + (beyond > 0u ? ahead_sum / float(beyond) : 0.0);
-  float faster = faster_sum / float(near_count);
+  float faster = heeded > 0u ? faster_sum / float(heeded) : 0.0;
   float pull = cohesion_pull(s, unit_or_zero(cohesion_sum), ahead);
   p.airspeed = clamp(s.cruise_speed + s.speed_gain * along_total + s.speed_match * faster + pull,
                      s.min_speed, s.max_speed);
