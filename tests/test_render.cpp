@@ -242,14 +242,12 @@ int differing(const Image& a, const Image& b, int threshold) {
 // Issue 44: the window's level of detail on a CPU device (birds narrower than 6 pixels drawn with
 // a triangle a wing, viewer.cpp) differs from the full drawing of the same state, as the window
 // draws it (one sample a pixel, the automatic camera), in at most 1 % of the pixels: the
-// murmuration's 10,000 starlings after 2 s, and migration-flock's 2,000 after 20 s. (The default
-// flock's 1,000 after 20 s no longer fit: since issue 41's separation all round the automatic
-// camera frames them closer, and none is under 6 pixels.)
+// murmuration's 10,000 starlings after 2 s, and the default flock's 1,000 after 20 s.
 TEST(Render, TheWindowsLevelOfDetailDiffersInAtMostOnePercentOfThePixels) {
   AEROFLOCK_DEVICE_OR_SKIP(device, true);
   const VkExtent2D size{1280, 720};
   for (const auto& [name, frames] :
-       {std::pair<const char*, int>{"murmuration", 67}, {"migration-flock", 667}}) {
+       {std::pair<const char*, int>{"murmuration", 67}, {"default", 667}}) {
     gpu::GpuSimulation sim(device, load_scenario(name));
     sim.step_frames(uint32_t(frames));
     const render::CameraControl control({}, render::subject_of(sim.birds(), 0, sim.time()));
