@@ -112,10 +112,6 @@ Species starling() {
   s.brake_pitch = radians(45);
   s.perch_radius = 100;
   s.hover_final = 1;  // it hovers onto the branch point (issue 40)
-  // Its flock (docs/FIELD.md): its k nearest sought all round, those in its blind sector counting
-  // in its separation alone (StarDisplay's), puts its first neighbours at its sides as the field's
-  // (gamma(1) 0.46, with the blind sector in the search 0.09).
-  s.separation_all_round = 1;
   return s;
 }
 
@@ -265,10 +261,6 @@ Species european_starling() {
   s.separation_radius = 145;
   s.separation_front = 1.75;
   s.separation_lookahead = 0.75;
-  // Its k nearest from those it sees, not all round as the paper starling's: all round, its first
-  // neighbours lay yet more at its sides (gamma(1) 0.86-0.92, the field's 0.8-0.85) but its flock
-  // thickened (I1 / I3 0.42-0.45 from 0.31, the field's 0.18) and spread to 3 wingspans apart.
-  s.separation_all_round = 0;
   s.perception_radius = 800;
   return s;
 }
