@@ -234,6 +234,9 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
       {"perches neither 0 nor 1", kValid + species + "perches = 0.5\n",
        "bad.toml:21:11: error: species[0].perches: species 'x': perches must be 0 (ground) or 1 "
        "(branches), got 0.5"},
+      {"separation all round neither 0 nor 1", kValid + species + "separation_all_round = 0.5\n",
+       "bad.toml:21:24: error: species[0].separation_all_round: species 'x': separation_all_round "
+       "must be 0 (its k nearest from those it sees) or 1 (all round), got 0.5"},
       {"negative mass", kValid + species + "mass = -5.0\n",
        "bad.toml:21:8: error: species[0].mass: species 'x': mass must be > 0, got -5"},
       {"unknown route", replace(kValid, "route = \"r\"", "route = \"q\""),

@@ -324,6 +324,8 @@ void validate(const Species& s) {
   // separation nor cohesion (flock.h: zone_distance).
   if (s.separation_front < 1.0) fail("separation_front must be >= 1");
   if (s.perches != 0.0 && s.perches != 1.0) fail("perches must be 0 (ground) or 1 (branches)");
+  if (s.separation_all_round != 0.0 && s.separation_all_round != 1.0)
+    fail("separation_all_round must be 0 (its k nearest from those it sees) or 1 (all round)");
   if (s.neighbours != std::floor(s.neighbours) || s.neighbours > kMaxNeighbours)
     fail("neighbours must be a whole number <= " + std::to_string(kMaxNeighbours));
   if (!(s.blind_angle < 2.0 * kPi)) fail("blind_angle must be < 360 degrees");
