@@ -57,6 +57,9 @@ struct Nearest {
   }
 };
 
+// Whether a species takes its k nearest from all round it (separation_all_round).
+bool seeks_all_round(const Species& s) { return s.separation_all_round != 0.0; }
+
 // Whether bird j is one bird i may see (before distance and the blind sector).
 bool may_see(const BirdState& i, const BirdState& j) { return j.flock == i.flock && flocks_now(j); }
 
@@ -98,7 +101,7 @@ bool outside_blind(const Species& s, const dvec3& ahead, const dvec3& offset) {
 
 bool sees(const Species& s, const dvec3& ahead, const dvec3& offset) {
   if (glm::dot(offset, offset) > s.perception_radius * s.perception_radius) return false;
-  return s.separation_all_round != 0.0 || outside_blind(s, ahead, offset);
+  return seeks_all_round(s) || outside_blind(s, ahead, offset);
 }
 
 uint32_t reaction_frames(const Species& s, double frame_seconds) {
@@ -143,7 +146,7 @@ Perception social_goal(const Species& s, const BirdState& b, const dvec3& wind,
     const double zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
       separation -= unit_or_zero(nearest) * std::pow(1.0 - zone / s.separation_radius, 2.0);
-    if (s.separation_all_round != 0.0 && !outside_blind(s, ahead, offset)) continue;
+    if (seeks_all_round(s) && !outside_blind(s, ahead, offset)) continue;
     ++heeded;
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(birds[j].velocity - wind);

@@ -396,6 +396,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   vec3 separation = vec3(0.0), heading_sum = vec3(0.0), cohesion_sum = vec3(0.0);
   float ahead_sum = 0.0, close_sum = 0.0, faster_sum = 0.0;
   uint beyond = 0u, ahead_count = 0u, heeded = 0u;
+  bool sought_all_round = all_round(s);
   float cos_blind = cos(0.5 * s.blind_angle);
   for (uint e = 0u; e < near_count; ++e) {
     vec4 place = texelFetch(grid_seen, int(2u * near_index[e]));
@@ -407,7 +408,7 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
     float zone = zone_distance(s, nearest, ahead);
     if (zone < s.separation_radius)
       separation -= unit_or_zero(nearest) * square(1.0 - zone / s.separation_radius);
-    if (all_round(s) && !outside_blind(ahead, offset, dot(offset, offset), cos_blind)) continue;
+    if (sought_all_round && !outside_blind(ahead, offset, dot(offset, offset), cos_blind)) continue;
     ++heeded;
     if (distance >= s.separation_radius) cohesion_sum += offset;
     heading_sum += unit_or_zero(motion.xyz - wind);
