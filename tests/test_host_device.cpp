@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gpu/host_device.h"
+#include "gpu/layout.h"
 #include "gpu/shaders.h"
 
 namespace aeroflock::gpu {
@@ -32,8 +33,9 @@ class SpirvLayouts {
         case 6:  // OpMemberName type member "name"
           member_names_[w[1]][w[2]] = text(w.subspan(3));
           break;
-        case 71:  // OpDecorate id ArrayStride(6) stride
+        case 71:  // OpDecorate id ArrayStride(6) stride, or SpecId(1) constant_id
           if (w[2] == 6) strides_[w[1]] = w[3];
+          if (w[2] == 1) spec_ids_[w[1]] = w[3];
           break;
         case 72:  // OpMemberDecorate type member Offset(35) offset
           if (w[3] == 35) offsets_[w[1]][member_names_[w[1]][w[2]]] = w[4];
@@ -64,6 +66,14 @@ class SpirvLayouts {
     return 0;
   }
 
+  // The constant_id of each specialisation constant, by name.
+  std::map<std::string, uint32_t> spec_ids() const {
+    std::map<std::string, uint32_t> ids;
+    for (const auto& [id, spec] : spec_ids_)
+      if (names_.count(id)) ids[names_.at(id)] = spec;
+    return ids;
+  }
+
  private:
   static std::string text(std::span<const uint32_t> w) {
     std::string s;
@@ -79,7 +89,7 @@ class SpirvLayouts {
   std::map<uint32_t, std::string> names_;
   std::map<uint32_t, std::map<uint32_t, std::string>> member_names_;
   std::map<uint32_t, std::map<std::string, uint32_t>> offsets_;
-  std::map<uint32_t, uint32_t> strides_, element_;
+  std::map<uint32_t, uint32_t> strides_, element_, spec_ids_;
 };
 
 TEST(HostDevice, GpuBirdHasTheSameLayoutInTheShaders) {
@@ -140,4 +150,48 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
 }
 
 }  // namespace
+// The model's specialisation constants (host_device.h) are the ids the host sets in every shader
+// that steps or perceives, and perceive.comp's own follow them.
+TEST(HostDevice, TheModelsConstantsHaveTheirIdsInTheShaders) {
+  const std::map<std::string, uint32_t> model = {{"kWakes", kConstantWakes},
+                                                 {"kBranches", kConstantBranches},
+                                                 {"kWindProfile", kConstantWindProfile}};
+  EXPECT_EQ(SpirvLayouts(shader_spirv("step")).spec_ids(), model);
+  EXPECT_EQ(SpirvLayouts(shader_spirv("step_forces")).spec_ids(), model);
+  std::map<std::string, uint32_t> perceive = model;
+  perceive["kSeen"] = kModelConstants;
+  perceive["kAllSeeKSeen"] = kModelConstants + 1;
+  EXPECT_EQ(SpirvLayouts(shader_spirv("perceive")).spec_ids(), perceive);
+}
+
+// What a scenario can reach: wakes where a flock meets them, the landing where a route ends on a
+// branch or a bird already brakes for one, the world's wind profile.
+TEST(ModelConstants, FollowWhatTheScenarioCanReach) {
+  Scenario s;
+  s.flocks.push_back(Flock{});
+  s.world.routes.push_back(Route{});
+  std::vector<BirdState> birds(2);
+  auto constants = [&] { return model_constants(s, birds); };
+  EXPECT_EQ(constants(), (std::vector<uint32_t>{0, 0, 0}));
+
+  s.flocks[0].flocking = true;
+  s.flocks[0].wake = true;
+  EXPECT_EQ(constants()[kConstantWakes], 1u);
+  s.flocks[0].flocking = false;  // a flock that does not flock meets no wakes
+  EXPECT_EQ(constants()[kConstantWakes], 0u);
+
+  birds[1].mode = FlightMode::landing;
+  EXPECT_EQ(constants()[kConstantBranches], 1u);
+  birds[1].mode = FlightMode::flying;
+  s.world.routes.push_back(Route{.branch = 0});
+  EXPECT_EQ(constants()[kConstantBranches], 1u);
+
+  for (const WindProfile p :
+       {WindProfile::uniform, WindProfile::power_law, WindProfile::logarithmic}) {
+    s.world.wind_profile = p;
+    EXPECT_EQ(constants()[kConstantWindProfile], static_cast<uint32_t>(p));
+  }
+  EXPECT_EQ(constants().size(), kModelConstants);
+}
+
 }  // namespace aeroflock::gpu

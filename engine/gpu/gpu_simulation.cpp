@@ -114,9 +114,9 @@ const std::vector<Binding> kPerceiveBindings =
                {kBindingGridSeen, VK_FORMAT_R32G32B32A32_SFLOAT},
                kBindingCutShort});
 
-// perceive.comp's specialisation: the most neighbours a species that flocks sees (kSeen, at least
-// 1), whether each of them sees that many (kAllSeeKSeen), and whether any flock meets wakes
-// (kWakes).
+// perceive.comp's specialisation: the model's (layout.h: model_constants), then the most
+// neighbours a species that flocks sees (kSeen, at least 1) and whether each of them sees that
+// many (kAllSeeKSeen).
 std::vector<uint32_t> perceive_constants(const Scenario& scenario,
                                          const std::vector<BirdState>& birds) {
   const std::vector<bool> flocks = flocking_species(scenario.species.size(), birds);
@@ -126,7 +126,10 @@ std::vector<uint32_t> perceive_constants(const Scenario& scenario,
       most = std::max(most, static_cast<uint32_t>(scenario.species[k].neighbours));
       least = std::min(least, static_cast<uint32_t>(scenario.species[k].neighbours));
     }
-  return {std::max(most, 1u), most == least && most >= 1 ? 1u : 0u, any_wake(scenario) ? 1u : 0u};
+  std::vector<uint32_t> constants = model_constants(scenario, birds);
+  constants.push_back(std::max(most, 1u));
+  constants.push_back(most == least && most >= 1 ? 1u : 0u);
+  return constants;
 }
 
 // The farthest a species that flocks sees: the search's order reaches it.
@@ -248,8 +251,9 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
                                  "routes' targets")),
       branches_(buffer_with(device, pack(world()).branches, Memory::device_local, "branches")),
       perception_(perception_buffer(device, capacity_, any_flocking(this->scenario()))),
+      model_constants_(model_constants(this->scenario(), kinds ? *kinds : birds)),
       step_(device, shader_spirv("step"), world_and({kBindingPerception, kBindingCutShort}),
-            sizeof(StepConstants), 2, {any_wake(this->scenario()) ? 1u : 0u}),
+            sizeof(StepConstants), 2, model_constants_),
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
@@ -385,7 +389,7 @@ void GpuSimulation::prepare_forces() {
   step_forces_ = std::make_unique<ComputePipeline>(
       device_, shader_spirv("step_forces"),
       world_and({kBindingPerception, kBindingForces, kBindingCutShort}), sizeof(StepConstants), 2,
-      std::vector<uint32_t>{any_wake(scenario()) ? 1u : 0u});
+      model_constants_);
   for (Slot& slot : slots_) {
     slot.forces = std::make_unique<Buffer>(device_, bytes, Memory::host);
     slot.forces_set =

@@ -161,7 +161,8 @@ class GpuSimulation final : public Simulation {
   uint32_t count_, capacity_;
   Buffer birds_, ids_, species_, routes_, route_targets_, branches_;
   Buffer perception_;  // each bird's GpuPerception (one element when no flock flocks)
-  std::unique_ptr<Flocking> flocking_;  // when a flock of the scenario flocks
+  std::unique_ptr<Flocking> flocking_;     // when a flock of the scenario flocks
+  std::vector<uint32_t> model_constants_;  // what the birds can reach (layout.h)
   ComputePipeline step_;
   uint32_t frames_per_submission_;
   // step_forces.comp and the forces it writes, made when a frame first records forces.

@@ -109,6 +109,15 @@ AF_UINT(kGhostBird, 0x80000000u)
 // grid_search_order): a bird stops sooner the finer they are.
 AF_UINT(kSearchParts, 4)
 
+// The model's specialisation constants (model.glsl), by constant_id: what the scenario can reach,
+// so that a pipeline carries only the code its birds can run (a CPU device runs both sides of a
+// branch; gpu/layout.h: model_constants). A shader's own constants follow from kModelConstants.
+AF_UINT(kConstantWakes, 0)        // some flock meets wakes (Flock::wake)
+AF_UINT(kConstantBranches, 1)     // some route ends on a branch or landing site
+AF_UINT(kConstantWindProfile, 2)  // the world's WindProfile, or kWindProfileAny: pc.wind_profile's
+AF_UINT(kModelConstants, 3)
+AF_UINT(kWindProfileAny, 3)
+
 // Slots per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
 // has a whole number of such blocks.
 AF_UINT(kScanBlock, 1024)

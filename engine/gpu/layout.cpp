@@ -179,6 +179,19 @@ std::vector<GpuTarget> pack_targets(const World& w, double time) {
   return out;
 }
 
+std::vector<uint32_t> model_constants(const Scenario& scenario, std::span<const BirdState> birds) {
+  const World& w = scenario.world;
+  const bool branches =
+      std::any_of(w.routes.begin(), w.routes.end(), [](const Route& r) { return r.branch >= 0; }) ||
+      std::any_of(birds.begin(), birds.end(),
+                  [](const BirdState& b) { return b.mode == FlightMode::landing; });
+  std::vector<uint32_t> c(kModelConstants);
+  c[kConstantWakes] = any_wake(scenario) ? 1u : 0u;
+  c[kConstantBranches] = branches ? 1u : 0u;
+  c[kConstantWindProfile] = static_cast<uint32_t>(w.wind_profile);
+  return c;
+}
+
 GpuWorld pack(const World& w) {
   GpuWorld g;
   for (const Route& r : w.routes) {

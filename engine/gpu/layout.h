@@ -2,6 +2,7 @@
 // host_device.h (floats on the device, doubles in the reference), and back.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -9,6 +10,7 @@
 #include "gpu/host_device.h"
 #include "model/bird.h"
 #include "model/flock.h"
+#include "model/scenario.h"
 #include "model/species.h"
 #include "model/step.h"
 #include "model/wake.h"
@@ -44,5 +46,10 @@ struct GpuWorld {
 GpuWorld pack(const World& w);
 GpuTarget pack_target(const Target& t, const glm::dvec3& centre);  // the target at `centre`
 std::vector<GpuTarget> pack_targets(const World& w, double time);
+
+// The model's specialisation constants for a flock of `birds` in `scenario`, by constant_id
+// (host_device.h: kConstantWakes...): what its birds can reach. A bird brakes for a branch only on
+// a route to one, so kConstantBranches is off where no route has one and no bird brakes already.
+std::vector<uint32_t> model_constants(const Scenario& scenario, std::span<const BirdState> birds);
 
 }  // namespace aeroflock::gpu

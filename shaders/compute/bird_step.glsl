@@ -34,7 +34,7 @@ Commands control(GpuBird b, GpuSpecies s, GpuRoute route, vec3 goal, float airsp
   // No bird flies lower than it stands, but one gliding down its path to its site on the ground.
   if (!(way.w >= 0.0 && lands_on_ground(s) && !in_air)) goal.y = max(goal.y, ground);
   bool on_legs = b.mode == mode_taking_off;
-  bool braking = b.mode == mode_landing;
+  bool braking = kBranches && b.mode == mode_landing;  // only a route's branch starts it
   bool final = braking && way.w >= 0.0 && hovers(s);
   float to_point = way.w >= 0.0 ? length(way.xz) : -1.0;
   if (final) {

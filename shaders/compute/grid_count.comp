@@ -19,7 +19,6 @@ layout(std430, set = 0, binding = kBindingGridOwners) buffer GridOwners { uint g
 layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptions {
   GpuPerception perception[];
 };
-const bool kWakes = false;  // model.glsl's step code: no step here
 #include "model.glsl"
 #include "grid.glsl"
 

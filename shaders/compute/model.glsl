@@ -2,8 +2,13 @@
 // integration statements are `precise` so that they are not contracted into FMAs: the CPU
 // reference is built with -ffp-contract=off, and the two then differ only by float-vs-double
 // rounding. The includer declares the buffers (buffers.glsl) and the push constants `pc`
-// (StepConstants), and kWakes (whether any flock meets wakes: step.glsl). Each part uses only those
-// before it.
+// (StepConstants). Each part uses only those before it.
+
+// What the scenario can reach (host_device.h: kConstantWakes...; gpu/layout.h: model_constants).
+// The defaults reach everything: a pipeline that sets none carries all the code.
+layout(constant_id = kConstantWakes) const bool kWakes = true;
+layout(constant_id = kConstantBranches) const bool kBranches = true;
+layout(constant_id = kConstantWindProfile) const uint kWindProfile = kWindProfileAny;
 
 #include "bird.glsl"          // trigonometry, rotation, wing angles, tail opening (with drawing)
 #include "world.glsl"         // world.cpp

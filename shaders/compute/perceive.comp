@@ -17,14 +17,12 @@ layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
 layout(set = 0, binding = kBindingGridCells) uniform usamplerBuffer grid_cells;
 layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
 layout(set = 0, binding = kBindingGridSeen) uniform samplerBuffer grid_seen;
-// Whether any flock meets wakes: without, the wakes' fields are neither found nor written (and
-// model.glsl's step code carries none).
-layout(constant_id = 2) const bool kWakes = false;
+// model.glsl's kWakes: without wakes, their fields are neither found nor written.
 #include "model.glsl"
 // The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers;
 // and whether every flocking species sees that many (then k is known here).
-layout(constant_id = 0) const uint kSeen = kMaxNeighbours;
-layout(constant_id = 1) const bool kAllSeeKSeen = false;
+layout(constant_id = kModelConstants) const uint kSeen = kMaxNeighbours;
+layout(constant_id = kModelConstants + 1) const bool kAllSeeKSeen = false;
 #include "grid.glsl"
 #include "flock.glsl"
 // Counts the birds whose search a driver's limit on loops ended early (lavapipe ends a shader's

@@ -29,7 +29,10 @@ Leg load_leg(GpuBird b, uint targets_from) {
 }
 
 // The branch the route has brought the bird to, as GpuRoute::branch: its index + 1, 0: none.
-uint route_branch(GpuBird b, GpuRoute r) { return b.target < r.count ? 0u : r.branch; }
+// Without branches in the scenario (kBranches) the landing's code folds away.
+uint route_branch(GpuBird b, GpuRoute r) {
+  return !kBranches || b.target < r.count ? 0u : r.branch;
+}
 
 vec3 perch_point(GpuBird b, GpuSpecies s, uint branch);  // declared ahead (route.h)
 

@@ -26,9 +26,6 @@ layout(std430, set = 0, binding = kBindingForces) writeonly buffer Forces {
 };
 #endif
 
-// Whether any flock meets wakes (gpu_simulation.cpp): without, the step carries none of them.
-layout(constant_id = 0) const bool kWakes = false;
-
 #include "model.glsl"
 
 // Moves the bird into the tile its position is now over, by whole tiles (exact: host_device.h),

@@ -4,9 +4,10 @@
 
 // At world height y: pc.wind_ground.xyz at pc.wind_height above the ground, by the profile.
 vec3 wind_at(float y) {
-  if (pc.wind_profile == 0u) return pc.wind_ground.xyz;
+  uint profile = kWindProfile == kWindProfileAny ? pc.wind_profile : kWindProfile;
+  if (profile == 0u) return pc.wind_ground.xyz;
   float h = y - pc.wind_ground.w;
-  if (pc.wind_profile == 1u)
+  if (profile == 1u)
     return h > 0.0 ? pc.wind_ground.xyz * pow(h / pc.wind_height, pc.wind_exponent) : vec3(0.0);
   return h > pc.wind_roughness ? pc.wind_ground.xyz * (log(h / pc.wind_roughness) /
                                                        log(pc.wind_height / pc.wind_roughness))
