@@ -463,6 +463,12 @@ TEST(Spawn, MoreBirdsKeepTheScenarioDensity) {
   uint64_t starlings = 0;
   for (const BirdState& b : more) starlings += b.flock == 0;
   EXPECT_EQ(starlings, 64u * 1000u);  // shared in proportion: 1,000 of 1,020
+  // Rounded as the largest remainders ask: 200 is 196.08 starlings and 3.92 eagles, so 196 and 4.
+  for (const auto& [total, eagles] : {std::pair{200u, 4u}, {1u, 0u}, {51u, 1u}, {1020u, 20u}}) {
+    uint32_t seen = 0;
+    for (const BirdState& b : spawn_birds(s, total)) seen += b.flock == 1;
+    EXPECT_EQ(seen, eagles) << total << " birds";
+  }
   const dvec3 small = spawn_half_size(own, 0), large = spawn_half_size(more, 0);
   for (int axis = 0; axis < 3; ++axis) {
     EXPECT_NEAR(small[axis], s.flocks[0].spawn_extent[axis], 0.02 * s.flocks[0].spawn_extent[axis]);

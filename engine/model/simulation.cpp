@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -18,17 +19,26 @@ using glm::dvec3;
 
 namespace {
 
-// Birds per flock: the scenario's counts, or `total` shared out in proportion to them.
+// Birds per flock: the scenario's counts, or `total` shared out in proportion to them, the birds
+// left by rounding down to the flocks with the largest remainders (the first on a tie).
 std::vector<uint32_t> flock_sizes(const Scenario& s, uint32_t total) {
   std::vector<uint32_t> sizes;
   uint64_t sum = 0;
   for (const Flock& f : s.flocks) sum += f.count;
-  for (const Flock& f : s.flocks)
-    sizes.push_back(total == 0 ? f.count : static_cast<uint32_t>(uint64_t{total} * f.count / sum));
+  std::vector<uint64_t> remainder;
+  for (const Flock& f : s.flocks) {
+    const uint64_t share = uint64_t{total} * f.count;
+    sizes.push_back(total == 0 ? f.count : static_cast<uint32_t>(share / sum));
+    remainder.push_back(total == 0 ? 0 : share % sum);
+  }
   if (total > 0 && !sizes.empty()) {
     uint64_t given = 0;
     for (uint32_t n : sizes) given += n;
-    for (size_t i = 0; given < total; i = (i + 1) % sizes.size(), ++given) ++sizes[i];
+    std::vector<size_t> order(sizes.size());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return remainder[a] > remainder[b]; });
+    for (size_t k = 0; given < total; k = (k + 1) % order.size(), ++given) ++sizes[order[k]];
   }
   return sizes;
 }
