@@ -312,6 +312,9 @@ def signal_run(opt):
     sig = {"INT": signal.SIGINT, "TERM": signal.SIGTERM}[opt.signal]
     if proc.poll() is None:
         proc.send_signal(sig)
+        if opt.twice:  # the same stop delivered twice at once, as `timeout -s INT` does: one stop
+            time.sleep(0.003)  # the first handled, the run not yet done (a second sent at once may merge)
+            proc.send_signal(sig)
     stdout, stderr = proc.communicate(timeout=300)
     check(proc.returncode == 128 + sig, f"exit {proc.returncode}, expected {128 + sig}\n{stdout}\n{stderr}")
     check(re.search(rf"interrupted +at t = [0-9.]+ s \(SIG{opt.signal}", stdout), f"stdout: {stdout}")
@@ -434,6 +437,7 @@ def main():
     parser.add_argument("--signal", choices=["INT", "TERM"], default="TERM")
     parser.add_argument("--backend", choices=["cpu", "vulkan"], default="cpu")
     parser.add_argument("--video", action="store_true", help="signal: with --video (needs ffmpeg)")
+    parser.add_argument("--twice", action="store_true", help="signal: sent again 3 ms after the first")
     parser.add_argument("--injected", action="store_true", help="full-disk: a disk filled by --fake-disk-lib, not a tmpfs")
     parser.add_argument("--fake-disk-lib", help="full-disk: tests/fake_full_disk.cpp built, for LD_PRELOAD")
     parser.add_argument("--in-namespace", action="store_true", help=argparse.SUPPRESS)

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -71,10 +72,27 @@ struct RunOptions {
 };
 
 // Ctrl-C (SIGINT) or SIGTERM: the run stops after the frame in progress, finishes its outputs and
-// exits 128 + the signal's number, as a shell reports a death by it (130, 143). A second one
-// (SA_RESETHAND) ends the program at once.
+// exits 128 + the signal's number, as a shell reports a death by it (130, 143). A second one ends
+// the program at once, unless it comes within kSignalGrace of the first: the same stop delivered
+// twice (`timeout -s INT` signals the program, then its process group).
 volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_stop_signal(int signal) { g_signal = signal; }
+constexpr double kSignalGrace = 1.0;  // s
+timespec g_first_signal{};            // when g_signal was set (the handler's alone)
+extern "C" void on_stop_signal(int signal) {
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe, as are signal() and raise()
+  if (g_signal == 0) {
+    g_first_signal = now;
+    g_signal = signal;
+    return;
+  }
+  if (double(now.tv_sec - g_first_signal.tv_sec) +
+          1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec) <
+      kSignalGrace)
+    return;
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);  // delivered as the handler returns (the signal is blocked in it)
+}
 constexpr uint64_t kBirdFramesPerSubmission =
     20000;  // a run's frames go to the device in batches of about this
 
@@ -293,8 +311,10 @@ int run(const RunOptions& opt) {
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   // SA_RESTART: a write under way (a video frame into ffmpeg's pipe) goes on, not half done.
-  action.sa_flags = SA_RESETHAND | SA_RESTART;
-  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  sigemptyset(&action.sa_mask);  // each blocks the other while it is handled
+  sigaddset(&action.sa_mask, SIGINT);
+  sigaddset(&action.sa_mask, SIGTERM);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
   // A video's ffmpeg that has died: a write error to report, not a silent death by SIGPIPE.
@@ -337,6 +357,25 @@ int run(const RunOptions& opt) {
   const auto frames =
       static_cast<uint64_t>(std::max(1.0, std::ceil(seconds / frame_seconds - 1e-9)));
   const double total_seconds = double(frames) * frame_seconds;  // whole frames
+  // The structure's window, checked before any output is made.
+  std::optional<StructureWindow> structure_window;
+  if (opt.structure_from) {
+    structure_window = StructureWindow{
+        *opt.structure_from, opt.structure_to.value_or(total_seconds), opt.structure_every};
+    if (opt.structure_to && structure_window->to < structure_window->from)
+      throw OptionError("--structure-to must not be before --structure-from");
+    if (structure_window->from > total_seconds + 1e-9) {
+      char why[160];
+      std::snprintf(why, sizeof why, "--structure-from %g s is past the run's end at %g s",
+                    structure_window->from, total_seconds);
+      throw OptionError(why);
+    }
+    if (!any_flocking(scenario) && root)
+      std::fprintf(stderr,
+                   "aeroflock: warning: --structure-from: no flock of %s flocks, so none is "
+                   "measured (docs/FIELD.md)\n",
+                   scenario.name.c_str());
+  }
 
   RunSummary summary;
   // A leg the wind blows across faster than its birds fly is flown as it can be (into the wind):
@@ -442,18 +481,8 @@ int run(const RunOptions& opt) {
   if (many && opt.images.any()) observers.push_back(on_rank_zero.back().get());
   if (vtk) observers.push_back(vtk.get());
   std::unique_ptr<StructureObserver> structure;
-  if (opt.structure_from) {
-    StructureWindow window{*opt.structure_from, opt.structure_to.value_or(total_seconds),
-                           opt.structure_every};
-    if (opt.structure_to && window.to < window.from)
-      throw OptionError("--structure-to must not be before --structure-from");
-    if (window.from > total_seconds + 1e-9) {
-      char why[160];
-      std::snprintf(why, sizeof why, "--structure-from %g s is past the run's end at %g s",
-                    window.from, total_seconds);
-      throw OptionError(why);
-    }
-    structure = std::make_unique<StructureObserver>(window);
+  if (structure_window) {
+    structure = std::make_unique<StructureObserver>(*structure_window);
     if (!many) {
       observers.push_back(structure.get());
     } else {
@@ -599,7 +628,7 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
   cmd->add_option("--vtk-from", opt.vtk_from,
                   "With --vtk: start the export at this simulated time in seconds (default 0: the "
                   "start); then every --vtk-every-th frame, and the last")
-      ->check(kSeconds)
+      ->check(kTime)
       ->needs(vtk);
   cmd->add_option("--vtk-birds", opt.vtk.birds,
                   "With --vtk: all, every:N or a list of bird ids like 3,7,12 (default all)")
@@ -621,11 +650,12 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
       cmd->add_option("--structure-from", opt.structure_from,
                       "Measure each flock that flocks as the field measures starlings (nearest "
                       "neighbours, principal axes, border, anisotropy; docs/FIELD.md) from this "
-                      "simulated time in seconds on, and print and summarise the means")
-          ->check(kSeconds);
+                      "simulated time in seconds on (0: from the first frame), and print and "
+                      "summarise the means")
+          ->check(kTime);
   cmd->add_option("--structure-to", opt.structure_to,
                   "With --structure-from: until this simulated time (default: the end)")
-      ->check(kSeconds)
+      ->check(kTime)
       ->needs(structure);
   cmd->add_option("--structure-every", opt.structure_every,
                   "With --structure-from: seconds of simulated time between snapshots (default 1)")

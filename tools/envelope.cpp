@@ -29,7 +29,10 @@ std::string preset_names() {
 Species species_named(const std::string& name) {
   if (name.size() > 5 && name.ends_with(".toml")) {
     const Scenario s = read_scenario_file(name);
-    return s.species.back();  // the file's own, after the presets
+    if (s.species.size() <= species_presets().size())  // the file's own follow the presets
+      throw std::runtime_error("--species " + name +
+                               ": the file has no [[species]] table (the envelope flies its last)");
+    return s.species.back();
   }
   for (const Species& s : species_presets())
     if (s.name == name) return s;

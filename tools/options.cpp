@@ -167,6 +167,18 @@ const CLI::Validator kSeconds(
     },
     "");
 
+const CLI::Validator kTime(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (end != text.c_str() && *end == '\0' && v >= 0 && v <= kMaxDuration) return "";
+      std::ostringstream message;
+      message << "expected a simulated time in seconds from 0 (the start) to " << kMaxDuration
+              << " (11.6 days), got " << text;
+      return message.str();
+    },
+    "");
+
 void add_backend_option(CLI::App* app, std::string& backend) {
   app->add_option("--backend", backend,
                   "Backend: vulkan (compute shaders) or cpu (reference, double)")
@@ -239,7 +251,7 @@ void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targ
 void check_camera_options(const render::CameraOptions& camera, const CLI::App& app, bool draws) {
   if (!draws)
     for (const char* name : {"--camera", "--camera-bird", "--camera-eye", "--camera-target",
-                             "--fov", "--targets", "--msaa"})
+                             "--fov", "--targets", "--msaa", "--size"})
       if (app.count(name) > 0)
         throw CLI::ValidationError(name, "needs --png, --frames-dir or --video");
   const std::string mode = name_of(camera.mode, kCameras);

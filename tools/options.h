@@ -33,6 +33,7 @@ extern const CLI::Validator kPositive;  // > 0, finite
 extern const CLI::Validator kStep;      // a time step in s (kMinDt to kMaxDt)
 extern const CLI::Validator kStepMs;    // the same in ms
 extern const CLI::Validator kSeconds;   // a flight's duration, at most kMaxDuration
+extern const CLI::Validator kTime;      // a simulated time: 0 (the start) to kMaxDuration
 
 // A named choice (a mode) straight into its enum: any other word is refused, "--camera: expected
 // auto, orbit, follow or fixed, got bogus" (CLI11's CheckedTransformer would also take the enum's
@@ -114,7 +115,8 @@ void add_size_option(CLI::App* app, uint32_t& width, uint32_t& height, const cha
 
 // The cameras of `run` (pictures) and `view` (the window): --camera, --camera-bird, --camera-eye,
 // --camera-target, --fov, --targets. check_camera_options, after parsing: options that belong to
-// another camera (or, without pictures, to none) are errors, not silently ignored.
+// another camera (or, without pictures, to none, as --msaa and --size) are errors, not silently
+// ignored.
 void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targets);
 void check_camera_options(const render::CameraOptions& camera, const CLI::App& app, bool draws);
 

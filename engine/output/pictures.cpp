@@ -42,7 +42,6 @@ struct Pictures::Impl {
 
   Impl(const PictureOptions& o, Simulation& sim) : options(o) {
     if (!options.png.empty()) check_output_path(options.png, "--png", {".png"});
-    if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       if (!has_program("ffmpeg"))
         throw std::runtime_error(
@@ -72,6 +71,8 @@ struct Pictures::Impl {
                                                   render::Offscreen::kFormat, size, options.msaa);
     target = std::make_unique<render::Offscreen>(*device, size);
     submitter = std::make_unique<gpu::Submitter>(*device, 1);
+    // Created once every other check has passed: an error leaves no empty directory behind.
+    if (!options.frames_dir.empty()) check_writable_dir(options.frames_dir, "--frames-dir");
     if (!options.video.empty()) {
       // Real time unless asked otherwise: one video frame per simulated frame.
       const double frame_seconds = sim.scenario().dt * sim.scenario().steps_per_frame;
