@@ -205,9 +205,12 @@ TEST(ScenarioFile, BadInputsSayFileLineColumnAndKey) {
       {"syntax error", replace(kValid, "dt = 0.0003", "dt = 0.0003 0.1"),
        "bad.toml:2:13: error: syntax error while parsing key-value pair"},
       {"unknown key", replace(kValid, "count = 3", "cuont = 3"),
-       "bad.toml:15:1: error: flocks[0].cuont: unknown key; valid keys: name, species, route"},
+       "bad.toml:15:1: error: flocks[0].cuont: unknown key (did you mean 'count'?); valid keys: "
+       "name, "
+       "species, route"},
       {"unknown table", replace(kValid, "[simulation]", "[simulaton]"),
-       "bad.toml:1:2: error: simulaton: unknown key; valid keys: simulation, ground"},
+       "bad.toml:1:2: error: simulaton: unknown key (did you mean 'simulation'?); valid keys: "
+       "simulation, ground"},
       {"wrong type", replace(kValid, "count = 3", "count = \"many\""),
        "bad.toml:15:9: error: flocks[0].count: expected a positive integer, got \"many\""},
       {"wrong type vec3", replace(kValid, "centre = [0.0, 3000.0, 10000.0]", "centre = 1"),

@@ -8,8 +8,12 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
+#include <vector>
 
 #include <glm/geometric.hpp>
+
+#include "io/words.h"
 
 namespace aeroflock {
 namespace {
@@ -76,22 +80,6 @@ void add_point_option(CLI::App* app, const char* name, std::optional<glm::dvec3>
         point = glm::dvec3(x, y, z) * 100.0;
       },
       what);
-}
-
-// Letters to change, add or remove to turn `a` into `b` (Levenshtein).
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 }  // namespace
@@ -311,17 +299,15 @@ CLI::Validator one_of(const std::vector<std::string>& words) {
 }
 
 std::string unknown_command(const CLI::App& app, const std::string& word) {
-  std::string list, closest;
-  size_t best = 3;  // suggest only within two edits
+  std::string list;
+  std::vector<std::string_view> names;
   for (const CLI::App* sub : app.get_subcommands({})) {
     if (sub->get_name() == word) return "";
     list += (list.empty() ? "" : ", ") + sub->get_name();
-    if (const size_t d = edit_distance(word, sub->get_name()); d < best)
-      best = d, closest = sub->get_name();
+    names.push_back(sub->get_name());
   }
-  return "aeroflock: unknown command '" + word + "'" +
-         (closest.empty() ? "" : " (did you mean '" + closest + "'?)") + "; the commands are " +
-         list + " (aeroflock --help)";
+  return "aeroflock: unknown command '" + word + "'" + did_you_mean(word, names) +
+         "; the commands are " + list + " (aeroflock --help)";
 }
 
 }  // namespace aeroflock

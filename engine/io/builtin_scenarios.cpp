@@ -2,9 +2,12 @@
 #include <toml++/toml.h>
 
 #include <filesystem>
+#include <string_view>
+#include <vector>
 
 #include "io/embedded_scenarios.h"
 #include "io/scenario_file.h"
+#include "io/words.h"
 
 namespace aeroflock {
 
@@ -24,17 +27,20 @@ std::vector<BuiltinScenario> builtin_scenarios() {
 
 Scenario load_scenario(std::string_view name_or_path) {
   std::string names;
+  std::vector<std::string_view> builtins;
   for (const io::EmbeddedFile& file : io::embedded_scenarios()) {
     if (name_or_path == file.name)
       return parse_scenario(file.text, "scenarios/" + std::string(file.name) + ".toml");
     names += (names.empty() ? "" : ", ") + std::string(file.name);
+    builtins.push_back(file.name);
   }
   const std::filesystem::path path(name_or_path);
   std::error_code ec;
   if (path.extension() == ".toml" || std::filesystem::exists(path, ec))
     return read_scenario_file(path);
-  throw ScenarioError("unknown scenario \"" + std::string(name_or_path) +
-                      "\": neither a built-in (" + names + ") nor a .toml file");
+  throw ScenarioError("unknown scenario \"" + std::string(name_or_path) + "\"" +
+                      did_you_mean(name_or_path, builtins) + ": neither a built-in (" + names +
+                      ") nor a .toml file");
 }
 
 }  // namespace aeroflock

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "io/scenario_file.h"
+#include "io/words.h"
 
 namespace aeroflock::io {
 namespace {
@@ -99,7 +100,7 @@ TableReader::TableReader(std::string_view file, const toml::table& table, std::s
     for (std::string_view k : keys_) known = known || k == key.str();
     if (!known)
       io::fail({file_, key.source(), key_path(key.str())},
-               "unknown key; valid keys: " + join(keys_));
+               "unknown key" + did_you_mean(key.str(), keys_) + "; valid keys: " + join(keys_));
   }
 }
 
