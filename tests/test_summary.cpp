@@ -1,6 +1,7 @@
 // Run summaries: statistics of hand-made bird states and the JSON file; the flock's extent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -237,8 +238,9 @@ TEST(Summary, TheFlocksStructureIsTheMeanOfItsSnapshots) {
   EXPECT_TRUE(summary_json(r)["units"].contains("structure.anisotropy"));
 }
 
-// A wind across a leg at least as fast as its flock flies through the air (issue 39) is reported,
-// leg by leg, where it blows so; slower, or along the leg however strong, it is not.
+// A wind across a leg at least as fast as its flock flies through the air (issue 39), or against
+// it faster than the birds make way, is reported, leg by leg, where it blows so; slower, or with
+// the flight however strong, it is not.
 TEST(Summary, ALegTheWindBlowsAcrossFasterThanItsBirdsFlyIsReported) {
   Scenario s = load_scenario("migration");  // 100 km east, 300-600 m up, a power law from 10 m
   const double cruise = s.species[s.flocks[0].species].cruise_speed;
@@ -259,17 +261,48 @@ TEST(Summary, ALegTheWindBlowsAcrossFasterThanItsBirdsFlyIsReported) {
   EXPECT_EQ(w[1].height, 60000.0);
   EXPECT_GT(w[1].across, w[0].across);
   EXPECT_EQ(w[0].sentence(),
-            "flock \"migrants\" cannot hold its leg to \"km-525\": the wind across it is 12.0 "
-            "m/s at 450 m, no slower than its birds fly (10.0 m/s); they head into it and drift");
+            "flock \"migrants\" cannot hold its leg from its spawn to \"km-525\": at 450 m the "
+            "wind blows 12.0 m/s across it, and its birds fly at 10.0 m/s; they head into it and "
+            "drift");
+  EXPECT_TRUE(w[1].sentence().starts_with(
+      "flock \"migrants\" cannot hold its leg from \"km-525\" to \"km-550\""))
+      << w[1].sentence();
   RunSummary r;
   r.wind = w;
   const nlohmann::ordered_json j = summary_json(r)["wind_beyond_airspeed"];
   ASSERT_EQ(j.size(), 4u);
   EXPECT_EQ(j[0]["flock"], "migrants");
+  EXPECT_TRUE(j[0]["from"].is_null());  // its spawn
+  EXPECT_EQ(j[1]["from"], "km-525");
   EXPECT_EQ(j[0]["target"], "km-525");
   EXPECT_NEAR(j[0]["across_wind"].get<double>(), 1200.0, 1e-9);
+  EXPECT_NEAR(j[0]["against_wind"].get<double>(), -3.0 * cruise, 1e-9);  // a tailwind
   EXPECT_EQ(j[0]["height"].get<double>(), 45000.0);
   EXPECT_EQ(j[0]["airspeed"].get<double>(), 1000.0);
+
+  // A headwind: against the flight as fast as the birds fly at 450 m, the first leg's higher end
+  // (the route is due east), and slower (at most 0.94 V at 600 m, the highest).
+  s.world.wind = glm::dvec3{-0.9 * cruise, 0.0, 0.0};
+  EXPECT_TRUE(wind_warnings(s).empty());
+  s.world.wind = glm::dvec3{-1.0 * cruise, 0.0, 0.0};
+  const std::vector<WindWarning> head = wind_warnings(s);
+  ASSERT_EQ(head.size(), 4u);
+  EXPECT_EQ(head[0].against, cruise);  // at 450 m, where it blows hardest
+  EXPECT_EQ(head[0].across, 0.0);
+  EXPECT_EQ(head[0].sentence(),
+            "flock \"migrants\" cannot hold its leg from its spawn to \"km-525\": at 450 m the "
+            "wind blows 0.0 m/s across it and 10.0 m/s against it, and its birds fly at 10.0 m/s; "
+            "they head into it and drift");
+  // Across and against together: 0.8 V across at 450 m leaves 0.6 V along the first leg.
+  auto first_leg_warned = [&] {
+    const std::vector<WindWarning> all = wind_warnings(s);
+    return std::any_of(all.begin(), all.end(),
+                       [](const WindWarning& x) { return x.from.empty() && x.target == "km-525"; });
+  };
+  s.world.wind = glm::dvec3{-0.59 * cruise, 0.0, 0.8 * cruise};
+  EXPECT_FALSE(first_leg_warned());
+  s.world.wind = glm::dvec3{-0.61 * cruise, 0.0, 0.8 * cruise};
+  EXPECT_TRUE(first_leg_warned());
 }
 
 // docs/MODEL.md's flock metrics from hand-placed birds: four in a row 1 m apart and one 10 m off.

@@ -22,19 +22,25 @@ bool in_the_air(FlightMode mode) {
 }  // namespace
 
 std::string WindWarning::sentence() const {
-  char text[320];
+  char against_it[64] = "";
+  if (against > 0.0)
+    std::snprintf(against_it, sizeof against_it, " and %.1f m/s against it", against / 100.0);
+  char text[512];
   std::snprintf(text, sizeof text,
-                "flock \"%s\" cannot hold its leg to \"%s\": the wind across it is %.1f m/s at "
-                "%.0f m, no slower than its birds fly (%.1f m/s); they head into it and drift",
-                flock.c_str(), target.c_str(), across / 100.0, height / 100.0, airspeed / 100.0);
+                "flock \"%s\" cannot hold its leg from %s to \"%s\": at %.0f m the wind blows "
+                "%.1f m/s across it%s, and its birds fly at %.1f m/s; they head into it and drift",
+                flock.c_str(), from.empty() ? "its spawn" : ("\"" + from + "\"").c_str(),
+                target.c_str(), height / 100.0, across / 100.0, against_it, airspeed / 100.0);
   return text;
 }
 
 std::vector<WindWarning> wind_warnings(const Scenario& scenario) {
   std::vector<WindWarning> warnings;
   for (const WindBeyondAirspeed& w : wind_beyond_airspeed(scenario))
-    warnings.push_back({scenario.flocks[w.flock].name, scenario.world.targets[w.target].name,
-                        w.across, w.height, w.airspeed});
+    warnings.push_back(
+        {scenario.flocks[w.flock].name,
+         w.from == WindBeyondAirspeed::kSpawn ? "" : scenario.world.targets[w.from].name,
+         scenario.world.targets[w.target].name, w.across, w.against, w.height, w.airspeed});
   return warnings;
 }
 
@@ -152,11 +158,14 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
   }
   nlohmann::ordered_json wind = nlohmann::ordered_json::array();
   for (const WindWarning& w : r.wind)
-    wind.push_back({{"flock", w.flock},
-                    {"target", w.target},
-                    {"across_wind", w.across},
-                    {"height", w.height},
-                    {"airspeed", w.airspeed}});
+    wind.push_back(
+        {{"flock", w.flock},
+         {"from", w.from.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(w.from)},
+         {"target", w.target},
+         {"across_wind", w.across},
+         {"against_wind", w.against},
+         {"height", w.height},
+         {"airspeed", w.airspeed}});
   // The file's units (the printed summary's are m and m/s): every quantity named with its unit.
   const nlohmann::ordered_json units = {
       {"dt", "s"},
@@ -213,6 +222,7 @@ nlohmann::ordered_json summary_json(const RunSummary& r) {
       {"quarantined.velocity", "cm/s"},
       {"quarantined.attitude", "quaternion w, x, y, z, body to world"},
       {"wind_beyond_airspeed.across_wind", "cm/s"},
+      {"wind_beyond_airspeed.against_wind", "cm/s"},
       {"wind_beyond_airspeed.height", "cm (world y)"},
       {"wind_beyond_airspeed.airspeed", "cm/s"},
       {"ranks.bytes_sent", "bytes of migrants and ghosts"},

@@ -42,13 +42,13 @@ struct FlockingSummary {
 std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
                                               const std::vector<BirdState>& birds);
 
-// A leg its flock cannot hold for the wind across it (model/scenario.h: wind_beyond_airspeed), by
-// name, and the sentence that reports it: 'flock "migrants" cannot hold its leg to "km-525": the
-// wind across it is 12.0 m/s at 450 m, faster than its birds fly (10.0 m/s); they head into it and
-// drift'.
+// A leg its flock cannot hold for the wind (model/scenario.h: wind_beyond_airspeed), by name
+// (`from` empty: the leg from the flock's spawn), and the sentence that reports it: 'flock
+// "migrants" cannot hold its leg from "km-500" to "km-525": at 450 m the wind blows 12.0 m/s across
+// it, and its birds fly at 10.0 m/s; they head into it and drift'.
 struct WindWarning {
-  std::string flock, target;
-  double across = 0.0, height = 0.0, airspeed = 0.0;  // cm/s, cm, cm/s
+  std::string flock, from, target;
+  double across = 0.0, against = 0.0, height = 0.0, airspeed = 0.0;  // cm/s, cm/s, cm, cm/s
   std::string sentence() const;
 };
 std::vector<WindWarning> wind_warnings(const Scenario& scenario);

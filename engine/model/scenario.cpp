@@ -217,6 +217,7 @@ std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
     const Route& route = s.world.routes[flock.route];
     const double airspeed = s.species[flock.species].cruise_speed;
     glm::dvec3 from = flock.spawn_centre;
+    uint32_t from_target = WindBeyondAirspeed::kSpawn;
     const size_t legs_flown = route.targets.size() + (route.loop && route.targets.size() > 1);
     for (size_t k = 0; k < legs_flown; ++k) {
       const uint32_t to = route.targets[k % route.targets.size()];
@@ -224,15 +225,24 @@ std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
       const glm::dvec3 way = horizontal(end - from);
       if (glm::length(way) > 0.0) {
         const glm::dvec3 along = glm::normalize(way);
-        WindBeyondAirspeed worst{uint32_t(f), to, 0.0, 0.0, airspeed};
+        WindBeyondAirspeed worst{uint32_t(f), from_target, to, 0.0, 0.0, 0.0, airspeed};
+        // The speed made good along the leg with the track held: negative where it cannot be
+        // (ordered only: any wind across at least the airspeed is worse than any that is not).
+        double least = std::numeric_limits<double>::infinity();
         for (const double y : {from.y, end.y}) {
           const glm::dvec3 w = horizontal(wind_at(s.world, y));
           const double across = glm::length(w - along * glm::dot(along, w));
-          if (across > worst.across) worst.across = across, worst.height = y;
+          const double against = -glm::dot(along, w);
+          const double made_good = across >= airspeed
+                                       ? -across - airspeed
+                                       : std::sqrt(airspeed * airspeed - across * across) - against;
+          if (made_good < least)
+            least = made_good, worst.across = across, worst.against = against, worst.height = y;
         }
-        if (worst.across >= airspeed) legs.push_back(worst);
+        if (least <= 0.0) legs.push_back(worst);
       }
       from = end;
+      from_target = to;
     }
   }
   return legs;
