@@ -183,7 +183,9 @@ TEST(ModelConstants, FollowWhatTheScenarioCanReach) {
   birds[1].mode = FlightMode::landing;
   EXPECT_EQ(constants()[kConstantBranches], 1u);
   birds[1].mode = FlightMode::flying;
-  s.world.routes.push_back(Route{.branch = 0});
+  Route to_branch;
+  to_branch.branch = 0;
+  s.world.routes.push_back(to_branch);
   EXPECT_EQ(constants()[kConstantBranches], 1u);
 
   for (const WindProfile p :

@@ -182,8 +182,9 @@ void print_structure(const FlockStructureSummary& f) {
   }
 }
 
+// `asked_seconds`: --seconds, or the scenario's duration (`scenario_duration`).
 void print_summary(const RunSummary& r, const std::string& flocks, double asked_seconds,
-                   const std::string& summary_path, const VtkExporter* vtk,
+                   bool scenario_duration, const std::string& summary_path, const VtkExporter* vtk,
                    const std::vector<std::string>& images, bool interrupted) {
   const FlockStatistics& s = r.stats;
   const double rate = r.wall_seconds > 0 ? s.birds * double(r.steps) / r.wall_seconds : 0.0;
@@ -198,7 +199,9 @@ void print_summary(const RunSummary& r, const std::string& flocks, double asked_
   std::printf("simulated        %.3f s (%llu steps of %g s", r.sim_seconds,
               (unsigned long long)r.steps, r.dt);
   if (!interrupted && std::abs(r.sim_seconds - asked_seconds) > 1e-9 * asked_seconds)
-    std::printf("; %g s asked, rounded up to whole frames of %g s", asked_seconds, frame_seconds);
+    std::printf("; %s%g s%s, rounded up to whole frames of %g s",
+                scenario_duration ? "the scenario's " : "", asked_seconds,
+                scenario_duration ? "" : " asked", frame_seconds);
   std::printf(")\n");
   std::printf("wall time        %.3f s (%.3g bird-steps/s)\n", r.wall_seconds, rate);
   std::printf("centroid         (%.2f, %.2f, %.2f) m\n", s.centroid.x / 100, s.centroid.y / 100,
@@ -553,8 +556,9 @@ int run(const RunOptions& opt) {
       summary_written.clear();
     }
   }
-  print_summary(summary, flock_counts(sim->scenario(), birds_now), seconds, summary_written,
-                vtk.get(), images ? images->written() : std::vector<std::string>{}, interrupted);
+  print_summary(summary, flock_counts(sim->scenario(), birds_now), seconds, !opt.seconds,
+                summary_written, vtk.get(), images ? images->written() : std::vector<std::string>{},
+                interrupted);
   report_quarantined(birds_now, summary.quarantined);
   if (!errors.empty()) {
     std::fflush(stdout);
@@ -592,7 +596,7 @@ Command add_run_command(CLI::App& app, RunOptions& opt) {
   add_step_options(cmd, opt.step, "the scenario's");
   cmd->add_option("--summary", opt.summary, "Write the run summary to this JSON file")
       ->check(kPath);
-  cmd->add_option("--threads", opt.threads, "CPU threads (default: OpenMP's choice)")
+  cmd->add_option("--threads", opt.threads, "CPU threads (default: all, as OpenMP chooses)")
       ->check(integer_in(1, kMaxThreads));
 
   PictureOptions& images = opt.images;
