@@ -2,9 +2,13 @@
 // fixed and free.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/trigonometric.hpp>
 #include <glm/vec2.hpp>
 
@@ -66,6 +70,74 @@ TEST(CameraControl, AutoGlidesWithTheFlockWithoutTrailingIt) {
   const float fit = 3000.0f / std::tan(0.3f * glm::radians(50.0f));
   EXPECT_NEAR(last_distance, fit, 0.02f * fit);  // settled on the larger flock
   EXPECT_LT(largest_step, 0.05f * fit);          // a glide, not a jump
+}
+
+// How a flock's birds lie in a picture of `aspect` from `camera`: the share of them in it, and how
+// far out from its middle they reach (1: to its edge, across or up).
+struct InPicture {
+  double seen = 0.0, reach = 0.0;
+};
+InPicture in_picture(const Camera& camera, float aspect, const std::vector<BirdState>& birds,
+                     uint32_t flock) {
+  const glm::mat4 vp = camera.view_projection(aspect);
+  float reach = 0.0f;
+  size_t inside = 0, all = 0;
+  for (const BirdState& b : birds) {
+    if (b.flock != flock) continue;
+    ++all;
+    const glm::vec4 clip = vp * glm::vec4(glm::vec3(b.position - camera.origin), 1.0f);
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    if (clip.w <= 0.0f || std::abs(ndc.x) > 1.0f || std::abs(ndc.y) > 1.0f) continue;
+    ++inside;
+    reach = std::max({reach, std::abs(ndc.x), std::abs(ndc.y)});
+  }
+  return {double(inside) / double(all), double(reach)};
+}
+
+// The automatic camera frames the followed bird's flock alone, and a flat or wide one as it is
+// seen, not as the sphere round it: a V of 15 birds 60 m wide (an ibis or goose skein) with
+// another 300 m to its side, and a flat disc of birds 80 m across.
+TEST(CameraControl, AutoFramesTheFollowedBirdsFlockAsItIsSeen) {
+  std::vector<BirdState> birds;
+  auto bird = [&](uint32_t flock, glm::dvec3 at) {
+    BirdState b;
+    b.flock = flock;
+    b.position = at;
+    b.velocity = {1000.0, 0.0, 0.0};  // along +x, 10 m/s
+    birds.push_back(b);
+  };
+  for (const uint32_t flock : {0u, 1u})
+    for (int k = -7; k <= 7; ++k)  // arms 30 m out, each bird 4 m behind the one ahead
+      bird(flock, {-400.0 * std::abs(k), 3000.0, 430.0 * k + 30000.0 * flock});
+  for (const float aspect : {16.0f / 9.0f, 4.0f / 3.0f}) {
+    CameraOptions options;
+    options.aspect = aspect;
+    const CameraControl c(options, subject_of(birds, 0, 0.0));
+    const InPicture v = in_picture(c.camera(), aspect, birds, 0);
+    EXPECT_EQ(v.seen, 1.0) << aspect;
+    EXPECT_GT(v.reach, 0.5) << aspect;  // the outline within kFill, 0.6, of each side
+    EXPECT_LE(v.reach, 0.61) << aspect;
+    EXPECT_LT(c.camera().target_world().z, 500.0) << aspect;  // on this skein, not between
+  }
+  // Following a bird of the other skein frames that one.
+  const CameraControl other(CameraOptions{}, subject_of(birds, 20, 0.0));
+  EXPECT_EQ(in_picture(other.camera(), 16.0f / 9.0f, birds, 1).seen, 1.0);
+  EXPECT_GT(other.camera().target_world().z, 29500.0);
+
+  // A flat disc 80 m across, 2 m thick: framed by its width, nearer than the sphere of its radius
+  // would be.
+  birds.clear();
+  for (int i = 0; i < 400; ++i) {
+    const double r = 4000.0 * std::sqrt((i + 0.5) / 400.0), a = 2.39996 * i;  // sunflower
+    bird(0, {r * std::cos(a), 3000.0 + 100.0 * std::sin(7.0 * a), r * std::sin(a)});
+  }
+  const Subject disc = subject_of(birds, 0, 0.0);
+  const CameraControl c(CameraOptions{}, disc);
+  const InPicture v = in_picture(c.camera(), 16.0f / 9.0f, birds, 0);
+  EXPECT_GE(v.seen, 0.95);
+  EXPECT_GT(v.reach, 0.5);
+  const float sphere = disc.radius / std::tan(0.3f * glm::radians(50.0f));
+  EXPECT_LT(glm::length(c.camera().eye - c.camera().target), sphere / 1.3f);
 }
 
 TEST(CameraControl, AutoStaysOnAPausedFlock) {

@@ -223,7 +223,7 @@ void add_camera_options(CLI::App* app, render::CameraOptions& camera, bool& targ
              "auto (frames the flock, following it), orbit (circles the flock), follow (behind "
              "one bird, --camera-bird) or fixed (--camera-eye, --camera-target); default auto");
   app->add_option("--camera-bird", camera.bird,
-                  "With --camera follow: the bird followed (default 0)");
+                  "The bird follow flies behind, and whose flock auto and orbit frame (default 0)");
   add_point_option(
       app, "--camera-eye", camera.eye,
       "With --camera fixed: where the camera is, X,Y,Z in metres (default: where auto starts)");
@@ -249,9 +249,9 @@ void check_camera_options(const render::CameraOptions& camera, const CLI::App& a
   if (camera.eye && camera.target && glm::distance(*camera.eye, *camera.target) < 1.0)
     throw CLI::ValidationError("--camera-target",
                                "must differ from --camera-eye (the camera looks at its own eye)");
-  if (camera.mode != render::CameraMode::follow && app.count("--camera-bird") > 0)
+  if (camera.mode == render::CameraMode::free && app.count("--camera-bird") > 0)
     throw CLI::ValidationError("--camera-bird",
-                               "needs --camera follow (the camera is " + mode + ")");
+                               "needs --camera auto, orbit or follow (the camera is fixed)");
 }
 
 void add_flock_size_options(CLI::App* app, FlockSizeOption& size) {

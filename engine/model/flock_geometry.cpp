@@ -70,13 +70,14 @@ FlockExtent flock_extent(const std::vector<BirdState>& birds) {
   return e;
 }
 
-FlockCore flock_core(const std::vector<BirdState>& birds, double fraction) {
+FlockCore flock_core(const std::vector<BirdState>& birds, double fraction, uint32_t flock) {
   FlockCore core;
   std::vector<glm::dvec3> p, v;
   p.reserve(birds.size());
   v.reserve(birds.size());
   for (const BirdState& b : birds)
-    if (is_finite(b)) p.push_back(b.position), v.push_back(b.velocity);
+    if (is_finite(b) && (flock == kAnyFlock || b.flock == flock))
+      p.push_back(b.position), v.push_back(b.velocity);
   core.finite = p.size();
   if (p.empty()) return core;
   // The k-th smallest of n values (n > 0), reordering `v`.

@@ -36,7 +36,10 @@ struct FlockCore {
   glm::dvec3 velocity{0.0};  // mean velocity of the birds within it, cm/s
   size_t finite = 0;
 };
-FlockCore flock_core(const std::vector<BirdState>& birds, double fraction = 0.9);
+// Of the birds of flock `flock` (Flock's index; kAnyFlock: of all of them).
+inline constexpr uint32_t kAnyFlock = ~0u;
+FlockCore flock_core(const std::vector<BirdState>& birds, double fraction = 0.9,
+                     uint32_t flock = kAnyFlock);
 
 // How much a group of birds is a flock (docs/MODEL.md "What a flock must show"), over the finite
 // birds given; every distance is to the nearest of them, whatever its direction.

@@ -101,7 +101,11 @@ struct Pictures::Impl {
       count = uint32_t(packed.size());
     }
     const render::Subject subject = render::subject_of(birds, options.camera.bird, sim.time());
-    if (!camera) camera.emplace(options.camera, subject), camera_time = sim.time();
+    if (!camera) {
+      render::CameraOptions framing = options.camera;
+      framing.aspect = float(options.width) / float(options.height);
+      camera.emplace(framing, subject), camera_time = sim.time();
+    }
     render::View view;
     view.camera = camera->update(float(sim.time() - camera_time), subject, sim.time());
     view.scene_distance = camera->subject_distance();

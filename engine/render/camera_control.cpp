@@ -23,6 +23,18 @@ constexpr float kFill = 0.6f;         // of the vertical field of view, the floc
 constexpr float kZoomPerClick = 0.9f;
 constexpr float kPi = 3.14159265f;
 
+// The outline's directions (Subject::outline): the 6 axes, the 12 diagonals of the squares and
+// the 8 of the cube.
+const std::array<glm::vec3, 26> kOutline = [] {
+  std::array<glm::vec3, 26> d{};
+  size_t n = 0;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z)
+        if (x != 0 || y != 0 || z != 0) d[n++] = glm::normalize(glm::vec3(x, y, z));
+  return d;
+}();
+
 // Unit vector at `yaw` from +x towards +z and `pitch` above the horizontal.
 glm::vec3 direction(float yaw, float pitch) {
   return {std::cos(pitch) * std::cos(yaw), std::sin(pitch), std::cos(pitch) * std::sin(yaw)};
@@ -39,12 +51,24 @@ float glide_angle(float a, float b, float f) { return a + f * std::remainder(b -
 Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time) {
   Subject s;
   s.time = time;
-  const FlockCore core = flock_core(birds);
+  const bool bird_ok = followed < birds.size() && is_finite(birds[followed]);
+  const uint32_t flock = bird_ok ? birds[followed].flock : kAnyFlock;
+  const FlockCore core = flock_core(birds, 0.9, flock);
   if (core.finite == 0) return s;
   s.centre = core.centre;
   s.radius = float(core.radius);
+  std::array<float, 26> farthest;
+  farthest.fill(-1.0f);
+  for (const BirdState& b : birds) {
+    if (!is_finite(b) || (flock != kAnyFlock && b.flock != flock)) continue;
+    const glm::vec3 offset(b.position - core.centre);
+    if (glm::length(offset) > s.radius) continue;
+    for (size_t k = 0; k < kOutline.size(); ++k)
+      if (const float out = glm::dot(offset, kOutline[k]); out > farthest[k])
+        farthest[k] = out, s.outline[k] = offset;
+  }
+  s.has_outline = true;
   s.velocity = core.velocity;
-  const bool bird_ok = followed < birds.size() && is_finite(birds[followed]);
   s.bird = bird_ok ? birds[followed].position : s.centre;
   s.bird_velocity = bird_ok ? birds[followed].velocity : s.velocity;
   return s;
@@ -66,6 +90,7 @@ const char* CameraControl::name(Mode mode) {
 
 CameraControl::CameraControl(const CameraOptions& options, const Subject& subject) {
   camera_.fov_y = glm::radians(options.fov_degrees);
+  aspect_ = options.aspect;
   reset(subject);
   const Mode mode = options.mode;
   if (mode == Mode::free) {
@@ -158,19 +183,36 @@ void CameraControl::frame(float seconds, const Subject& subject, double time, bo
   const glm::dvec3 carried = centre_ + subject.velocity * (snap ? 0.0 : time - framed_time_);
   framed_time_ = time;
   centre_ = glm::mix(carried, subject.centre_at(time), double(f));
-  const float radius = std::max(subject.radius, kMinRadius);
-  const float fit = radius / std::tan(0.5f * kFill * camera_.fov_y);
-  distance_ += f * (fit - distance_);
   const glm::dvec3 v = subject.velocity;
   if (v.x * v.x + v.z * v.z > 100.0 * 100.0) heading_ = float(std::atan2(v.z, v.x));
   view_yaw_ =
       snap ? heading_ + kPi + kAutoSide : glide_angle(view_yaw_, heading_ + kPi + kAutoSide, f);
   orbit_yaw_ += kOrbitRate * seconds;
   const float yaw = (mode_ == Mode::orbit ? orbit_yaw_ : view_yaw_) + drag_yaw_;
+  // The core's sphere in kFill of the height; nearer where its outline, seen from here, still
+  // fits (a flat flock seen from a little above, a wide one from behind).
+  const float radius = std::max(subject.radius, kMinRadius);
+  float fit = radius / std::tan(0.5f * kFill * camera_.fov_y);
+  if (subject.has_outline) fit = std::min(fit, outline_fit(subject, yaw));
+  distance_ += f * (fit - distance_);
   move_origin(centre_);
   camera_.target = glm::vec3(0.0f);
   camera_.eye = zoom_ * distance_ * direction(yaw, pitch_);
   subject_distance_ = zoom_ * distance_;
+}
+
+float CameraControl::outline_fit(const Subject& subject, float yaw) const {
+  const glm::vec3 back = direction(yaw, pitch_);  // from the centre towards the eye
+  const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), back));
+  const glm::vec3 up = glm::cross(back, right);
+  const float tan_y = kFill * std::tan(0.5f * camera_.fov_y), tan_x = aspect_ * tan_y;
+  float fit = kMinRadius / std::tan(0.5f * kFill * camera_.fov_y);
+  for (const glm::vec3& c : subject.outline) {
+    const float depth = glm::dot(c, back);  // nearer the eye than the centre by this
+    fit = std::max({fit, depth + kMinRadius, depth + std::abs(glm::dot(c, right)) / tan_x,
+                    depth + std::abs(glm::dot(c, up)) / tan_y});
+  }
+  return fit;
 }
 
 const Camera& CameraControl::update(float seconds, const Subject& subject, double time) {

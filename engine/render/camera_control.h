@@ -4,6 +4,7 @@
 // Camera comes out.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -18,8 +19,13 @@ namespace aeroflock::render {
 
 // What the cameras look at, from a reading of the birds now and then.
 struct Subject {
-  glm::dvec3 centre{0.0};    // the flock's main body (model/flock_geometry.h: flock_core), world cm
-  float radius = 0.0f;       // 90 % of its birds lie this near the centre, cm
+  glm::dvec3 centre{0.0};  // the flock's main body (model/flock_geometry.h: flock_core), world cm
+  float radius = 0.0f;     // 90 % of its birds lie this near the centre, cm
+  // Of those birds, the farthest out in each of 26 directions (the axes, and the diagonals of the
+  // squares and of the cube), about the centre, cm: the outline auto fits in the picture. Without
+  // it only the radius is fitted.
+  std::array<glm::vec3, 26> outline{};
+  bool has_outline = false;
   glm::dvec3 velocity{0.0};  // the flock's mean velocity, cm/s
   glm::dvec3 bird{0.0};      // the followed bird, world cm
   glm::dvec3 bird_velocity{0.0};
@@ -29,7 +35,10 @@ struct Subject {
   glm::dvec3 centre_at(double t) const { return centre + velocity * (t - time); }
   glm::dvec3 bird_at(double t) const { return bird + bird_velocity * (t - time); }
 };
-// Of the finite birds (a bird with NaN is left out); `followed` falls back on the centre.
+// The flock of bird `followed`, of its finite birds (a bird with NaN is left out): a scenario's
+// flocks may fly far apart (geese-migration's three skeins, 300 m), and a picture of them all
+// would draw each bird a pixel. A bird `followed` that is not there or not finite: every flock,
+// and the followed bird falls back on their centre.
 Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time);
 
 // automatic frames the flock and follows it, orbit circles it, follow rides behind one bird, free
@@ -42,6 +51,7 @@ struct CameraOptions {
   uint32_t bird = 0;                      // follow: which bird
   std::optional<glm::dvec3> eye, target;  // fixed: world, cm (default: where auto starts)
   float fov_degrees = 50.0f;
+  float aspect = 16.0f / 9.0f;  // the picture's width / height: auto frames the flock in both
 };
 
 class CameraControl {
@@ -73,11 +83,16 @@ class CameraControl {
   // origin on what it looks at (on itself, free), so its floats stay small.
   const Camera& update(float seconds, const Subject& subject, double time);
   const Camera& camera() const { return camera_; }
+  // The picture's width / height (a window resized).
+  void set_aspect(float aspect) { aspect_ = aspect; }
   // How far what the camera looks at is (cm): the fog and the shadows scale with it.
   float subject_distance() const { return subject_distance_; }
 
  private:
   void frame(float seconds, const Subject& subject, double time, bool snap);
+  // The distance at which the subject's outline, seen from `yaw`, fills at most kFill of the
+  // picture's height and width.
+  float outline_fit(const Subject& subject, float yaw) const;
   void move_origin(const glm::dvec3& to);  // the same camera, from `to`
 
   Mode mode_ = Mode::automatic;
@@ -100,6 +115,7 @@ class CameraControl {
   float free_pitch_ = 0.0f;
   float free_speed_ = 1000.0f;  // cm/s
   float subject_distance_ = 3000.0f;
+  float aspect_ = 16.0f / 9.0f;
 };
 
 }  // namespace aeroflock::render

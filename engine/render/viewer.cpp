@@ -162,6 +162,8 @@ std::optional<uint32_t> Viewer::pace(Simulation&) {
 
 void Viewer::frame(Simulation&, uint64_t) {
   if (window_.should_close()) return;
+  const VkExtent2D extent = swapchain_.extent();
+  if (extent.height > 0) camera_.set_aspect(float(extent.width) / float(extent.height));
   view_.camera = camera_.update(seconds_, flock_, sim_.time());
   view_.scene_distance = camera_.subject_distance();
   view_.time = float(sim_.time());
