@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -109,7 +110,7 @@ TEST(CameraControl, AutoFramesTheFollowedBirdsFlockAsItIsSeen) {
   for (const uint32_t flock : {0u, 1u})
     for (int k = -7; k <= 7; ++k)  // arms 30 m out, each bird 4 m behind the one ahead
       bird(flock, {-400.0 * std::abs(k), 3000.0, 430.0 * k + 30000.0 * flock});
-  for (const float aspect : {16.0f / 9.0f, 4.0f / 3.0f}) {
+  for (const float aspect : {16.0f / 9.0f, 4.0f / 3.0f, 9.0f / 16.0f}) {
     CameraOptions options;
     options.aspect = aspect;
     const CameraControl c(options, subject_of(birds, 0, 0.0));
@@ -119,6 +120,12 @@ TEST(CameraControl, AutoFramesTheFollowedBirdsFlockAsItIsSeen) {
     EXPECT_LE(v.reach, 0.61) << aspect;
     EXPECT_LT(c.camera().target_world().z, 500.0) << aspect;  // on this skein, not between
   }
+  // A followed bird quarantined (not finite): still its own skein.
+  std::vector<BirdState> quarantined = birds;
+  quarantined[0].position.x = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_LT(
+      CameraControl(CameraOptions{}, subject_of(quarantined, 0, 0.0)).camera().target_world().z,
+      500.0);
   // Following a bird of the other skein frames that one.
   const CameraControl other(CameraOptions{}, subject_of(birds, 20, 0.0));
   EXPECT_EQ(in_picture(other.camera(), 16.0f / 9.0f, birds, 1).seen, 1.0);

@@ -293,6 +293,11 @@ TEST(Summary, ALegTheWindBlowsAcrossFasterThanItsBirdsFlyIsReported) {
             "flock \"migrants\" cannot hold its leg from its spawn to \"km-525\": at 450 m the "
             "wind blows 0.0 m/s across it and 10.0 m/s against it, and its birds fly at 10.0 m/s; "
             "they head into it and drift");
+  // A flock that does not flock: its birds fly faster against the wind, up to max_speed.
+  s.flocks[0].flocking = false;
+  ASSERT_GT(s.species[s.flocks[0].species].max_speed, 1.1 * cruise);
+  EXPECT_TRUE(wind_warnings(s).empty());
+  s.flocks[0].flocking = true;
   // Across and against together: 0.8 V across at 450 m leaves 0.6 V along the first leg.
   auto first_leg_warned = [&] {
     const std::vector<WindWarning> all = wind_warnings(s);

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
@@ -76,20 +77,22 @@ struct RunOptions {
 // the program at once, unless it comes within kSignalGrace of the first: the same stop delivered
 // twice (`timeout -s INT` signals the program, then its process group).
 volatile std::sig_atomic_t g_signal = 0;
-constexpr double kSignalGrace = 1.0;  // s
-timespec g_first_signal{};            // when g_signal was set (the handler's alone)
+constexpr int64_t kSignalGrace = 1'000'000'000;  // ns
+// When the first signal came (CLOCK_MONOTONIC, ns; 0: none yet). The two signals may be handled
+// in two threads at once: the first to set it is the stop, and a lock-free atomic is
+// async-signal-safe.
+std::atomic<int64_t> g_first_signal{0};
+static_assert(std::atomic<int64_t>::is_always_lock_free);
 extern "C" void on_stop_signal(int signal) {
   timespec now{};
   clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe, as are signal() and raise()
-  if (g_signal == 0) {
-    g_first_signal = now;
+  const int64_t ns = int64_t(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+  int64_t first = 0;
+  if (g_first_signal.compare_exchange_strong(first, ns)) {
     g_signal = signal;
     return;
   }
-  if (double(now.tv_sec - g_first_signal.tv_sec) +
-          1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec) <
-      kSignalGrace)
-    return;
+  if (ns - first < kSignalGrace) return;  // the same stop
   std::signal(signal, SIG_DFL);
   std::raise(signal);  // delivered as the handler returns (the signal is blocked in it)
 }
@@ -306,16 +309,30 @@ struct OptionError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Directories a run's checks made (`dirs`, outer first): removed when empty unless the run began
+// (`keep`), so that an error before it leaves no empty --frames-dir or --vtk behind.
+struct MadeDirectories {
+  std::vector<std::filesystem::path> dirs;
+  bool keep = false;
+  ~MadeDirectories() {
+    if (keep) return;
+    std::error_code ec;
+    for (auto dir = dirs.rbegin(); dir != dirs.rend(); ++dir)
+      std::filesystem::remove(*dir, ec);  // an empty directory only
+  }
+};
+
 // The MPI session main() opened (dist/mpi_session.h): one process unless a launcher started many.
 const dist::MpiSession* g_mpi = nullptr;
 
 int run(const RunOptions& opt) {
   g_signal = 0;
+  g_first_signal = 0;
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   // SA_RESTART: a write under way (a video frame into ffmpeg's pipe) goes on, not half done.
   action.sa_flags = SA_RESTART;
-  sigemptyset(&action.sa_mask);  // each blocks the other while it is handled
+  sigemptyset(&action.sa_mask);  // each blocks the other in the thread that handles it
   sigaddset(&action.sa_mask, SIGINT);
   sigaddset(&action.sa_mask, SIGTERM);
   sigaction(SIGINT, &action, nullptr);
@@ -367,6 +384,12 @@ int run(const RunOptions& opt) {
         *opt.structure_from, opt.structure_to.value_or(total_seconds), opt.structure_every};
     if (opt.structure_to && structure_window->to < structure_window->from)
       throw OptionError("--structure-to must not be before --structure-from");
+    if (structure_window->to < frame_seconds - 1e-9) {
+      char why[160];
+      std::snprintf(why, sizeof why, "--structure-to %g s is before the first frame's end at %g s",
+                    structure_window->to, frame_seconds);
+      throw OptionError(why);
+    }
     if (structure_window->from > total_seconds + 1e-9) {
       char why[160];
       std::snprintf(why, sizeof why, "--structure-from %g s is past the run's end at %g s",
@@ -413,6 +436,14 @@ int run(const RunOptions& opt) {
   std::vector<std::unique_ptr<dist::OnRankZero>> on_rank_zero;
   if (many && (opt.images.any() || opt.structure_from))
     gathered_flock = std::make_unique<dist::GatheredFlock>(*ranks);
+  // The directories the outputs' checks make: an error before the run leaves none of them empty.
+  MadeDirectories made;
+  const std::filesystem::path vtk_frames =
+      opt.vtk.dir.empty() ? std::filesystem::path() : opt.vtk.dir / "frames";
+  for (const std::filesystem::path& dir :
+       {std::filesystem::path(opt.images.frames_dir), opt.vtk.dir, vtk_frames})
+    if (std::error_code ec; !dir.empty() && !std::filesystem::exists(dir, ec))
+      made.dirs.push_back(dir);
   if (opt.images.any() && !many) images = std::make_unique<Pictures>(opt.images, *sim);
   if (opt.images.any() && many) {
     std::string why;
@@ -507,6 +538,7 @@ int run(const RunOptions& opt) {
   // Over many ranks every rank steps one frame a turn, whatever its own observers read: the
   // ranks' frames and their exchanges must pair up (and the CPU gains nothing from batches).
   if (many) limits.batch = 1;
+  made.keep = true;
   const RunResult run = run_frames(*sim, observers, limits);
   const bool interrupted = run.end == RunResult::End::signal;
   std::vector<std::string> errors = run.errors;

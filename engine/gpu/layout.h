@@ -49,7 +49,8 @@ std::vector<GpuTarget> pack_targets(const World& w, double time);
 
 // The model's specialisation constants for a flock of `birds` in `scenario`, by constant_id
 // (host_device.h: kConstantWakes...): what its birds can reach. A bird brakes for a branch only on
-// a route to one, so kConstantBranches is off where no route has one and no bird brakes already.
+// a route to one, so kConstantBranches is off where no route has one and none of `birds` brakes
+// already (an MPI rank's `birds` are a bird of each kind; the rest come from the same routes).
 std::vector<uint32_t> model_constants(const Scenario& scenario, std::span<const BirdState> birds);
 
 }  // namespace aeroflock::gpu

@@ -44,7 +44,7 @@ std::vector<FlockingSummary> flocking_summary(const Scenario& scenario,
 
 // A leg its flock cannot hold for the wind (model/scenario.h: wind_beyond_airspeed), by name
 // (`from` empty: the leg from the flock's spawn), and the sentence that reports it: 'flock
-// "migrants" cannot hold its leg from "km-500" to "km-525": at 450 m the wind blows 12.0 m/s across
+// "migrants" cannot hold its leg from "km-525" to "km-550": at 600 m the wind blows 12.0 m/s across
 // it, and its birds fly at 10.0 m/s; they head into it and drift'.
 struct WindWarning {
   std::string flock, from, target;

@@ -215,7 +215,10 @@ std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
     const Flock& flock = s.flocks[f];
     if (flock.route >= s.world.routes.size()) continue;
     const Route& route = s.world.routes[flock.route];
-    const double airspeed = s.species[flock.species].cruise_speed;
+    // A flock that flocks flies its birds' airspeed (cruise_speed to start with); a bird alone
+    // flies faster against the wind, up to max_speed (control.h: commanded_airspeed).
+    const Species& species = s.species[flock.species];
+    const double airspeed = flock.flocking ? species.cruise_speed : species.max_speed;
     glm::dvec3 from = flock.spawn_centre;
     uint32_t from_target = WindBeyondAirspeed::kSpawn;
     const size_t legs_flown = route.targets.size() + (route.loop && route.targets.size() > 1);
@@ -226,8 +229,9 @@ std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s) {
       if (glm::length(way) > 0.0) {
         const glm::dvec3 along = glm::normalize(way);
         WindBeyondAirspeed worst{uint32_t(f), from_target, to, 0.0, 0.0, 0.0, airspeed};
-        // The speed made good along the leg with the track held: negative where it cannot be
-        // (ordered only: any wind across at least the airspeed is worse than any that is not).
+        // The speed made good along the leg with the track held, at each end: not above 0 where
+        // it cannot be held (across at least the airspeed: below 0 whatever the wind along). The
+        // end where it is least is reported.
         double least = std::numeric_limits<double>::infinity();
         for (const double y : {from.y, end.y}) {
           const glm::dvec3 w = horizontal(wind_at(s.world, y));

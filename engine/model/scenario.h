@@ -141,11 +141,12 @@ bool any_flocking(const Scenario& s);
 bool any_wake(const Scenario& s);
 
 // A leg of a flock's route (from its spawn centre to the first target, then from target to
-// target, and round again on a loop) that the flock's birds cannot fly at their airspeed
-// (cruise_speed) for the wind at one of its ends' heights: across it at least as fast as they fly,
-// or against it as fast as what holding the track leaves them along it (sqrt(V^2 - across^2)).
-// They head into the wind (control.h: track_aim) and are blown off or back along the leg, which
-// the run reports rather than flying the leg as if it could be held.
+// target, and round again on a loop) that the flock's birds cannot fly at their airspeed V
+// (cruise_speed; max_speed for a flock that does not flock) for the wind at one of its ends'
+// heights: across it at least as fast as they fly, or against it as fast as what holding the track
+// leaves them along it (sqrt(V^2 - across^2)). They head into the wind (control.h: track_aim) and
+// are blown off or back along the leg, which the run reports rather than flying the leg as if it
+// could be held.
 struct WindBeyondAirspeed {
   static constexpr uint32_t kSpawn = ~0u;
   uint32_t flock = 0;      // index into Scenario::flocks
@@ -154,7 +155,7 @@ struct WindBeyondAirspeed {
   double across = 0.0;     // cm/s: the wind across the leg, where it is least to be held
   double against = 0.0;    // cm/s: the wind against the flight along the leg, there (< 0: with)
   double height = 0.0;     // cm: the world height of that end
-  double airspeed = 0.0;   // cm/s: the species' cruise_speed
+  double airspeed = 0.0;   // cm/s: V
 };
 std::vector<WindBeyondAirspeed> wind_beyond_airspeed(const Scenario& s);
 

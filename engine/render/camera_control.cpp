@@ -52,7 +52,7 @@ Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, doubl
   Subject s;
   s.time = time;
   const bool bird_ok = followed < birds.size() && is_finite(birds[followed]);
-  const uint32_t flock = bird_ok ? birds[followed].flock : kAnyFlock;
+  const uint32_t flock = followed < birds.size() ? birds[followed].flock : kAnyFlock;
   const FlockCore core = flock_core(birds, 0.9, flock);
   if (core.finite == 0) return s;
   s.centre = core.centre;
@@ -189,11 +189,12 @@ void CameraControl::frame(float seconds, const Subject& subject, double time, bo
       snap ? heading_ + kPi + kAutoSide : glide_angle(view_yaw_, heading_ + kPi + kAutoSide, f);
   orbit_yaw_ += kOrbitRate * seconds;
   const float yaw = (mode_ == Mode::orbit ? orbit_yaw_ : view_yaw_) + drag_yaw_;
-  // The core's sphere in kFill of the height; nearer where its outline, seen from here, still
-  // fits (a flat flock seen from a little above, a wide one from behind).
-  const float radius = std::max(subject.radius, kMinRadius);
-  float fit = radius / std::tan(0.5f * kFill * camera_.fov_y);
-  if (subject.has_outline) fit = std::min(fit, outline_fit(subject, yaw));
+  // Its outline, seen from here, in kFill of the height and the width (a flat flock seen from a
+  // little above, a wide one from behind, a picture taller than wide); without one, the core's
+  // sphere in kFill of the height.
+  const float fit = subject.has_outline ? outline_fit(subject, yaw)
+                                        : std::max(subject.radius, kMinRadius) /
+                                              std::tan(0.5f * kFill * camera_.fov_y);
   distance_ += f * (fit - distance_);
   move_origin(centre_);
   camera_.target = glm::vec3(0.0f);

@@ -37,8 +37,8 @@ struct Subject {
 };
 // The flock of bird `followed`, of its finite birds (a bird with NaN is left out): a scenario's
 // flocks may fly far apart (geese-migration's three skeins, 300 m), and a picture of them all
-// would draw each bird a pixel. A bird `followed` that is not there or not finite: every flock,
-// and the followed bird falls back on their centre.
+// would draw each bird a pixel. A bird `followed` that is not there: every flock. One not finite
+// (quarantined) falls back on the centre of its flock.
 Subject subject_of(const std::vector<BirdState>& birds, uint32_t followed, double time);
 
 // automatic frames the flock and follows it, orbit circles it, follow rides behind one bird, free

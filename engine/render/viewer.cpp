@@ -122,7 +122,10 @@ Viewer::Viewer(Window& window, const gpu::Device& device, Scenario scenario,
     throw std::runtime_error("--camera-bird " + std::to_string(followed_) + ": the flock has " +
                              std::to_string(sim_.bird_count()) + " birds");
   read_flock();
-  camera_ = CameraControl(options.camera, flock_);
+  CameraOptions framing = options.camera;
+  if (const VkExtent2D e = swapchain_.extent(); e.height > 0)
+    framing.aspect = float(e.width) / float(e.height);
+  camera_ = CameraControl(framing, flock_);
   view_.show_targets = options.targets;
   view_.shadow_casters = is_cpu_device(device) ? kWindowShadows : 0;
   view_.tiny_pixels = is_cpu_device(device) ? kWindowTinyPixels : 0.0f;
