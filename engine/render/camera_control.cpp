@@ -19,7 +19,7 @@ constexpr float kOrbitRate = 0.1f;    // rad/s: a turn round the flock a minute
 constexpr float kAutoSide = 1.0f;     // rad: auto looks from behind and to the side
 constexpr float kAutoPitch = 0.25f;   // rad: auto and orbit look down on the flock this much
 constexpr float kMinRadius = 150.0f;  // cm: one bird is framed as a flock this wide
-constexpr float kFill = 0.6f;         // of the vertical field of view, the flock's core
+constexpr float kFill = 0.6f;         // of the picture (height and width), the flock's core
 constexpr float kZoomPerClick = 0.9f;
 constexpr float kPi = 3.14159265f;
 
