@@ -21,6 +21,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -754,6 +755,7 @@ int main(int argc, char** argv) {
   g_mpi = &mpi;
   CLI::App app{"aeroflock: real-time bird flight simulation based on aerodynamics"};
   app.require_subcommand(1);
+  app.failure_message(failure_message);
   std::string show;
   RunOptions run;
   ViewOptions view;
@@ -802,8 +804,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {  // a check made once the whole line is read
     return mpi.root() ? (app.exit(e) == 0 ? 0 : 2) : (e.get_exit_code() == 0 ? 0 : 2);
   } catch (const ScenarioError& e) {
-    // Already "FILE:LINE:COLUMN: error: ...".
-    return said_once(2, [&] { std::cerr << e.what() << "\n"; });
+    // Already "FILE:LINE:COLUMN: error: ...", but for a name that is no scenario.
+    const std::string_view what = e.what();
+    return said_once(2, [&] {
+      std::cerr << (what.find(": error: ") == what.npos ? "aeroflock: error: " : "") << what
+                << "\n";
+    });
   } catch (const OptionError& e) {
     return said_once(2, [&] { std::cerr << "aeroflock: error: " << e.what() << "\n"; });
   } catch (const std::exception& e) {

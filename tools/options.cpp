@@ -306,8 +306,32 @@ std::string unknown_command(const CLI::App& app, const std::string& word) {
     list += (list.empty() ? "" : ", ") + sub->get_name();
     names.push_back(sub->get_name());
   }
-  return "aeroflock: unknown command '" + word + "'" + did_you_mean(word, names) +
+  return "aeroflock: error: unknown command '" + word + "'" + did_you_mean(word, names) +
          "; the commands are " + list + " (aeroflock --help)";
+}
+
+std::string failure_message(const CLI::App* app, const CLI::Error& e) {
+  std::string message = std::string("aeroflock: error: ") + e.what();
+  const CLI::App* command = app;
+  for (const CLI::App* sub : app->get_subcommands())
+    if (sub->parsed()) command = sub;
+  // An option the command does not take: the nearest it does. CLI11 leaves the words it could
+  // not place in the command that was parsing, or in the program's own list.
+  if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : command->get_options())
+      for (const std::string& name : o->get_lnames()) names.push_back("--" + name);
+    const std::vector<std::string_view> words(names.begin(), names.end());
+    std::string near;
+    for (const CLI::App* a : {app, command})
+      for (const std::string& extra : a->remaining())
+        if (near.empty() && extra.starts_with("--"))
+          near = closest_word(extra.substr(0, extra.find('=')), words);
+    if (!near.empty()) message += " (did you mean '" + near + "'?)";
+  }
+  const std::string help =
+      command == app ? "aeroflock --help" : "aeroflock " + command->get_name() + " --help";
+  return message + "\n" + help + " lists what it takes.\n";
 }
 
 }  // namespace aeroflock

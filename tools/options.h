@@ -124,4 +124,8 @@ void check_camera_options(const render::CameraOptions& camera, const CLI::App& a
 // subcommand is required). Empty when `word` is a command.
 std::string unknown_command(const CLI::App& app, const std::string& word);
 
+// CLI11's errors said as the program's own are, "aeroflock: error: ...", with the nearest option
+// to one the command does not take (app.failure_message).
+std::string failure_message(const CLI::App* app, const CLI::Error& e);
+
 }  // namespace aeroflock
