@@ -39,6 +39,7 @@ Scenario flocking_scenario() {
 struct Compared {
   size_t birds = 0, same_neighbours = 0, seeing = 0;
   double worst_direction = 0.0, worst_airspeed = 0.0, worst_nearest = 0.0;
+  uint64_t searched_again = 0;  // of the device's sampled searches (GpuSimulation::searches)
 };
 
 // Perceives once on each backend from the same state (a frame of no steps) and compares.
@@ -52,6 +53,7 @@ Compared perceive_on_both(gpu::Device& device, const Scenario& scenario,
   const std::vector<Perception>& b = *gpu.snapshot().perception;
   Compared c;
   c.birds = birds.size();
+  c.searched_again = gpu.searches().again;
   for (size_t i = 0; i < birds.size(); ++i) {
     const bool same = a[i].neighbours == b[i].neighbours && a[i].seen_key == b[i].seen_key;
     c.same_neighbours += same;
@@ -329,13 +331,15 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
       borders.push_back(
           flocking_bird(dvec3{cell * x, 4000.0 + 600.0 * unit(rng), 600.0 * unit(rng)},
                         dvec3{0.0, 0.0, -1000.0}));
-  // The table of cells (grid.glsl: grid_slot) is 16 cells along x for a flock this small: cells
-  // 16 apart start their search at one slot. A line of birds through 48 cells makes most cells'
-  // slots taken by another's (the search goes on past them, grid_count.comp and flock.glsl).
+  // The table of cells (grid.glsl: grid_slot) has room for 4,096 slots for 160 birds, and its
+  // sides are fitted to the flock (gpu/grid_table.h): a line of birds through 208 cells is longer
+  // than a side can be (64 cells along x, with 8 along y and along z), so cells 64 apart start
+  // their search at one slot and most cells' slots are taken by another's (the search goes on
+  // past them, grid_count.comp and flock.glsl).
   std::vector<BirdState> line;
   for (int n = 0; n < 160; ++n)
     line.push_back(flocking_bird(
-        dvec3{0.3 * cell * n + 7.0 * unit(rng), 4000.0 + 50.0 * unit(rng), 50.0 * unit(rng)},
+        dvec3{1.3 * cell * n + 7.0 * unit(rng), 4000.0 + 50.0 * unit(rng), 50.0 * unit(rng)},
         dvec3{0.0, 0.0, 1000.0}));  // across the line: no bird has all behind it
   // Two flocks in the same cells: each bird sees its own flock alone.
   std::vector<BirdState> two_flocks;
@@ -351,6 +355,9 @@ TEST(GpuFlock, GridFindsTheSameOnAdversarialInputs) {
     // Exact ties and borders may fall either way in float: all but 0.1 % agree.
     EXPECT_GE(double(c.same_neighbours), 0.999 * double(c.birds))
         << what << ": " << c.same_neighbours;
+    if (what == std::string("cells sharing slots")) {
+      EXPECT_GT(c.searched_again, 0u);
+    }
   }
   // Two species that see different numbers of neighbours, and see as far (the search's k is then
   // the bird's own, and its order reaches the farther).
@@ -537,6 +544,16 @@ TEST(GpuFlock, TheDefaultStarlingsKeepSpacingOrderAndCohesionAndFlyTheRoute) {
   const testing::FlockRun run = testing::fly_flock(sim, 0, 20.0, 80.0);
   testing::expect_flock_criteria(run, scenario, 0);
   testing::expect_structure_criteria(run);  // the field's (docs/FIELD.md)
+  // The grid's table holds the flock (gpu/grid_table.h): its searches find every cell at the first
+  // look. With sides that suit no shape they wrapped its height every 4 cells, and from 10 s on
+  // nearly every bird searched twice.
+  const gpu::GpuSimulation::Searches searches = sim.searches();
+  EXPECT_GT(searches.sampled, 100'000u);
+  EXPECT_LT(double(searches.again), 0.01 * double(searches.sampled))
+      << searches.again << " of " << searches.sampled;
+  std::printf("searched again: %llu of %llu sampled searches\n",
+              static_cast<unsigned long long>(searches.again),
+              static_cast<unsigned long long>(searches.sampled));
   EXPECT_EQ(device.validation_errors(), 0u);
 }
 

@@ -5,12 +5,14 @@
 # largest of a flocking run is the step, the next the perception (their counts follow the changes
 # made to each). Takes minutes: valgrind runs the program some 50 times slower.
 #   tools/shader_instructions.sh [AEROFLOCK] [run arguments...]
-# default: build/release/aeroflock, run default --seconds 0.3 --birds 1000 --backend vulkan.
+# default: build/release/aeroflock, run tools/shader_instructions.toml --seconds 0.3 --backend
+# vulkan: the default scenario's 1,000 starlings spawned over the span of a flown flock (a
+# spawned flock, compact, meets few of the costs of one that has flown for a while).
 set -euo pipefail
 aeroflock=${1:-build/release/aeroflock}
 shift || true
 args=("$@")
-[ ${#args[@]} -gt 0 ] || args=(default --seconds 0.3 --birds 1000)
+[ ${#args[@]} -gt 0 ] || args=("$(dirname "$0")/shader_instructions.toml" --seconds 0.3)
 command -v valgrind > /dev/null || { echo "needs valgrind (apt-get install valgrind)" >&2; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

@@ -1,6 +1,7 @@
 #include "gpu/gpu_simulation.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <span>
 #include <stdexcept>
@@ -157,11 +158,26 @@ Buffer search_buffer(const Device& device, const std::vector<double>& cells, uin
   return buffer_with(device, orders, Memory::device_local, "grid search offsets");
 }
 
+// The grid's table's room: 16 slots a bird, where the device's buffers hold them, and never fewer
+// than grid_buckets' 4 (the least the table takes). Fitted to a compact flock the sides need
+// about 16 (1,000 paper starlings flying the default scenario span 26 x 9 x 20 cells).
+uint32_t table_room(const Device& device, uint32_t capacity) {
+  const uint64_t fits = std::min<uint64_t>(storage_capacity(device, sizeof(glm::ivec4)),
+                                           device.limits().maxTexelBufferElements) -
+                        1;  // grid_cells.comp's slot after the last
+  const uint64_t wanted = std::bit_ceil(16 * uint64_t(std::max(capacity, 1u)));
+  return uint32_t(std::max<uint64_t>(grid_buckets(capacity),
+                                     std::min({wanted, std::bit_floor(fits), uint64_t(1) << 31})));
+}
+
 }  // namespace
 
 GpuSimulation::Flocking::Flocking(const Device& device, const Scenario& scenario,
                                   const std::vector<BirdState>& kinds, uint32_t capacity)
-    : shape{grid_shape(scenario.species, kinds).cell, grid_buckets(capacity)},
+    : shape{grid_shape(scenario.species, kinds).cell, table_room(device, capacity)},
+      table(grid_table(uint32_t(std::countr_zero(grid_buckets(capacity))))),
+      least_bits(table.bits()),
+      most_bits(uint32_t(std::countr_zero(shape.buckets))),
       cells(grid_cells_allowed(scenario.species, kinds)),
       place(grid_buffer(device, 2 * size_t{capacity}, "birds' grid places")),
       counts(grid_buffer(device, shape.buckets, "grid slots")),
@@ -257,16 +273,22 @@ GpuSimulation::GpuSimulation(const Device& device, Scenario scenario, std::vecto
       frames_per_submission_(frames_fitting(device, world())),
       slots_{{targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, (2 + kReachBins) * sizeof(uint32_t), Memory::host)},
+              Buffer(device, (3 + kReachBins) * sizeof(uint32_t), Memory::host)},
              {targets_buffer(device, world(), frames_per_submission_),
               Buffer(device, birds_.size(), Memory::host),
-              Buffer(device, (2 + kReachBins) * sizeof(uint32_t), Memory::host)}},
+              Buffer(device, (3 + kReachBins) * sizeof(uint32_t), Memory::host)}},
       initial_(std::move(birds)),
       submitter_(device, 2) {
   step_.check_groups(group_count(capacity_, kWorkgroupSize));  // so that step() cannot fail on it
   if (any_flocking(this->scenario()))
     flocking_ =
         std::make_unique<Flocking>(device, this->scenario(), kinds ? *kinds : initial_, capacity_);
+  if (flocking_) {
+    std::vector<GpuBird> packed(initial_.size());
+    std::transform(initial_.begin(), initial_.end(), packed.begin(),
+                   [](const BirdState& b) { return pack(b); });
+    fit_grid_table(packed);
+  }
   for (Slot& slot : slots_) {
     std::memset(slot.cut_short.mapped(), 0, slot.cut_short.size());
     slot.set = step_.make_set(world_buffers(
@@ -308,14 +330,16 @@ void GpuSimulation::record_perception(VkCommandBuffer cmd, Slot& slot, const Ste
   // The last frame's passes (several frames a submission) are done with the grid before it is
   // cleared.
   barrier_to_transfer(cmd);
-  vkCmdFillBuffer(cmd, f.counts.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vkCmdFillBuffer(cmd, f.owners.handle(), 0, VK_WHOLE_SIZE, kNoBird);
-  vkCmdFillBuffer(cmd, f.keys.handle(), 0, VK_WHOLE_SIZE, uint32_t(kNoFlock));  // every slot empty
+  // The slots the table takes now (its sides), every one empty.
+  const VkDeviceSize slots = f.table.slots();
+  vkCmdFillBuffer(cmd, f.counts.handle(), 0, slots * sizeof(uint32_t), 0u);
+  vkCmdFillBuffer(cmd, f.owners.handle(), 0, slots * sizeof(uint32_t), kNoBird);
+  vkCmdFillBuffer(cmd, f.keys.handle(), 0, slots * sizeof(glm::ivec4), uint32_t(kNoFlock));
   barrier_to_compute(cmd);
   const uint32_t groups = group_count(count_, kWorkgroupSize);
   f.count.dispatch(cmd, groups, &c, sizeof c);
   barrier_to_compute(cmd);
-  f.scan_blocks.dispatch(cmd, f.shape.buckets / kScanBlock, &c, sizeof c);
+  f.scan_blocks.dispatch(cmd, f.table.slots() / kScanBlock, &c, sizeof c);
   barrier_to_compute(cmd);
   f.scan_totals.dispatch(cmd, 1, &c, sizeof c);
   barrier_to_compute(cmd);
@@ -344,8 +368,8 @@ bool GpuSimulation::time_passes() {
 const std::vector<GpuSimulation::PassTimes>& GpuSimulation::pass_times() {
   if (last_ >= 0) {
     submitter_.wait_all();
-    collect_pass_times(slots_[1 - last_]);  // the older first
-    collect_pass_times(slots_[last_]);
+    collect(slots_[1 - last_]);  // the older first
+    collect(slots_[last_]);
   }
   // A snapshot may have read the last submission's before the one before.
   std::sort(pass_times_.begin(), pass_times_.end(),
@@ -353,7 +377,22 @@ const std::vector<GpuSimulation::PassTimes>& GpuSimulation::pass_times() {
   return pass_times_;
 }
 
-void GpuSimulation::collect_pass_times(Slot& slot) {
+GpuSimulation::Searches GpuSimulation::searches() {
+  if (last_ >= 0) {
+    submitter_.wait_all();
+    collect(slots_[1 - last_]);
+    collect(slots_[last_]);
+  }
+  return searches_;
+}
+
+void GpuSimulation::collect(Slot& slot) {
+  if (!slot.counted && slot.fence != VK_NULL_HANDLE) {
+    const auto* counts = reinterpret_cast<const uint32_t*>(slot.cut_short.mapped());
+    for (uint32_t b = 0; b < kReachBins; ++b) searches_.sampled += counts[2 + b];
+    searches_.again += counts[2 + kReachBins];
+    slot.counted = true;
+  }
   if (slot.timed_frames == 0) return;
   const std::vector<double> ns = slot.timestamps->read_ns(slot.timed_frames * kTimestampsPerFrame);
   for (uint32_t f = 0; f < slot.timed_frames; ++f) {
@@ -418,6 +457,15 @@ void GpuSimulation::fit_grid_cell(const Slot& slot) {
   if (cell > 0.0) f.shape.cell = cell;  // else no search reached: keep the cell
 }
 
+void GpuSimulation::fit_grid_table(std::span<const GpuBird> birds) {
+  if (!flocking_) return;
+  Flocking& f = *flocking_;
+  // Its outermost birds search a cell or two past them: a grid's cell is about the reach of a
+  // bird's search (grid_cell_for).
+  constexpr int kMargin = 2;
+  f.table = grid_table_for(flock_extents(birds, f.shape.cell), kMargin, f.least_bits, f.most_bits);
+}
+
 void GpuSimulation::check_cut_short(const Slot& slot) const {
   const auto* cut = reinterpret_cast<const uint32_t*>(slot.cut_short.mapped());
   if (cut[0] > 0)
@@ -453,7 +501,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     submitter_.wait(reused.fence);  // as begin() would
     check_cut_short(reused);        // before its count is cleared
     fit_grid_cell(reused);
-    collect_pass_times(reused);
+    fit_grid_table({reinterpret_cast<const GpuBird*>(reused.readback.mapped()), count_});
+    collect(reused);
     std::memset(reused.cut_short.mapped(), 0, reused.cut_short.size());
   }
   VkCommandBuffer cmd = submitter_.begin();  // waits for this slot's previous submission only
@@ -483,7 +532,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   if (flocking_) {
     const Flocking& f = *flocking_;
     c.grid_cell = float(f.shape.cell);
-    c.buckets = f.shape.buckets;
+    c.buckets = f.table.slots();
+    c.grid_bits = f.table.packed();
     const size_t k = f.cell_index();
     c.search_first = f.search_first[k];
     c.search_cells = f.search_cells[k];
@@ -537,6 +587,7 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
 
   slot.snapshot = {this->frames(), this->steps(), time(), nullptr, nullptr};
   slot.unpacked = false;
+  slot.counted = false;
   slot.has_forces = record_forces;
   last_ = static_cast<int>(submitter_.frame());
 }
@@ -552,7 +603,7 @@ Snapshot GpuSimulation::read(Slot& slot) {
   if (!slot.unpacked) {
     submitter_.wait(slot.fence);
     check_cut_short(slot);
-    collect_pass_times(slot);
+    collect(slot);
     const auto* gpu = reinterpret_cast<const GpuBird*>(slot.readback.mapped());
     slot.birds.resize(count_);
     for (uint32_t i = 0; i < count_; ++i) slot.birds[i] = unpack(gpu[i]);
@@ -589,6 +640,7 @@ void GpuSimulation::load(std::span<const GpuBird> birds, std::span<const GpuPerc
   birds_.upload(std::as_bytes(birds));
   ids_.upload(std::as_bytes(ids));
   if (flocking_) perception_.upload(std::as_bytes(perception));
+  fit_grid_table(birds);
 }
 
 GpuSimulation::Raw GpuSimulation::raw() {
@@ -596,7 +648,7 @@ GpuSimulation::Raw GpuSimulation::raw() {
   Slot& slot = slots_[last_];
   submitter_.wait(slot.fence);
   check_cut_short(slot);
-  collect_pass_times(slot);
+  collect(slot);
   Raw r;
   r.birds = {reinterpret_cast<const GpuBird*>(slot.readback.mapped()), count_};
   if (flocking_)

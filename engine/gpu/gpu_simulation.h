@@ -11,6 +11,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute.h"
 #include "gpu/device.h"
+#include "gpu/grid_table.h"
 #include "gpu/layout.h"
 #include "model/simulation.h"
 
@@ -79,6 +80,13 @@ class GpuSimulation final : public Simulation {
   bool time_passes();
   // Every frame timed so far, in order (waits for the frames in flight).
   const std::vector<PassTimes>& pass_times();
+  // Of the neighbour searches so far, one bird's in kReachSample: how many, and how many met a
+  // slot of the grid's table that another cell holds and searched again (flock.glsl: search),
+  // at about twice the cost. Waits for the frames in flight.
+  struct Searches {
+    uint64_t sampled = 0, again = 0;
+  };
+  Searches searches();
   // The birds' state on the device (bird_count() GpuBird), written by the submitted frames: what
   // the renderer draws from, after a compute-to-vertex barrier.
   const Buffer& bird_buffer() const { return birds_; }
@@ -120,13 +128,17 @@ class GpuSimulation final : public Simulation {
     VkFence fence = VK_NULL_HANDLE;
     Snapshot snapshot;  // its frame, steps and time; the vectors below once unpacked
     bool unpacked = false, has_forces = false;
+    bool counted = false;  // its searches added to searches_
     std::vector<BirdState> birds;
     std::vector<StepForces> step_forces;
     std::vector<Perception> perception_state;
   };
   // Flocking: the neighbour grid's buffers and passes (grid_*.comp), and perceive.comp.
   struct Flocking {
-    GridShape shape;
+    GridShape shape;  // its buckets: the table's room (the slots its buffers hold)
+    // The table's sides now (grid_table_for: fitted to the flocks), its least bits and its room's.
+    GridTable table;
+    uint32_t least_bits = 0, most_bits = 0;
     // The cells the grid may take (grid_cells_allowed; shape.cell one of them) and the search's
     // order for each in `search` (where it begins, and the cells a part's list holds).
     std::vector<double> cells;
@@ -147,14 +159,17 @@ class GpuSimulation final : public Simulation {
   void check_cut_short(const Slot& slot) const;
   // Fits the grid's cell to how far the searches of `slot`'s finished submission reached.
   void fit_grid_cell(const Slot& slot);
+  // Fits the grid's table's sides to how far the flocks of `birds` span, in the grid's cells.
+  void fit_grid_table(std::span<const GpuBird> birds);
   // Records and submits `frames` frames of `steps` steps each in one command buffer.
   void submit_frames(uint32_t frames, uint32_t steps, bool record_forces);
   // With `timestamps`, writes `first` + 1 after the grid's passes and `first` + 2 after the
   // perception.
   void record_perception(VkCommandBuffer cmd, Slot& slot, const StepConstants& c,
                          Timestamps* timestamps, uint32_t first);
-  // Adds the timed frames of `slot`, whose submission has finished, to pass_times_.
-  void collect_pass_times(Slot& slot);
+  // Adds what the finished submission of `slot` measured: its timed frames to pass_times_, its
+  // sampled searches to searches_ (once).
+  void collect(Slot& slot);
 
   std::unique_ptr<Device> owned_device_;
   const Device& device_;
@@ -172,6 +187,7 @@ class GpuSimulation final : public Simulation {
   int last_ = -1;  // the slot of the last frame (-1: none yet)
   uint32_t steps_per_dispatch_ = kMaxStepsPerDispatch;
   std::vector<PassTimes> pass_times_;
+  Searches searches_;
   std::vector<BirdState> initial_;
   Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
 };

@@ -241,7 +241,8 @@ struct StepConstants {
   uint flocking;      // 1: the birds steer by their perception
   float grid_cell;    // the neighbour grid's cell, cm
   uint buckets;       // its slots, a power of two, a whole number of kScanBlock
-  uint frame;         // the frame's index (perceive.comp: whose reaction is due)
+  uint grid_bits;  // the table's sides, 2^x by 2^y by 2^z cells: x | y << 8 | z << 16 (grid.glsl)
+  uint frame;      // the frame's index (perceive.comp: whose reaction is due)
   float frame_seconds;
   uint wind_profile;    // WindProfile (engine/model/world.h): 0 uniform, 1 power law, 2 logarithmic
   float wind_height;    // where the wind is wind_ground.xyz, cm above the ground

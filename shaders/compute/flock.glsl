@@ -59,7 +59,7 @@ bool holds_another(ivec4 key, ivec3 c, uint flock) {
 }
 
 uvec4 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
-  uint slot = grid_slot(c, flock, pc.buckets);
+  uint slot = grid_slot(c, flock);
   ivec4 key = texelFetch(grid_keys, int(slot));
   bool other = holds_another(key, c, flock);
   if (probing) {
@@ -117,9 +117,11 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   int n = 0;
   uint e = 0u, end = 0u;
   vec3 low = vec3(0.0);
-  // One loop over the cells and their birds, a lane taking its next bird or else its next cell
-  // each turn: 8 lanes turn as often as the one with the most cells and birds, not as often as
-  // the fullest of their cells at each cell (roofline.md).
+  // One loop over the cells and their birds, a lane taking its next bird each turn, and its next
+  // cell in the same turn once its cell's birds are all seen: 8 lanes turn as often as the one
+  // with the most birds and cells that hold none it looks at, not as often as the fullest of
+  // their cells at each cell (roofline.md). A CPU device runs both halves of a turn for every
+  // lane anyway: a turn for a cell alone would cost as much as one for a bird and a cell.
   // (The turns' bound, never reached, keeps a compiler from taking `done` as true after the loop.)
   for (uint turn = 0u; !done && turn < 0x40000000u; ++turn) {
     if (e < end) {
@@ -147,6 +149,8 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
         }
       }
       ++e;
+    }
+    if (e < end) {  // birds of its cell still to see
     } else if (n >= cells || blocked) {
       done = true;
     } else {

@@ -10,18 +10,16 @@ ivec3 grid_cell(GpuBird b, float cell, out vec3 inside) {
 }
 
 // Where the table's search for cell c of a flock starts: the cell's coordinates modulo the
-// table's sides, the flock's (an odd multiplier) mixed in by xor. The sides share the slots' bits,
-// y's 4 to 8 times shorter than x's and z's (the built-in flocks are about 4 x 1 x 4 when spawned):
-// with four slots a bird and cells of 2.56 m, 82 x 10 x 82 m for 1,000 birds, 164 x 41 x 164 m for
-// 10,000, 328 x 82 x 328 m for 100,000, 655 x 164 x 655 m for 760,000. Cells nearer than a side
-// apart never start at one slot, so a flock within the sides finds its cells' slots at the first
-// look; and cells side by side along x have slots side by side, so that neighbouring invocations
-// (perceive.comp: one bird each, in slot order) search the same cells.
-uint grid_slot(ivec3 c, uint flock, uint slots) {
-  uint bits = uint(findMSB(slots));
-  uint by = (bits - 4u) / 3u, bx = (bits - by + 1u) / 2u, bz = bits - by - bx;
-  uvec3 u = uvec3(c) & ((uvec3(1u) << uvec3(bx, by, bz)) - 1u);
-  return (u.x | (u.y << bx) | (u.z << (bx + by))) ^ ((flock * 2654435761u) & (slots - 1u));
+// table's sides (pc.grid_bits: the host fits them to the flocks as they fly, gpu/grid_table.h),
+// the flock's (an odd multiplier) mixed in by xor. Cells nearer than a side apart never start at
+// one slot, so a flock within the sides finds its cells' slots at the first look; and cells side
+// by side along x have slots side by side, so that neighbouring invocations (perceive.comp: one
+// bird each, in slot order) search the same cells.
+uint grid_slot(ivec3 c, uint flock) {
+  uvec3 bits = uvec3(pc.grid_bits, pc.grid_bits >> 8u, pc.grid_bits >> 16u) & 31u;
+  uvec3 u = uvec3(c) & ((uvec3(1u) << bits) - 1u);
+  return (u.x | (u.y << bits.x) | (u.z << (bits.x + bits.y))) ^
+         ((flock * 2654435761u) & (pc.buckets - 1u));
 }
 
 // A cell whose slot is taken tries the slot this far on, and so on (open addressing): an odd

@@ -26,7 +26,7 @@ layout(std430, set = 0, binding = kBindingPerception) writeonly buffer Perceptio
 // the search; the others tell their cell's slot by the claimer's own cell (its key may not be
 // written yet), so two cells never share a slot.
 uint claim_slot(uint i, ivec3 c, uint flock) {
-  uint slot = grid_slot(c, flock, pc.buckets), step = grid_probe_step(c, flock, pc.buckets);
+  uint slot = grid_slot(c, flock), step = grid_probe_step(c, flock, pc.buckets);
   for (uint probe = 0u; probe < pc.buckets; ++probe) {
     uint owner = atomicCompSwap(grid_owners[slot], kNoBird, i);
     if (owner == kNoBird) {

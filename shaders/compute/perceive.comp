@@ -28,11 +28,13 @@ layout(constant_id = kModelConstants + 1) const bool kAllSeeKSeen = false;
 // Counts the birds whose search a driver's limit on loops ended early (lavapipe ends a shader's
 // loops after 65,535 turns: a cell of tens of thousands of birds); the host refuses the frame.
 // And how far a sample of the searches reached (one bird in kReachSample, turn about): the host
-// fits the grid's cell to them (flock.h: grid_cell_for).
+// fits the grid's cell to them (flock.h: grid_cell_for); and how many of them searched again
+// (GpuSimulation::searches).
 layout(std430, set = 0, binding = kBindingCutShort) buffer CutShort {
   uint steps_short;  // step.glsl's
   uint searches_short;
   uint reached[kReachBins];
+  uint searched_again;
 };
 
 // flock.cpp: perceive's reach, and reach_bin.
@@ -58,9 +60,13 @@ void main() {
   step_wind = wind_at(b.position.y);
   uint k = kAllSeeKSeen ? kSeen : uint(s.neighbours);
   search_cut = false;
-  if (k >= 1u && search(i, b, s, k, false)) search(i, b, s, k, true);
+  bool again = k >= 1u && search(i, b, s, k, false);
+  if (again) search(i, b, s, k, true);
   if (search_cut) atomicAdd(searches_short, 1u);
-  if (k >= 1u && (i + pc.frame) % kReachSample == 0u) count_reach(s, k);
+  if (k >= 1u && (i + pc.frame) % kReachSample == 0u) {
+    count_reach(s, k);
+    if (again) atomicAdd(searched_again, 1u);
+  }
   vec3 goal = vec3(0.0);
   bool route_done = false;
   if (near_count > 0u) {  // route_goal passes targets: the step does that, not the eyes

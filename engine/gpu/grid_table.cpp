@@ -1,0 +1,84 @@
+#include "gpu/grid_table.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <map>
+
+#include "gpu/layout.h"
+#include "model/flock.h"
+
+namespace aeroflock::gpu {
+namespace {
+
+// The bits of the least power of two >= n (n >= 1).
+uint32_t bits_for(uint64_t n) { return uint32_t(std::bit_width(std::max<uint64_t>(n, 1) - 1)); }
+
+// The p-th quantile (0 to 1) of `v`, which it reorders: below the middle the element at or
+// below it, above the middle at or above it (a flock of a few birds spans them all).
+int quantile_of(std::vector<int>& v, double p) {
+  const double at_rank = p * double(v.size() - 1);
+  const auto at = v.begin() + std::ptrdiff_t(p < 0.5 ? std::floor(at_rank) : std::ceil(at_rank));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
+}  // namespace
+
+GridTable grid_table(uint32_t bits) {
+  const uint32_t y = bits >= 4 ? (bits - 4) / 3 : 0;
+  const uint32_t x = (bits - y + 1) / 2;
+  return {x, y, bits - y - x};
+}
+
+std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cell,
+                                      uint32_t samples) {
+  // grid.glsl: grid_cell, in double (exact: a float's quotient by a power of two).
+  const int per_tile = int(kTile / cell);
+  std::map<uint32_t, std::vector<GpuBird>> flocks;
+  for (const GpuBird& b : birds)
+    if (b.flocking != 0 && b.mode == uint32_t(FlightMode::flying) &&
+        b.landing_stage == uint32_t(LandingStage::none))
+      flocks[b.flock].push_back(b);
+  std::vector<glm::ivec3> extents;
+  for (const auto& [flock, members] : flocks) {
+    const size_t stride = std::max<size_t>(1, members.size() / std::max(samples, 1u));
+    std::vector<int> axis[3];
+    for (size_t i = 0; i < members.size(); i += stride) {
+      const GpuBird& b = members[i];
+      const glm::ivec3 tile_cells{b.tile_x * per_tile, 0, b.tile_z * per_tile};
+      for (int a = 0; a < 3; ++a)
+        axis[a].push_back(int(std::floor(double(b.position[a]) / cell)) + tile_cells[a]);
+    }
+    glm::ivec3 extent;
+    for (int a = 0; a < 3; ++a)
+      extent[a] = quantile_of(axis[a], 0.99) - quantile_of(axis[a], 0.01) + 1;
+    extents.push_back(extent);
+  }
+  return extents;
+}
+
+GridTable grid_table_for(std::span<const glm::ivec3> extents, int margin, uint32_t least,
+                         uint32_t most) {
+  if (extents.empty()) return grid_table(std::clamp(least, 0u, most));
+  uint32_t side[3] = {0, 0, 0};
+  for (const glm::ivec3& e : extents)
+    for (int a = 0; a < 3; ++a)
+      side[a] = std::max(side[a], bits_for(uint64_t(std::max(e[a], 1)) + 2 * uint64_t(margin)));
+  // Flocks share the slots (their cells' slots are their own xor a mix of the flock): room for
+  // each, along x and z.
+  const uint32_t shared = bits_for(extents.size());
+  side[0] += (shared + 1) / 2;
+  side[2] += shared / 2;
+  constexpr int kWider[3] = {0, 2, 1};  // where spare bits go, in turn
+  for (int turn = 0; side[0] + side[1] + side[2] < least; ++turn) ++side[kWider[turn % 3]];
+  while (side[0] + side[1] + side[2] > most) {
+    int longest = 0;
+    for (int a : {2, 1})
+      if (side[a] > side[longest]) longest = a;
+    --side[longest];
+  }
+  return {side[0], side[1], side[2]};
+}
+
+}  // namespace aeroflock::gpu
