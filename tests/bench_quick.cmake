@@ -1,4 +1,4 @@
-# cmake -DAEROFLOCK=... -DJSON=... -DCHECK=check_bench_json.py [-DARGS=a!b] -P bench_quick.cmake
+# cmake -DAEROFLOCK=... -DJSON=... -DCHECK=check_bench_json.py [-DARGS=a!b] [-DAFTER=s] -P bench_quick.cmake
 file(REMOVE "${JSON}")
 string(REPLACE "!" ";" args "${ARGS}")
 execute_process(COMMAND "${AEROFLOCK}" bench --quick --json "${JSON}" ${args} RESULT_VARIABLE rc)
@@ -6,7 +6,7 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "aeroflock bench --quick exited ${rc}")
 endif()
 find_program(PYTHON3 python3 REQUIRED)
-execute_process(COMMAND "${PYTHON3}" "${CHECK}" "${JSON}" RESULT_VARIABLE rc)
+execute_process(COMMAND "${PYTHON3}" "${CHECK}" "${JSON}" ${AFTER} RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${JSON}: bad shape")
 endif()

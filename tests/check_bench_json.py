@@ -1,4 +1,5 @@
-"""Checks the shape of `aeroflock bench --json` output (not its figures): python3 check_bench_json.py FILE."""
+"""Checks the shape of `aeroflock bench --json` output (not its figures):
+python3 check_bench_json.py FILE [AFTER_SECONDS]."""
 import json
 import math
 import sys
@@ -12,8 +13,9 @@ def main(path):
         d = json.load(f)
     ctx = d["context"]
     for key in ("date", "cpu_model", "num_cpus", "omp_threads", "git_revision", "build_type", "dt",
-                "steps_per_frame", "budget_ms", "repetitions", "quick", "devices"):
+                "steps_per_frame", "budget_ms", "repetitions", "quick", "devices", "after_seconds"):
         assert key in ctx, f"context lacks {key}"
+    assert ctx["after_seconds"] == (float(sys.argv[2]) if len(sys.argv) > 2 else 0.0), ctx
     bench = d["benchmarks"]
     assert bench, "no benchmarks"
     backends = set()

@@ -85,6 +85,7 @@ struct Settings {
   int repetitions = 0;
   bool quick = false;
   int device = -1;
+  double after = 0.0;  // s of flight before the first frame timed (--after)
 };
 
 // A Vulkan frame's passes on the device's own clock (timestamps, gpu_simulation.h): the median
@@ -198,6 +199,11 @@ class Subject {
     const bool rendering = variant == "render";
     sim_ = make_simulation(
         {on_device ? std::string("vulkan") : backend_name, birds, device, rendering}, scenario);
+    // A flock that has flown a while (--after): spawned, it is more compact than in flight.
+    if (s.after > 0.0) {
+      flown_ = uint64_t(std::ceil(s.after / sim_->scenario().frame_seconds()));
+      sim_->step_frames(uint32_t(flown_));
+    }
     if (rendering) render_ = std::make_unique<OffscreenLoad>(*sim_);
     // The passes are timed where nothing but the flock runs (a timestamp costs next to nothing).
     // Not where a frame is drawn between the flock's: lavapipe then writes the timestamps late
@@ -244,7 +250,7 @@ class Subject {
     auto& gpu = dynamic_cast<gpu::GpuSimulation&>(*sim_);
     std::vector<double> grid, perception, steps;
     for (const gpu::GpuSimulation::PassTimes& t : gpu.pass_times())
-      if (t.frame > skipped) {
+      if (t.frame > flown_ + skipped) {
         grid.push_back(t.grid_ms);
         perception.push_back(t.perception_ms);
         steps.push_back(t.steps_ms);
@@ -256,6 +262,7 @@ class Subject {
 
  private:
   int cycle_;
+  uint64_t flown_ = 0;  // frames flown before any was timed (--after)
   bool timed_ = false;
   std::unique_ptr<Simulation> sim_;
   std::unique_ptr<OffscreenLoad> render_;
@@ -315,11 +322,13 @@ Paired measure_paired(const std::string& backend, uint32_t birds, const Settings
 }
 
 void print_header(const Settings& s) {
+  char after[64] = "";
+  if (s.after > 0.0) std::snprintf(after, sizeof after, " after %g s of flight", s.after);
   std::printf(
       "aeroflock bench%s: %s scenario, %u steps of %g ms per frame, budget %g ms (%g fps), "
-      "%d warm-up + %d timed frames\n\n",
+      "%d warm-up + %d timed frames%s\n\n",
       s.quick ? " --quick" : "", s.scenario.name.c_str(), s.scenario.steps_per_frame,
-      s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms, s.warmup, s.repetitions);
+      s.scenario.dt * 1000, s.budget_ms, 1000.0 / s.budget_ms, s.warmup, s.repetitions, after);
   std::printf("%-8s %-9s %9s %11s %10s %10s %14s\n", "backend", "variant", "birds", "median ms",
               "p10 ms", "p90 ms", "bird-steps/s");
   std::fflush(stdout);
@@ -467,6 +476,7 @@ Settings settings(const BenchOptions& options) {
   s.warmup = options.quick ? 2 : 5;
   s.repetitions = options.repetitions > 0 ? options.repetitions : (options.quick ? 5 : 15);
   s.device = options.device;
+  s.after = options.after;
   return s;
 }
 
@@ -800,6 +810,7 @@ nlohmann::json context_json(const Settings& s, const std::map<std::string, std::
       {"steps_per_frame", s.scenario.steps_per_frame},
       {"budget_ms", s.budget_ms},
       {"warmup_frames", s.warmup},
+      {"after_seconds", s.after},
       {"repetitions", s.repetitions},
       {"quick", s.quick},
       {"max_birds", s.max_birds},
@@ -953,6 +964,10 @@ Command add_bench_command(CLI::App& app, BenchOptions& o) {
   cmd->add_option("--repetitions", o.repetitions,
                   "Timed frames per measurement (default 5 quick, 15 full)")
       ->check(kCount);
+  cmd->add_option("--after", o.after,
+                  "Time each flock after it has flown this long, in s (default 0: from its spawn, "
+                  "more compact than a flown flock)")
+      ->check(kTime);
   add_device_option(cmd, o.device);
   add_step_options(cmd, o.step, "the scenario's");
   cmd->add_option("--weak-scaling", o.weak_scaling,

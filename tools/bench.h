@@ -21,6 +21,7 @@ struct BenchOptions {
   int device = -1;                    // Vulkan device index
   std::string scenario = "default";   // what every measurement flies (a name or FILE.toml)
   StepOption step;                    // the step instead of the scenario's
+  double after = 0.0;                 // s of flight before the timed frames
   uint32_t weak_scaling = 0;          // > 0: under mpirun, a weak-scaling point of that many birds
                                       // a rank (bench_ranks.h)
 };
