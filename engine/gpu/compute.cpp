@@ -122,7 +122,7 @@ void ComputePipeline::check_range(const Binding& binding, VkDeviceSize bytes) co
                 device_.name() + " allows " + std::to_string(most) + " (" + limit + ")");
   };
   switch (binding.type) {
-    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
       if (bytes < format_bytes(binding.texels))
         throw Error("a texel buffer of " + std::to_string(bytes) + " bytes holds no texel of " +
                     std::to_string(format_bytes(binding.texels)));
@@ -176,7 +176,7 @@ VkDescriptorSet ComputePipeline::make_set(std::span<const Bound> bound) {
     writes[i].dstBinding = bindings_[i].number;
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = bindings_[i].type;
-    if (bindings_[i].type == VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER) {
+    if (bindings_[i].type == VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER) {
       VkBufferViewCreateInfo view{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
       view.buffer = buffers[i]->handle();
       view.format = bindings_[i].texels;

@@ -15,14 +15,15 @@
 namespace aeroflock::gpu {
 
 // One binding of a compute pipeline (set 0; host_device.h names the numbers): a storage buffer,
-// or a buffer read as a uniform texel buffer of format `texels` (a GLSL samplerBuffer). A CPU
-// device (lavapipe) loads a storage buffer lane by lane, a branch each, wherever the invocations
-// may diverge, but fetches texels for all its lanes at once: the neighbour search reads the grid
-// that way (perceive.comp).
+// or a buffer read as a storage texel buffer of format `texels` (a GLSL imageBuffer, read with
+// imageLoad). A CPU device (lavapipe) loads a storage buffer lane by lane, a branch each, wherever
+// the invocations may diverge, but loads texels for all its lanes at once, and an image's inline
+// (a samplerBuffer's texelFetch is a call, around which every live register is saved: 6 % more
+// instructions in the perception): the neighbour search reads the grid that way (perceive.comp).
 struct Binding {
   Binding(uint32_t number) : number(number) {}  // a storage buffer
   Binding(uint32_t number, VkFormat texels)
-      : number(number), type(VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER), texels(texels) {}
+      : number(number), type(VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER), texels(texels) {}
   uint32_t number;
   VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   VkFormat texels = VK_FORMAT_UNDEFINED;  // of a texel buffer

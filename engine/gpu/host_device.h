@@ -5,7 +5,7 @@
 // (tests/test_host_device.cpp compares them with the shaders' SPIR-V). Members are float, uint,
 // int, uvec2 (aligned to 8, AF_V8), vec3, vec4, mat4 and arrays of vec4 or uint: a vec3 array, a
 // mat3 or a float vec2 would be laid out differently by C++. All descriptors are in set 0, storage
-// buffers but for the grid that perceive.comp reads as uniform texel buffers (gpu/compute.h:
+// buffers but for the grid that perceive.comp reads as storage texel buffers (gpu/compute.h:
 // Binding), and no binding number serves two buffers, compute or render.
 #ifndef AEROFLOCK_HOST_DEVICE_H
 #define AEROFLOCK_HOST_DEVICE_H

@@ -60,20 +60,20 @@ bool holds_another(ivec4 key, ivec3 c, uint flock) {
 
 uvec4 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
   uint slot = grid_slot(c, flock);
-  ivec4 key = texelFetch(grid_keys, int(slot));
+  ivec4 key = imageLoad(grid_keys, int(slot));
   bool other = holds_another(key, c, flock);
   if (probing) {
     uint step = grid_probe_step(c, flock, pc.buckets);
     while (other) {
       slot = (slot + step) & (pc.buckets - 1u);
-      key = texelFetch(grid_keys, int(slot));
+      key = imageLoad(grid_keys, int(slot));
       other = holds_another(key, c, flock);
     }
     if (other) search_cut = true;
   } else if (other) {
     blocked = true;
   }
-  return key.w == kNoFlock || other ? uvec4(0u) : texelFetch(grid_cells, int(slot));
+  return key.w == kNoFlock || other ? uvec4(0u) : imageLoad(grid_cells, int(slot));
 }
 
 // Bird i's k nearest seen birds of its flock (flock.cpp: NeighbourGrid::seen_by finds the same),
@@ -86,7 +86,7 @@ uvec4 cell_birds(ivec3 c, uint flock, bool probing, inout bool blocked) {
 // made for the part of its cell the bird is in (flock.h: grid_search_order), and a bird stops at
 // the first cell that cannot hold a nearer bird than its k-th: few cells are searched in vain. The
 // k nearest stay in registers (constant indices, kSeen of them), a bird moving down them without a
-// branch. The grid is read as texels, fetched for all lanes at once.
+// branch. The grid is read as texels, loaded for all lanes at once.
 //
 // Without `probing` the search gives up, returning true, at the first cell whose slot holds
 // another (cell_birds); it is then run again with it.
@@ -125,7 +125,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   // (The turns' bound, never reached, keeps a compiler from taking `done` as true after the loop.)
   for (uint turn = 0u; !done && turn < 0x40000000u; ++turn) {
     if (e < end) {
-      vec4 point = texelFetch(grid_points, int(e));
+      vec4 point = imageLoad(grid_points, int(e));
       uint j = floatBitsToUint(point.w);
       vec3 offset = low + point.xyz - inside;
       float d2 = dot(offset, offset);
@@ -154,7 +154,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
     } else if (n >= cells || blocked) {
       done = true;
     } else {
-      ivec4 around = texelFetch(grid_search, first + n);
+      ivec4 around = imageLoad(grid_search, first + n);
       ++n;
       float least2 = float(around.w) * part2;  // exact
       if (least2 > radius2 || least2 > worst_d2) {
@@ -403,8 +403,8 @@ GpuPerception social_goal(GpuSpecies s, GpuBird b, vec3 route_goal, bool route_d
   bool sought_all_round = all_round(s);
   float cos_blind = cos(0.5 * s.blind_angle);
   for (uint e = 0u; e < near_count; ++e) {
-    vec4 place = texelFetch(grid_seen, int(2u * near_index[e]));
-    vec4 motion = texelFetch(grid_seen, int(2u * near_index[e] + 1u));
+    vec4 place = imageLoad(grid_seen, int(2u * near_index[e]));
+    vec4 motion = imageLoad(grid_seen, int(2u * near_index[e] + 1u));
     vec3 offset =
         place.xyz + tile_shift(int(place.w), int(motion.w), b.tile_x, b.tile_z) - b.position;
     float distance = length(offset);

@@ -10,13 +10,14 @@ layout(std430, set = 0, binding = kBindingPerception) buffer Perceptions {
   GpuPerception perception[];
 };
 layout(std430, set = 0, binding = kBindingIds) readonly buffer Ids { uint ids[]; };
-// The grid as texels: a CPU device fetches texels for all its lanes at once, where it loads a
-// storage buffer lane by lane, a branch each (gpu/compute.h: Binding).
-layout(set = 0, binding = kBindingGridPoints) uniform samplerBuffer grid_points;
-layout(set = 0, binding = kBindingGridKeys) uniform isamplerBuffer grid_keys;
-layout(set = 0, binding = kBindingGridCells) uniform usamplerBuffer grid_cells;
-layout(set = 0, binding = kBindingGridSearch) uniform isamplerBuffer grid_search;
-layout(set = 0, binding = kBindingGridSeen) uniform samplerBuffer grid_seen;
+// The grid as texels: a CPU device loads them for all its lanes at once, where it loads a storage
+// buffer lane by lane, a branch each; and loads an image's inline, where it calls a function for a
+// sampler's and saves every live register around it (gpu/compute.h: Binding).
+layout(set = 0, binding = kBindingGridPoints, rgba32f) uniform readonly imageBuffer grid_points;
+layout(set = 0, binding = kBindingGridKeys, rgba32i) uniform readonly iimageBuffer grid_keys;
+layout(set = 0, binding = kBindingGridCells, rgba32ui) uniform readonly uimageBuffer grid_cells;
+layout(set = 0, binding = kBindingGridSearch, rgba32i) uniform readonly iimageBuffer grid_search;
+layout(set = 0, binding = kBindingGridSeen, rgba32f) uniform readonly imageBuffer grid_seen;
 // model.glsl's kWakes: without wakes, their fields are neither found nor written.
 #include "model.glsl"
 // The most neighbours a species of the scenario sees (<= kMaxNeighbours): the search's registers;
@@ -49,8 +50,8 @@ void count_reach(GpuSpecies s, uint k) {
 void main() {
   // One bird of the grid each, in slot order: neighbouring invocations search the same cells.
   uint t = gl_GlobalInvocationID.x;
-  if (t >= texelFetch(grid_cells, int(pc.buckets)).x) return;
-  uint i = floatBitsToUint(texelFetch(grid_points, int(t)).w);
+  if (t >= imageLoad(grid_cells, int(pc.buckets)).x) return;
+  uint i = floatBitsToUint(imageLoad(grid_points, int(t)).w);
   if ((ids[i] & kGhostBird) != 0u) return;  // seen here, perceiving on its own rank
   GpuBird b = birds[i];
   GpuSpecies s = species[b.species];
