@@ -139,6 +139,7 @@ TEST(HostDevice, EveryBufferElementHasTheSameSizeInTheShaders) {
   EXPECT_EQ(perceive.offsets("StepConstants").at("frame_seconds"),
             offsetof(StepConstants, frame_seconds));
   EXPECT_EQ(perceive.offsets("StepConstants").at("grid_cell"), offsetof(StepConstants, grid_cell));
+  EXPECT_EQ(perceive.offsets("StepConstants").at("grid_bits"), offsetof(StepConstants, grid_bits));
   EXPECT_EQ(pose.offsets("PoseConstants").at("lod_scale"), offsetof(PoseConstants, lod_scale));
   EXPECT_EQ(pose.offsets("PoseConstants").at("tile_z"), offsetof(PoseConstants, tile_z));
   EXPECT_EQ(bird.offsets("FrameConstants").at("list_offset"),

@@ -964,16 +964,19 @@ Command add_bench_command(CLI::App& app, BenchOptions& o) {
   cmd->add_option("--repetitions", o.repetitions,
                   "Timed frames per measurement (default 5 quick, 15 full)")
       ->check(kCount);
-  cmd->add_option("--after", o.after,
-                  "Time each flock after it has flown this long, in s (default 0: from its spawn, "
-                  "more compact than a flown flock)")
-      ->check(kTime);
+  CLI::Option* after =
+      cmd->add_option(
+             "--after", o.after,
+             "Time each flock after it has flown this long, in s (default 0: from its spawn, "
+             "more compact than a flown flock)")
+          ->check(kTime);
   add_device_option(cmd, o.device);
   add_step_options(cmd, o.step, "the scenario's");
   cmd->add_option("--weak-scaling", o.weak_scaling,
                   "Under mpirun: P ranks fly P x N0 birds, the flock P times as long, on the "
                   "first of --backends (docs/DISTRIBUTED.md); N0 here")
-      ->check(kCount);
+      ->check(kCount)
+      ->excludes(after);
   return {cmd, [&o] { return run_bench(o); }};
 }
 

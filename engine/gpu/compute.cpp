@@ -36,6 +36,19 @@ ComputePipeline::ComputePipeline(const Device& device, std::span<const uint32_t>
     throw Error("compute pipeline: push constants of " + std::to_string(push_size) +
                 " bytes (a multiple of 4, at most maxPushConstantsSize = " +
                 std::to_string(device.limits().maxPushConstantsSize) + ")");
+  // A device's limits on a stage's descriptors of each kind (the least the spec allows is 4).
+  auto within = [&](VkDescriptorType type, uint32_t most, const char* limit) {
+    const auto n = std::count_if(bindings_.begin(), bindings_.end(),
+                                 [&](const Binding& b) { return b.type == type; });
+    if (uint32_t(n) > most)
+      throw Error("compute pipeline: " + std::to_string(n) + " bindings of descriptor type " +
+                  std::to_string(int(type)) + ", more than " + device.name() + "'s " + limit +
+                  " = " + std::to_string(most));
+  };
+  within(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, device.limits().maxPerStageDescriptorStorageBuffers,
+         "maxPerStageDescriptorStorageBuffers");
+  within(VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER,
+         device.limits().maxPerStageDescriptorStorageImages, "maxPerStageDescriptorStorageImages");
   VkDevice dev = device.handle();
   try {
     VkShaderModuleCreateInfo module{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

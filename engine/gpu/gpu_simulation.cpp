@@ -463,7 +463,8 @@ void GpuSimulation::fit_grid_table(std::span<const GpuBird> birds) {
   // Its outermost birds search a cell or two past them: a grid's cell is about the reach of a
   // bird's search (grid_cell_for).
   constexpr int kMargin = 2;
-  f.table = grid_table_for(flock_extents(birds, f.shape.cell), kMargin, f.least_bits, f.most_bits);
+  f.table = grid_table_for(flock_extents(birds, f.shape.cell, uint32_t(scenario().flocks.size())),
+                           kMargin, f.least_bits, f.most_bits);
 }
 
 void GpuSimulation::check_cut_short(const Slot& slot) const {
@@ -501,7 +502,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
     submitter_.wait(reused.fence);  // as begin() would
     check_cut_short(reused);        // before its count is cleared
     fit_grid_cell(reused);
-    fit_grid_table({reinterpret_cast<const GpuBird*>(reused.readback.mapped()), count_});
+    if (reused.loads == loads_)  // else load() fitted the table to newer birds
+      fit_grid_table({reinterpret_cast<const GpuBird*>(reused.readback.mapped()), reused.copied});
     collect(reused);
     std::memset(reused.cut_short.mapped(), 0, reused.cut_short.size());
   }
@@ -588,6 +590,8 @@ void GpuSimulation::submit_frames(uint32_t frames, uint32_t steps, bool record_f
   slot.snapshot = {this->frames(), this->steps(), time(), nullptr, nullptr};
   slot.unpacked = false;
   slot.counted = false;
+  slot.copied = count_;
+  slot.loads = loads_;
   slot.has_forces = record_forces;
   last_ = static_cast<int>(submitter_.frame());
 }
@@ -640,6 +644,7 @@ void GpuSimulation::load(std::span<const GpuBird> birds, std::span<const GpuPerc
   birds_.upload(std::as_bytes(birds));
   ids_.upload(std::as_bytes(ids));
   if (flocking_) perception_.upload(std::as_bytes(perception));
+  ++loads_;
   fit_grid_table(birds);
 }
 

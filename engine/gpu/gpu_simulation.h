@@ -129,6 +129,8 @@ class GpuSimulation final : public Simulation {
     Snapshot snapshot;  // its frame, steps and time; the vectors below once unpacked
     bool unpacked = false, has_forces = false;
     bool counted = false;  // its searches added to searches_
+    uint32_t copied = 0;   // the birds its readback holds
+    uint64_t loads = 0;    // load() calls before it was submitted
     std::vector<BirdState> birds;
     std::vector<StepForces> step_forces;
     std::vector<Perception> perception_state;
@@ -188,6 +190,7 @@ class GpuSimulation final : public Simulation {
   uint32_t steps_per_dispatch_ = kMaxStepsPerDispatch;
   std::vector<PassTimes> pass_times_;
   Searches searches_;
+  uint64_t loads_ = 0;  // load() calls so far
   std::vector<BirdState> initial_;
   Submitter submitter_;  // last: destroyed first, waiting for the frames in flight
 };

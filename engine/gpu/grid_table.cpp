@@ -1,9 +1,9 @@
 #include "gpu/grid_table.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
-#include <map>
 
 #include "gpu/layout.h"
 #include "model/flock.h"
@@ -31,25 +31,35 @@ GridTable grid_table(uint32_t bits) {
   return {x, y, bits - y - x};
 }
 
-std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cell,
+std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cell, uint32_t flocks,
                                       uint32_t samples) {
+  auto in_grid = [flocks](const GpuBird& b) {  // flocks_now, of a flock there is
+    return b.flocking != 0 && b.mode == uint32_t(FlightMode::flying) &&
+           b.landing_stage == uint32_t(LandingStage::none) && b.flock < flocks;
+  };
+  // Each flock's birds in the grid, then every stride-th of them: a million birds are read
+  // twice, their cells computed for a few thousand.
+  std::vector<size_t> members;
+  for (const GpuBird& b : birds)
+    if (in_grid(b)) {
+      if (b.flock >= members.size()) members.resize(size_t(b.flock) + 1, 0);
+      ++members[b.flock];
+    }
+  std::vector<size_t> seen(members.size(), 0);
+  std::vector<std::array<std::vector<int>, 3>> cells(members.size());
   // grid.glsl: grid_cell, in double (exact: a float's quotient by a power of two).
   const int per_tile = int(kTile / cell);
-  std::map<uint32_t, std::vector<GpuBird>> flocks;
-  for (const GpuBird& b : birds)
-    if (b.flocking != 0 && b.mode == uint32_t(FlightMode::flying) &&
-        b.landing_stage == uint32_t(LandingStage::none))
-      flocks[b.flock].push_back(b);
+  for (const GpuBird& b : birds) {
+    if (!in_grid(b)) continue;
+    const size_t stride = std::max<size_t>(1, members[b.flock] / std::max(samples, 1u));
+    if (seen[b.flock]++ % stride != 0) continue;
+    const glm::ivec3 tile_cells{b.tile_x * per_tile, 0, b.tile_z * per_tile};
+    for (int a = 0; a < 3; ++a)
+      cells[b.flock][a].push_back(int(std::floor(double(b.position[a]) / cell)) + tile_cells[a]);
+  }
   std::vector<glm::ivec3> extents;
-  for (const auto& [flock, members] : flocks) {
-    const size_t stride = std::max<size_t>(1, members.size() / std::max(samples, 1u));
-    std::vector<int> axis[3];
-    for (size_t i = 0; i < members.size(); i += stride) {
-      const GpuBird& b = members[i];
-      const glm::ivec3 tile_cells{b.tile_x * per_tile, 0, b.tile_z * per_tile};
-      for (int a = 0; a < 3; ++a)
-        axis[a].push_back(int(std::floor(double(b.position[a]) / cell)) + tile_cells[a]);
-    }
+  for (std::array<std::vector<int>, 3>& axis : cells) {
+    if (axis[0].empty()) continue;
     glm::ivec3 extent;
     for (int a = 0; a < 3; ++a)
       extent[a] = quantile_of(axis[a], 0.99) - quantile_of(axis[a], 0.01) + 1;

@@ -1,8 +1,10 @@
 // The neighbour grid's table of occupied cells on the device (grid.glsl: grid_slot): a cell's
 // slot is its coordinates modulo the table's sides, 2^x by 2^y by 2^z cells, its flock mixed in.
-// Cells nearer than a side apart never share a slot, so a flock the sides hold, with the cells its
-// birds search round it, finds every cell at the first look; where they do not, two cells meet in
-// a slot and a search must look again (flock.glsl: cell_birds), at twice the cost on lavapipe.
+// A flock's cells nearer than a side apart never share a slot, so a flock the sides hold, with the
+// cells its birds search round it, finds its cells at the first look but where another flock's,
+// mixed in, take their slots; where they do not hold it (a straggler past the percentiles below,
+// a search reaching far, a flock wider than the room), two cells meet in a slot and a search must
+// look again (flock.glsl: cell_birds), at twice the cost on lavapipe.
 // The host fits the sides to the flocks as they fly (GpuSimulation::submit_frames).
 #pragma once
 
@@ -30,9 +32,9 @@ GridTable grid_table(uint32_t bits);
 
 // The cells a grid of cells of `cell` cm each flock's birds in `birds` spans, along x, y and z:
 // from the 1st to the 99th percentile of its flying birds that flock (a straggler far off would
-// widen its table for nothing), at most `samples` of them a flock. One per flock that has any, in
-// flock order.
-std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cell,
+// widen its table for nothing), at most `samples` of them a flock. One per flock of the `flocks`
+// that has any, in flock order.
+std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cell, uint32_t flocks,
                                       uint32_t samples = 4096);
 
 // The sides for flocks spanning `extents` cells, each side to hold the widest flock and

@@ -185,12 +185,12 @@ struct GridShape {
 // number of cells fills the device's world tile, gpu/host_device.h, and a cell and a bird's place
 // in it are exact there: a bird alone searches at most 12 rings, and grid_search_order lists at
 // most about 15,600 cells a part), about four buckets a bird (a power of two, at least 1,024; the
-// device's table of cells has as many slots, and the more it has, the larger a flock whose cells
-// never share one: grid.glsl). The cell is about the distance to a bird's nearest: larger cells
-// hold more birds that are not the nearest, smaller ones cost more cells to search. Measured on
-// lavapipe (10,000 starlings of `murmuration`, the ring search): cells of 0.45, 0.6, 0.8 and 1
-// separation_radius cost 2.9, 2.8, 3.2 and 3.7 s for 1.5 s flown. It sets only how fast the search
-// is, never what it finds.
+// device's table of cells has at least as many slots, and up to four times as many, its sides
+// fitted to the flocks: gpu/grid_table.h). The cell is about the distance to a bird's nearest:
+// larger cells hold more birds that are not the nearest, smaller ones cost more cells to search.
+// Measured on lavapipe (10,000 starlings of `murmuration`, the ring search): cells of 0.45, 0.6,
+// 0.8 and 1 separation_radius cost 2.9, 2.8, 3.2 and 3.7 s for 1.5 s flown. It sets only how fast
+// the search is, never what it finds.
 inline constexpr double kMinGridCell = 64.0, kMaxGridCell = 16384.0;  // cm
 GridShape grid_shape(const std::vector<Species>& species, const std::vector<BirdState>& birds);
 // How far the birds' neighbour searches reached (issue 44): of each perceiving bird, the distance
