@@ -365,12 +365,15 @@ bool GpuSimulation::time_passes() {
   return true;
 }
 
+void GpuSimulation::collect_all() {
+  if (last_ < 0) return;
+  submitter_.wait_all();
+  collect(slots_[1 - last_]);  // the older first
+  collect(slots_[last_]);
+}
+
 const std::vector<GpuSimulation::PassTimes>& GpuSimulation::pass_times() {
-  if (last_ >= 0) {
-    submitter_.wait_all();
-    collect(slots_[1 - last_]);  // the older first
-    collect(slots_[last_]);
-  }
+  collect_all();
   // A snapshot may have read the last submission's before the one before.
   std::sort(pass_times_.begin(), pass_times_.end(),
             [](const PassTimes& a, const PassTimes& b) { return a.frame < b.frame; });
@@ -378,11 +381,7 @@ const std::vector<GpuSimulation::PassTimes>& GpuSimulation::pass_times() {
 }
 
 GpuSimulation::Searches GpuSimulation::searches() {
-  if (last_ >= 0) {
-    submitter_.wait_all();
-    collect(slots_[1 - last_]);
-    collect(slots_[last_]);
-  }
+  collect_all();
   return searches_;
 }
 

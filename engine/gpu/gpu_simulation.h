@@ -172,6 +172,7 @@ class GpuSimulation final : public Simulation {
   // Adds what the finished submission of `slot` measured: its timed frames to pass_times_, its
   // sampled searches to searches_ (once).
   void collect(Slot& slot);
+  void collect_all();  // both slots', once their submissions have finished
 
   std::unique_ptr<Device> owned_device_;
   const Device& device_;

@@ -47,15 +47,13 @@ std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cel
     }
   std::vector<size_t> seen(members.size(), 0);
   std::vector<std::array<std::vector<int>, 3>> cells(members.size());
-  // grid.glsl: grid_cell, in double (exact: a float's quotient by a power of two).
-  const int per_tile = int(kTile / cell);
   for (const GpuBird& b : birds) {
     if (!in_grid(b)) continue;
     const size_t stride = std::max<size_t>(1, members[b.flock] / std::max(samples, 1u));
     if (seen[b.flock]++ % stride != 0) continue;
-    const glm::ivec3 tile_cells{b.tile_x * per_tile, 0, b.tile_z * per_tile};
-    for (int a = 0; a < 3; ++a)
-      cells[b.flock][a].push_back(int(std::floor(double(b.position[a]) / cell)) + tile_cells[a]);
+    // The device's cell (grid.glsl), exact in double: a whole number of cells fills a tile.
+    const glm::ivec3 c = grid_cell(glm::dvec3(b.position) + tile_centre(b.tile_x, b.tile_z), cell);
+    for (int a = 0; a < 3; ++a) cells[b.flock][a].push_back(c[a]);
   }
   std::vector<glm::ivec3> extents;
   for (std::array<std::vector<int>, 3>& axis : cells) {
