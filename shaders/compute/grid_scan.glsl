@@ -6,27 +6,37 @@
 #include "gpu/host_device.h"
 layout(local_size_x = kWorkgroupSize) in;
 layout(push_constant) uniform StepPush { StepConstants pc; };
-layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts {
-  uint grid_counts[];
-};
-layout(std430, set = 0, binding = kBindingGridStarts) buffer GridStarts { uint grid_starts[]; };
 layout(std430, set = 0, binding = kBindingGridBlocks) buffer GridBlocks { uint grid_blocks[]; };
 
+// The workgroup's invocations in runs of kRun.
+const uint kRun = 8u, kRuns = kWorkgroupSize / kRun;
 shared uint partial[kWorkgroupSize];
+shared uint run_totals[kRuns];
 
-// The exclusive prefix sum of `value` over the workgroup's invocations (Hillis-Steele).
+// The exclusive prefix sum of `value` over the workgroup's invocations: each run's within it, by
+// one invocation, then the runs' totals before it. Two barriers (a CPU device runs each as a
+// switch of every invocation), where a scan of log2(kWorkgroupSize) steps takes 2 a step.
 uint workgroup_exclusive(uint value, out uint total) {
   uint t = gl_LocalInvocationID.x;
   partial[t] = value;
   barrier();
-  for (uint step = 1u; step < kWorkgroupSize; step <<= 1u) {
-    uint add = t >= step ? partial[t - step] : 0u;
-    barrier();
-    partial[t] += add;
-    barrier();
+  if (t < kRuns) {
+    uint sum = 0u;
+    for (uint e = t * kRun; e < (t + 1u) * kRun; ++e) {
+      uint v = partial[e];
+      partial[e] = sum;
+      sum += v;
+    }
+    run_totals[t] = sum;
   }
-  total = partial[kWorkgroupSize - 1u];
-  return partial[t] - value;
+  barrier();
+  uint before = 0u;
+  total = 0u;
+  for (uint r = 0u; r < kRuns; ++r) {
+    before += r < t / kRun ? run_totals[r] : 0u;
+    total += run_totals[r];
+  }
+  return partial[t] + before;
 }
 
 #ifdef SCAN_TOTALS
@@ -45,17 +55,30 @@ void main() {
   }
 }
 #else
-const uint kPerInvocation = kScanBlock / kWorkgroupSize;
+// Each invocation's slots, read and written four to a vector: a CPU device (lavapipe) reaches a
+// storage buffer lane by lane, so a uvec4 costs as much as a uint.
+layout(std430, set = 0, binding = kBindingGridCounts) readonly buffer GridCounts {
+  uvec4 grid_counts4[];
+};
+layout(std430, set = 0, binding = kBindingGridStarts) writeonly buffer GridStarts {
+  uvec4 grid_starts4[];
+};
+const uint kVectors = kScanBlock / kWorkgroupSize / 4u;
 
 void main() {
-  uint first = gl_WorkGroupID.x * kScanBlock + gl_LocalInvocationID.x * kPerInvocation;
+  uint first = (gl_WorkGroupID.x * kScanBlock + gl_LocalInvocationID.x * 4u * kVectors) / 4u;
+  uvec4 counts[kVectors];
   uint sum = 0u;
-  for (uint e = 0u; e < kPerInvocation; ++e) sum += grid_counts[first + e];
+  for (uint e = 0u; e < kVectors; ++e) {
+    counts[e] = grid_counts4[first + e];
+    sum += counts[e].x + counts[e].y + counts[e].z + counts[e].w;
+  }
   uint total;
   uint running = workgroup_exclusive(sum, total);
-  for (uint e = 0u; e < kPerInvocation; ++e) {
-    grid_starts[first + e] = running;
-    running += grid_counts[first + e];
+  for (uint e = 0u; e < kVectors; ++e) {
+    uvec4 c = counts[e];
+    grid_starts4[first + e] = running + uvec4(0u, c.x, c.x + c.y, c.x + c.y + c.z);
+    running += c.x + c.y + c.z + c.w;
   }
   if (gl_LocalInvocationID.x == 0u) grid_blocks[gl_WorkGroupID.x] = total;
 }
