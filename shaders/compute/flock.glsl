@@ -34,9 +34,11 @@ bool search_cut;
 
 const float kFar = 3.4e38;  // an empty place's distance squared: every bird seen is nearer
 
-// Nearer, ties by index (flock.cpp: Nearest).
+// Nearer, ties by index (flock.cpp: Nearest). The indices compared as ints, which a CPU device
+// compares in one instruction where it takes three for uints: birds are fewer than 2^31, and
+// kNoBird's tie is with kFar alone, which no bird seen is as far as.
 bool nearer(float d2, uint j, float than_d2, uint than_j) {
-  return d2 < than_d2 || (d2 == than_d2 && j < than_j);
+  return d2 < than_d2 || (d2 == than_d2 && int(j) < int(than_j));
 }
 
 // grid_cells.comp's lattice steps of a place, from their word.
@@ -44,7 +46,9 @@ uvec3 unpack_steps(uint w) { return uvec3(w, w >> 10u, w >> 20u) & 1023u; }
 
 // The distance squared from `inside` to the box from `low` to `high`: 0 inside it.
 float gap2_to_box(vec3 low, vec3 high, vec3 inside) {
-  vec3 gap = max(max(low - inside, inside - high), vec3(0.0));
+  vec3 below = low - inside, above = inside - high;  // one at most is above 0: low <= high
+  vec3 gap = mix(vec3(0.0), below, greaterThan(below, vec3(0.0))) +
+             mix(vec3(0.0), above, greaterThan(above, vec3(0.0)));
   return dot(gap, gap);
 }
 
