@@ -128,32 +128,33 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   // lane anyway: a turn for a cell alone would cost as much as one for a bird and a cell.
   // (The turns' bound, never reached, keeps a compiler from taking `done` as true after the loop.)
   for (uint turn = 0u; !done && turn < 0x40000000u; ++turn) {
-    if (e < end) {
-      vec4 point = imageLoad(grid_points, int(e));
-      uint j = floatBitsToUint(point.w);
-      vec3 offset = low + point.xyz - inside;
-      float d2 = dot(offset, offset);
-      // Within sight, not itself, nearer than the k-th kept, not in the blind sector (flock.cpp:
-      // sees).
-      bool sees = d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) &&
-                  (sought_all_round || outside_blind(ahead, offset, d2, cos_blind));
-      [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
-        bool takes = sees && m < k && nearer(d2, j, kept_d2[m], kept[m]);
-        float was_d2 = kept_d2[m];
-        uint was = kept[m];
-        kept_d2[m] = takes ? d2 : was_d2;
-        kept[m] = takes ? j : was;
-        d2 = takes ? was_d2 : d2;
-        j = takes ? was : j;
-      }
-      [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
-        if (m + 1u == k) {
-          worst_d2 = kept_d2[m];
-          worst = kept[m];
-        }
-      }
-      ++e;
+    // Its next bird, if its cell has one left. Out of any branch: a CPU device writes a variable
+    // inside one under the lanes' mask, a blend more for each of the k kept.
+    bool bird = e < end;
+    vec4 point = imageLoad(grid_points, int(bird ? e : 0u));
+    uint j = floatBitsToUint(point.w);
+    vec3 offset = low + point.xyz - inside;
+    float d2 = dot(offset, offset);
+    // Within sight, not itself, nearer than the k-th kept, not in the blind sector (flock.cpp:
+    // sees).
+    bool sees = bird && d2 <= radius2 && j != i && nearer(d2, j, worst_d2, worst) &&
+                (sought_all_round || outside_blind(ahead, offset, d2, cos_blind));
+    [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
+      bool takes = sees && m < k && nearer(d2, j, kept_d2[m], kept[m]);
+      float was_d2 = kept_d2[m];
+      uint was = kept[m];
+      kept_d2[m] = takes ? d2 : was_d2;
+      kept[m] = takes ? j : was;
+      d2 = takes ? was_d2 : d2;
+      j = takes ? was : j;
     }
+    [[unroll]] for (uint m = 0u; m < kSeen; ++m) {
+      if (m + 1u == k) {
+        worst_d2 = kept_d2[m];
+        worst = kept[m];
+      }
+    }
+    e += bird ? 1u : 0u;
     if (e < end) {  // birds of its cell still to see
     } else if (n >= cells || blocked) {
       done = true;
