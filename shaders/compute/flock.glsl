@@ -119,7 +119,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   float lattice = cell / float(kBoundSteps);         // grid_cells.comp's step, exact
   bool blocked = false, done = false;
   int n = 0;
-  uint e = 0u, end = 0u;
+  int e = 0, end = 0;  // its cell's birds yet to see, in slot order (ints: see nearer)
   vec3 low = vec3(0.0);
   // One loop over the cells and their birds, a lane taking its next bird each turn, and its next
   // cell in the same turn once its cell's birds are all seen: 8 lanes turn as often as the one
@@ -127,11 +127,11 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
   // their cells at each cell (roofline.md). A CPU device runs both halves of a turn for every
   // lane anyway: a turn for a cell alone would cost as much as one for a bird and a cell.
   // (The turns' bound, never reached, keeps a compiler from taking `done` as true after the loop.)
-  for (uint turn = 0u; !done && turn < 0x40000000u; ++turn) {
+  for (int turn = 0; !done && turn < 0x40000000; ++turn) {
     // Its next bird, if its cell has one left. Out of any branch: a CPU device writes a variable
     // inside one under the lanes' mask, a blend more for each of the k kept.
     bool bird = e < end;
-    vec4 point = imageLoad(grid_points, int(bird ? e : 0u));
+    vec4 point = imageLoad(grid_points, bird ? e : 0);
     uint j = floatBitsToUint(point.w);
     vec3 offset = low + point.xyz - inside;
     float d2 = dot(offset, offset);
@@ -154,7 +154,7 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
         worst = kept[m];
       }
     }
-    e += bird ? 1u : 0u;
+    e += bird ? 1 : 0;
     if (e < end) {  // birds of its cell still to see
     } else if (n >= cells || blocked) {
       done = true;
@@ -174,8 +174,8 @@ bool search(uint i, GpuBird b, GpuSpecies s, uint k, bool probing) {
           // steps of a power of two, and a bird's offset rounds no nearer than the box's).
           gap2 = gap2_to_box(low + vec3(unpack_steps(range.z)) * lattice,
                              low + vec3(unpack_steps(range.w) + 1u) * lattice, inside);
-          e = gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x;
-          end = range.y;
+          e = int(gap2 > radius2 || gap2 > worst_d2 ? range.y : range.x);
+          end = int(range.y);
         }
       }
     }
