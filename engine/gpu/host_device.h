@@ -118,9 +118,12 @@ AF_UINT(kConstantWindProfile, 2)  // the world's WindProfile, or kWindProfileAny
 AF_UINT(kModelConstants, 3)
 AF_UINT(kWindProfileAny, 3)
 
-// Slots per workgroup of the grid's prefix sum (grid_scan.comp): 16 per invocation. The grid
-// has a whole number of such blocks.
+// Slots per workgroup of the grid's prefix sum (grid_scan.glsl): 16 per invocation, read as four
+// uvec4, its invocations scanned in runs of 8. The grid has a whole number of such blocks.
 AF_UINT(kScanBlock, 1024)
+#ifdef __cplusplus
+static_assert(kScanBlock % (4 * kWorkgroupSize) == 0 && kWorkgroupSize % 8 == 0);
+#endif
 // A bird outside the grid (it does not flock now), a slot no bird claimed, its flock.
 AF_UINT(kNoBucket, 0xffffffffu)
 AF_UINT(kNoBird, 0xffffffffu)
