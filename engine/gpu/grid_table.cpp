@@ -39,14 +39,10 @@ std::vector<glm::ivec3> flock_extents(std::span<const GpuBird> birds, double cel
   };
   // Each flock's birds in the grid, then every stride-th of them: a million birds are read
   // twice, their cells computed for a few thousand.
-  std::vector<size_t> members;
+  std::vector<size_t> members(flocks, 0), seen(flocks, 0);
   for (const GpuBird& b : birds)
-    if (in_grid(b)) {
-      if (b.flock >= members.size()) members.resize(size_t(b.flock) + 1, 0);
-      ++members[b.flock];
-    }
-  std::vector<size_t> seen(members.size(), 0);
-  std::vector<std::array<std::vector<int>, 3>> cells(members.size());
+    if (in_grid(b)) ++members[b.flock];
+  std::vector<std::array<std::vector<int>, 3>> cells(flocks);
   for (const GpuBird& b : birds) {
     if (!in_grid(b)) continue;
     const size_t stride = std::max<size_t>(1, members[b.flock] / std::max(samples, 1u));
