@@ -183,17 +183,18 @@ inline void expect_structure_criteria(const FlockRun& run) {
 }
 
 // Issue 41's criteria for the murmuration of real starlings (fly_flock from 30 s), the field's
-// (docs/FIELD.md) in metres: r1 within 0.68-1.51 m; thin (its smallest size under half its
-// largest, the issue's bound); its thinnest axis within 20 degrees of vertical; the first
-// neighbours at the sides (gamma(1) well above 1/3) and gamma near 1/3 by the 7th. A murmuration
-// turns all the time (its route laps a 60 m circle), so the axis is taken over every snapshot, not
-// only straight ones.
+// (docs/FIELD.md) in metres: r1 within 0.68-1.51 m; thin (its smallest size "well under half" its
+// largest, the issue's words: under 0.4, where these 1,000 read 0.31 on the CPU and 0.36 on Vulkan,
+// so not the default flock's 1/3; the field's 0.18); its thinnest axis within 20 degrees of
+// vertical; the first neighbours at the sides (gamma(1) well above 1/3) and gamma near 1/3 by the
+// 7th. A murmuration turns all the time (its route laps a 60 m circle), so the axis is taken over
+// every snapshot, not only straight ones.
 inline void expect_murmuration_structure(const FlockRun& run) {
   const StructureFigures& m = run.structure.mean;
   ASSERT_GT(run.structure.samples, 10u);
   EXPECT_GE(m.median_nearest, 68.0);
   EXPECT_LE(m.median_nearest, 151.0);
-  EXPECT_LT(m.thickness_over_length, 0.5);
+  EXPECT_LT(m.thickness_over_length, 0.4);
   EXPECT_LT(m.thinnest_from_vertical, 20.0 * M_PI / 180.0);
   EXPECT_GT(m.anisotropy[0], 0.45);
   EXPECT_NEAR(m.anisotropy[6], 1.0 / 3.0, 0.1);
