@@ -161,7 +161,7 @@ inline void expect_flock_criteria(const FlockRun& run, const Scenario& scenario,
 // (fly_flock), distances in the species' wingspans so that they hold for a bird of any size: r1
 // within the field's 0.68-1.51 m of a 0.40 m starling; thin (I1 / I3 under 1/3, the field's 0.18),
 // its thinnest axis within 20 degrees of vertical in straight flight (the issue's bound; the
-// field's 22 +- 8 degrees is as close). The anisotropy and the border are not met
+// field's is 14-27 degrees from vertical, ours flatter). The anisotropy and the border are not met
 // (FlockCriteria.DISABLED_...).
 inline void expect_structure_criteria(const FlockRun& run) {
   constexpr double kStarlingSpan = 40.0;  // cm (2008a)
@@ -182,13 +182,20 @@ inline void expect_structure_criteria(const FlockRun& run) {
   std::printf("\n");
 }
 
+// The field's anisotropy (2008b), the issue's criterion: the first neighbours at the sides
+// (gamma(1) well above 1/3: above 0.45) and gamma near 1/3 by the 7th (within 0.1). The field's
+// gamma(1) is 0.8-0.85.
+inline void expect_field_anisotropy(const StructureFigures& m) {
+  EXPECT_GT(m.anisotropy[0], 0.45);
+  EXPECT_NEAR(m.anisotropy[6], 1.0 / 3.0, 0.1);
+}
+
 // Issue 41's criteria for the murmuration of real starlings (fly_flock from 30 s), the field's
 // (docs/FIELD.md) in metres: r1 within 0.68-1.51 m; thin (its smallest size "well under half" its
 // largest, the issue's words: under 0.4, where these 1,000 read 0.31 on the CPU and 0.36 on Vulkan,
 // so not the default flock's 1/3; the field's 0.18); its thinnest axis within 20 degrees of
-// vertical; the first neighbours at the sides (gamma(1) well above 1/3) and gamma near 1/3 by the
-// 7th. A murmuration turns all the time (its route laps a 60 m circle), so the axis is taken over
-// every snapshot, not only straight ones.
+// vertical; the field's anisotropy (expect_field_anisotropy). A murmuration turns all the time (its
+// route laps a 60 m circle), so the axis is taken over every snapshot, not only straight ones.
 inline void expect_murmuration_structure(const FlockRun& run) {
   const StructureFigures& m = run.structure.mean;
   ASSERT_GT(run.structure.samples, 10u);
@@ -196,8 +203,7 @@ inline void expect_murmuration_structure(const FlockRun& run) {
   EXPECT_LE(m.median_nearest, 151.0);
   EXPECT_LT(m.thickness_over_length, 0.4);
   EXPECT_LT(m.thinnest_from_vertical, 20.0 * M_PI / 180.0);
-  EXPECT_GT(m.anisotropy[0], 0.45);
-  EXPECT_NEAR(m.anisotropy[6], 1.0 / 3.0, 0.1);
+  expect_field_anisotropy(m);
   std::printf(
       "structure over %zu snapshots: r1 %.2f m (%.2f wingspans), I1/I3 %.2f, I2/I3 %.2f, thinnest "
       "axis %.1f deg from vertical, border r1 / interior r1 %.2f, gamma(n)",

@@ -258,7 +258,7 @@ std::vector<dvec3> shelled_cloud(double shell, double denser) {
 // the same density. The outer 5 % of the radius as dense as the rest reads 1.155, twice 1.127, 4
 // times 0.973, 8 times 0.872, 16 times 0.864 (10 % of it: 0.91-1.15). Within the field's 0.65-0.82
 // only a thinner skin: 2 % of the radius 16 times as dense, 0.795, half the points in it
-// (docs/FIELD.md "The border").
+// (docs/FIELD.md "The measures").
 TEST(FlockStructure, OnlyABorderManyTimesDenserReadsDenserThanTheCentre) {
   const auto ratio = [](const std::vector<dvec3>& p) {
     const std::vector<dvec3> v(p.size(), dvec3{1000.0, 0.0, 0.0});

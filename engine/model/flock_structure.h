@@ -25,7 +25,7 @@ namespace aeroflock {
 // gamma(n) is measured for the n-th neighbour, n = 1 .. kStructureRanks (2008b: to about 10).
 inline constexpr size_t kStructureRanks = 10;
 // The alpha shape's ball that draws the border, in median nearest-neighbour distances
-// (docs/FIELD.md "The border").
+// (docs/FIELD.md "The measures").
 inline constexpr double kBorderBallNearest = 3.0;
 
 // A symmetric 3x3 matrix's eigenvalues, smallest first, and their unit eigenvectors (Jacobi).
