@@ -134,7 +134,7 @@ def figures(positions, velocities):
                         for j, o in enumerate(positions) if j != i)
         neighbours.append([(r, j, sub(positions[j], p)) for r, j in others[:RANKS]])
     r1 = [near[0][0] for near in neighbours]
-    along = sum(dot(unit(near[0][2]), motion) ** 2 for near in neighbours) / n
+    along = sum(dot(unit(near[0][2]), motion) ** 2 for near in neighbours if near[0][0] > 0) / n
     border = [on_border(positions, i, BORDER_BALL_NEAREST * median(r1)) for i in range(n)]
     on, off = [r for r, b in zip(r1, border) if b], [r for r, b in zip(r1, border) if not b]
     # An internal bird is nearer its n-th neighbour than the nearest border bird (2008b).
@@ -145,8 +145,10 @@ def figures(positions, velocities):
     for rank in range(RANKS):
         m, counted = [[0.0] * 3 for _ in range(3)], 0
         for i, near in enumerate(neighbours):
+            if rank >= len(near):
+                break  # fewer birds than ranks: not measured
             r, _, d = near[rank]
-            if r >= from_border[i]:
+            if r == 0.0 or r >= from_border[i]:
                 continue
             u = [x / r for x in d]
             for a in range(3):
