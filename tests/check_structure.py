@@ -130,17 +130,16 @@ def figures(positions, velocities):
     # Every bird's neighbours, nearest first (ties by index), from every pair.
     neighbours = []
     for i, p in enumerate(positions):
-        others = sorted((math.sqrt(dot(sub(o, p), sub(o, p))), j)
-                        for j, o in enumerate(positions) if j != i)
+        others = sorted((math.dist(o, p), j) for j, o in enumerate(positions) if j != i)
         neighbours.append([(r, j, sub(positions[j], p)) for r, j in others[:RANKS]])
     r1 = [near[0][0] for near in neighbours]
     along = sum(dot(unit(near[0][2]), motion) ** 2 for near in neighbours if near[0][0] > 0) / n
-    border = [on_border(positions, i, BORDER_BALL_NEAREST * median(r1)) for i in range(n)]
+    ball = BORDER_BALL_NEAREST * median(r1)
+    border = [on_border(positions, i, ball) for i in range(n)]
     on, off = [r for r, b in zip(r1, border) if b], [r for r, b in zip(r1, border) if not b]
     # An internal bird is nearer its n-th neighbour than the nearest border bird (2008b).
     edge = [p for p, b in zip(positions, border) if b]
-    from_border = [min((math.sqrt(dot(sub(q, p), sub(q, p))) for q in edge), default=math.inf)
-                   for p in positions]
+    from_border = [min((math.dist(q, p) for q in edge), default=math.inf) for p in positions]
     anisotropy = []
     for rank in range(RANKS):
         m, counted = [[0.0] * 3 for _ in range(3)], 0
